@@ -1,0 +1,24 @@
+"""contactalpha: the hysteresis damping factor of a Hunt-Crossley contact under a constant load."""
+
+__version__ = "0.1.0"
+
+from .exact import alpha_exact, restitution_exact  # noqa: E402
+from .impact import ImpactResult, impact, restitution, trajectory  # noqa: E402
+from .scaling import influence_factor, length_scale, load_for, scaled_load, time_scale  # noqa: E402
+from .solver import AlphaSolution, solve_alpha  # noqa: E402
+
+__all__ = [
+    "AlphaSolution",
+    "alpha_exact",
+    "restitution_exact",
+    "solve_alpha",
+    "ImpactResult",
+    "impact",
+    "influence_factor",
+    "length_scale",
+    "load_for",
+    "restitution",
+    "scaled_load",
+    "time_scale",
+    "trajectory",
+]

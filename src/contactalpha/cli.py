@@ -1,0 +1,66 @@
+"""Command line: ``contactalpha alpha EPS XI`` and ``contactalpha impact ALPHA XI``."""
+
+import argparse
+import sys
+
+from .impact import ATOL, RTOL, impact
+from .solver import EPS_TOL, solve_alpha
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+
+
+def build_parser():
+    """Return the argument parser of the ``contactalpha`` command."""
+    p = argparse.ArgumentParser(
+        prog="contactalpha",
+        description="Hunt-Crossley damping factor alpha under a constant external load.",
+    )
+    p.add_argument("--rtol", type=_number, default=RTOL, help=f"integrator rtol (default {RTOL})")
+    p.add_argument("--atol", type=_number, default=ATOL, help=f"integrator atol (default {ATOL})")
+    sub = p.add_subparsers(dest="command", required=True)
+    a = sub.add_parser("alpha", help="alpha that gives restitution EPS at influence factor XI")
+    a.add_argument("eps", type=_number, help="Stronge restitution coefficient, 0 <= EPS <= 1")
+    a.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
+    a.add_argument("--tol", type=_number, default=EPS_TOL, help=f"tolerance on eps (default {EPS_TOL})")
+    i = sub.add_parser("impact", help="integrate one impact with damping ALPHA at influence factor XI")
+    i.add_argument("alpha", type=_number, help="hysteresis damping factor, ALPHA >= 0")
+    i.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
+    return p
+
+
+def main(argv=None):
+    """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
+    args = build_parser().parse_args(argv)
+    try:
+        if args.command == "alpha":
+            s = solve_alpha(args.eps, args.xi, tol=args.tol, rtol=args.rtol, atol=args.atol)
+            print(f"alpha        {s.alpha:.15g}")
+            print(f"eps reached  {s.eps_reached:.15g}")
+            print(f"end state    {s.state}")
+            print(f"impacts      {s.impacts}")
+            print(f"steps        {s.steps}")
+            print(f"status       {s.status}")
+            return 0 if s.ok else 1
+        r = impact(args.alpha, args.xi, rtol=args.rtol, atol=args.atol)
+        print(f"eps          {r.eps:.15g}")
+        print(f"end state    {r.state}")
+        print(f"x_max        {r.x_max:.15g}")
+        print(f"x_end        {r.x_end:.15g}")
+        print(f"v_end        {r.v_end:.15g}")
+        print(f"t_max        {r.t_max:.15g}")
+        print(f"t_end        {r.t_end:.15g}")
+        print(f"steps        {r.steps}")
+        print(f"status       {r.status}")
+        return 0 if r.ok else 1
+    except ValueError as exc:
+        print(f"contactalpha: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,39 @@
+import subprocess
+import sys
+
+from contactalpha.cli import main
+
+
+def test_alpha_command_prints_alpha_state_and_steps(capsys):
+    assert main(["alpha", "0.5", "0.2"]) == 0
+    out = capsys.readouterr().out
+    assert "alpha        1.538485516" in out
+    assert "end state    separation" in out
+    assert "steps" in out
+
+
+def test_impact_command(capsys):
+    assert main(["impact", "5", "0.2"]) == 0
+    out = capsys.readouterr().out
+    assert "end state    nonseparation" in out
+
+
+def test_bad_input_is_one_line_and_exit_2(capsys):
+    assert main(["alpha", "1.5", "0.2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "eps = 1.5" in err[0] and "[0.0, 1.0]" in err[0]
+    assert main(["impact", "-1", "0.2"]) == 2
+
+
+def test_runs_as_module():
+    p = subprocess.run(
+        [sys.executable, "-m", "contactalpha", "alpha", "0.3", "0"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert p.returncode == 0 and "alpha        3.087081" in p.stdout
+    p = subprocess.run(
+        [sys.executable, "-m", "contactalpha", "alpha", "x", "0"], capture_output=True, text=True, check=False
+    )
+    assert p.returncode == 2 and "'x' is not a number" in p.stderr
