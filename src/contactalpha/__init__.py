@@ -4,6 +4,7 @@ __version__ = "0.1.0"
 
 from .exact import alpha_exact, restitution_exact  # noqa: E402
 from .impact import ImpactResult, impact, restitution, trajectory  # noqa: E402
+from .io import load_surface  # noqa: E402
 from .scaling import influence_factor, length_scale, load_for, scaled_load, time_scale  # noqa: E402
 from .solver import AlphaSolution, solve_alpha  # noqa: E402
 
@@ -15,6 +16,7 @@ __all__ = [
     "ImpactResult",
     "impact",
     "influence_factor",
+    "load_surface",
     "length_scale",
     "load_for",
     "restitution",

@@ -1,0 +1,22 @@
+# contactalpha workflow: `snakemake -c2` rebuilds every result under results/.
+# Stages live in workflow/rules/<stage>.smk; each appends its default targets to ALL_TARGETS.
+from snakemake.utils import validate
+
+from contactalpha.config import check_config
+
+
+configfile: "config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+check_config(config)
+
+ALL_TARGETS = []
+
+
+include: "workflow/rules/surface.smk"
+
+
+rule all:
+    input:
+        ALL_TARGETS,
