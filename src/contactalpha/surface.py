@@ -33,12 +33,17 @@ GRID_DIGITS = 12
 STEP_FIT_RTOL = 1e-9
 # Points solved per call of the jitted kernel when progress is reported.
 BLOCK_POINTS = 400
+# Largest distance at which a requested xi (a section) counts as a grid value.
+XI_MATCH = 1e-9
 # Seconds between two progress log lines.
 PROGRESS_EVERY = 5.0
 SOLVER_NAME = "contactalpha.solve_alpha: Newton on ln eps vs ln alpha, DOP853 impacts, exact at xi = 0"
 
 # Column layout of solver.solve_table.
 _ALPHA, _EPS, _STATE, _STATUS, _IMPACTS, _STEPS, _XMAX, _XEND, _NFEV = range(9)
+
+# End-state name -> code, the inverse of impact.END_STATES.
+STATE_CODES = {name: code for code, name in END_STATES.items()}
 
 VARIABLES = {
     "alpha": ("1", "hysteresis damping factor alpha"),
@@ -301,6 +306,45 @@ def _to_dataset(eps, xi, table):
     ds["epsilon"].attrs.update(units="1", long_name="target restitution coefficient (Stronge)")
     ds["xi"].attrs.update(units="1", long_name="influence factor of the external load")
     return ds
+
+
+def paper_eq26(eps, tau, sigma, beta):
+    """The paper's Eq. 26, ``EXP = exp(-(eps + tau)^2 / sigma) / beta`` (region I at one xi)."""
+    eps = np.asarray(eps, dtype=float)
+    return np.exp(-((eps + tau) ** 2) / sigma) / beta
+
+
+def paper_eq25(eps):
+    """The paper's Eq. 25 (Hu & Guo's alpha, its alpha_initial): ``3 (1 - eps) / (2 eps)``."""
+    eps = np.asarray(eps, dtype=float)
+    return 1.5 * (1.0 - eps) / eps
+
+
+def section_regions(state):
+    """Regions I, II, III of the paper's Fig. 5 along a section, from the end states.
+
+    The paper draws the regions without giving their limits.  Here they are the
+    end-state bands that a section at fixed xi crosses as eps grows: I where
+    the impact ends in creep or without restitution (heavy damping, the Eq. 26
+    part of Eq. 39), II where it ends in non-separation, III where the bodies
+    separate (the Eq. 25 part, derived for separating impacts).
+
+    Parameters
+    ----------
+    state : array_like of int
+        End-state codes (``impact.END_STATES``).
+
+    Returns
+    -------
+    ndarray of int
+        1, 2 or 3 per point; 0 where the point failed.
+    """
+    state = np.asarray(state)
+    regions = np.zeros(state.shape, dtype=int)
+    regions[np.isin(state, (STATE_CODES["creep"], STATE_CODES["no_restitution"]))] = 1
+    regions[state == STATE_CODES["nonseparation"]] = 2
+    regions[state == STATE_CODES["separation"]] = 3
+    return regions
 
 
 def merge_chunks(paths, config=None):

@@ -27,6 +27,8 @@ rule surface_chunk:
     log:
         "logs/surface/chunk_{chunk}.log",
     threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/surface_chunk.py"
 
@@ -40,6 +42,8 @@ rule surface_merge:
         surface=config["surface"],
     log:
         "logs/surface/merge.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/surface_merge.py"
 
@@ -52,6 +56,8 @@ rule fig4_alpha_surface:
         pdf="results/figures/fig4_alpha_surface.pdf",
     log:
         "logs/surface/fig4_alpha_surface.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/fig4_alpha_surface.py"
 
@@ -66,6 +72,8 @@ rule fig5_alpha_section:
         figures=config["surface"]["figures"],
     log:
         "logs/surface/fig5_alpha_section.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/fig5_alpha_section.py"
 
@@ -78,6 +86,8 @@ rule end_states_map:
         pdf="results/figures/end_states.pdf",
     log:
         "logs/surface/end_states.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/end_states_map.py"
 
@@ -88,7 +98,11 @@ rule surface_summary:
         chunks=expand("results/surface/chunks/chunk_{chunk}.h5", chunk=SURFACE_CHUNKS),
     output:
         "results/summary.md",
+    params:
+        figures=config["surface"]["figures"],
     log:
         "logs/surface/summary.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/surface_summary.py"

@@ -1,0 +1,67 @@
+"""Shared figure helpers: one look for every figure, and atomic PNG + PDF output.
+
+Every figure script of the workflow does ``fig = ...; save_figure(fig, [png, pdf])``.
+"""
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("agg")  # batch jobs: no display, whatever the environment says
+
+import matplotlib.pyplot as plt  # noqa: E402
+
+from .io import write_atomic  # noqa: E402
+
+# House style, applied on top of the repository's matplotlibrc.
+STYLE = {
+    "figure.dpi": 100,
+    "savefig.dpi": 200,
+    "savefig.bbox": "tight",
+    "font.size": 9,
+    "axes.titlesize": 10,
+    "axes.labelsize": 9,
+    "legend.fontsize": 8,
+    "legend.frameon": False,
+    "axes.grid": False,
+    "image.cmap": "viridis",
+    "pdf.fonttype": 42,  # TrueType in PDFs: text stays editable and searchable
+}
+# Width of a two-column journal figure, inches.
+FULL_WIDTH = 7.0
+# Width of a one-column figure, inches.
+COLUMN_WIDTH = 3.5
+
+
+def use_style():
+    """Apply ``STYLE`` to matplotlib's global settings."""
+    plt.rcParams.update(STYLE)
+
+
+def new_figure(ncols=1, nrows=1, *, width=FULL_WIDTH, aspect=0.42, **kwargs):
+    """A styled ``(fig, axes)`` pair; ``aspect`` is height over width of the whole figure."""
+    use_style()
+    kwargs.setdefault("layout", "constrained")
+    return plt.subplots(nrows, ncols, figsize=(width, width * aspect), **kwargs)
+
+
+def save_figure(fig, paths, *, close=True):
+    """Write ``fig`` to each path (format from the suffix: .png, .pdf, .svg) atomically.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    paths : path-like or sequence of path-like
+    close : bool
+        Close the figure afterwards, freeing its memory.
+    """
+    if isinstance(paths, str | Path):
+        paths = [paths]
+    for path in paths:
+        fmt = Path(path).suffix.lstrip(".").lower()
+        if not fmt:
+            raise ValueError(f"path = {str(path)!r} has no suffix; valid: a name ending in .png, .pdf, .svg")
+        write_atomic(path, lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt))
+    if close:
+        plt.close(fig)
+    return [Path(p) for p in paths]
