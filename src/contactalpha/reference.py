@@ -131,3 +131,147 @@ def impact_physical(alpha, m_e, k, v0, a, *, method="DOP853", rtol=1e-12, atol=N
         return (0.5 * m_e * v_e**2 + m_e * a * (x_m - x_e)) / (0.5 * m_e * v0**2 + m_e * a * x_m)
 
     return _run(fun, x_eq, v0, energy, method=method, rtol=rtol, atol=atol, t_max=t_max, rest_tol=1e-9)
+
+
+class _BudgetExceeded(Exception):
+    """Raised inside ``solve_ivp`` when an impact has used its RHS budget."""
+
+
+def impact_scipy_limited(
+    alpha, xi, *, method="DOP853", rtol=1e-12, atol=1e-14, max_nfev=200_000, t_max=1e4, rest_tol=1e-9
+):
+    """``impact_scipy`` with a budget of right-hand-side evaluations: the step limit of SciPy runs.
+
+    Stiff impacts can cost explicit SciPy methods millions of evaluations at
+    ~10 us each.  Past ``max_nfev`` the run stops and returns
+    ``status = "step limit exceeded"`` (``nfev`` then equals the budget).
+    Other arguments as in ``impact_scipy``.
+    """
+    alpha = float(check_alpha(alpha))
+    xi = float(check_range("xi", xi, 0.0, 1.0, hi_open=True))
+    max_nfev = int(check_range("max_nfev", max_nfev, 1.0, np.inf, hi_open=True))
+    A = 0.5 * xi * (1.0 - xi) ** -0.6
+    count = [0]
+
+    def fun(t, y):
+        count[0] += 1
+        if count[0] > max_nfev:
+            raise _BudgetExceeded
+        x = max(y[0], 0.0)
+        return [y[1], A - 1.25 * x**1.5 * (1.0 + alpha * y[1])]
+
+    x_eq = (A / 1.25) ** (2.0 / 3.0) if A > 0 else np.inf
+
+    def energy(x_m, x_e, v_e):
+        return (0.5 * v_e**2 + A * (x_m - x_e)) / (0.5 + A * x_m)
+
+    try:
+        return _run(
+            fun, x_eq, 1.0, energy, method=method, rtol=rtol, atol=atol, t_max=t_max, rest_tol=rest_tol
+        )
+    except _BudgetExceeded:
+        return ReferenceResult(np.nan, "failed", np.nan, np.nan, np.nan, max_nfev, "step limit exceeded")
+
+
+@dataclass(frozen=True)
+class BracketedAlpha:
+    """Result of ``alpha_bracketed``: alpha and what the last impact at it reported."""
+
+    alpha: float
+    eps_reached: float
+    state: str
+    status: str
+    impacts: int
+    nfev: int
+
+
+class _ImpactFailed(Exception):
+    """Carries the status of an impact that failed inside the root-finder."""
+
+
+def alpha_bracketed(eps, impact_fn, *, alpha0, rtol=1e-13, expand=2.0, alpha_max=1e9, alpha_min=1e-8):
+    """Find alpha with ``impact_fn(alpha).eps == eps`` by bracketing and Brent's method (no sensitivities).
+
+    The root-finder for integrators without ``deps/dalpha`` (SciPy, fixed-step
+    RK4).  From ``alpha0`` the bracket grows (or shrinks) by ``expand`` until
+    ``eps(alpha)`` changes side of the target, using ``eps(0) = 1``; then
+    ``scipy.optimize.brentq`` closes it to relative width ``rtol``.
+
+    Parameters
+    ----------
+    eps : float
+        Target restitution, 0 < eps < 1.
+    impact_fn : callable
+        ``impact_fn(alpha)`` returns an object with ``eps``, ``state``,
+        ``status`` ("ok" when it succeeded) and ``nfev``.
+    alpha0 : float
+        Starting guess, > 0.
+    rtol : float
+        Relative tolerance on alpha of Brent's method, >= 4 machine epsilons.
+    expand : float
+        Bracket growth factor, > 1.
+    alpha_max, alpha_min : float
+        The search gives up above ``alpha_max`` ("no root bracketed") and
+        takes ``[0, alpha_min]`` as the bracket below ``alpha_min``.
+
+    Returns
+    -------
+    BracketedAlpha
+        ``status`` is "ok", "no root bracketed", or the status of the impact that failed.
+    """
+    from scipy.optimize import brentq
+
+    eps = float(check_range("eps", eps, 0.0, 1.0, lo_open=True, hi_open=True))
+    alpha0 = float(check_positive("alpha0", alpha0))
+    expand = float(check_range("expand", expand, 1.0, np.inf, lo_open=True, hi_open=True))
+    rtol = float(check_range("rtol", rtol, 4.0 * np.finfo(float).eps, 0.1))
+    seen = {}
+    count = {"impacts": 0, "nfev": 0}
+
+    def f(alpha):
+        if alpha == 0.0:
+            return 1.0 - eps
+        if alpha not in seen:
+            r = impact_fn(alpha)
+            count["impacts"] += 1
+            count["nfev"] += int(r.nfev)
+            seen[alpha] = r
+        r = seen[alpha]
+        if r.status != "ok":
+            raise _ImpactFailed(r.status)
+        return r.eps - eps
+
+    def result(alpha, status):
+        r = seen.get(alpha)
+        if r is None or status != "ok":
+            return BracketedAlpha(np.nan, np.nan, "failed", status, count["impacts"], count["nfev"])
+        return BracketedAlpha(alpha, float(r.eps), str(r.state), status, count["impacts"], count["nfev"])
+
+    try:
+        a = alpha0
+        if f(a) > 0.0:
+            lo = a
+            while True:
+                a *= expand
+                if a > alpha_max:
+                    return result(np.nan, "no root bracketed")
+                if f(a) <= 0.0:
+                    hi = a
+                    break
+                lo = a
+        else:
+            hi = a
+            lo = 0.0
+            while a > alpha_min:
+                a /= expand
+                if f(a) > 0.0:
+                    lo = a
+                    break
+                hi = a
+        if f(hi) == 0.0:
+            return result(hi, "ok")
+        root = brentq(f, lo, hi, xtol=1e-300, rtol=rtol)
+        f(root)
+        return result(root, "ok")
+    except _ImpactFailed as failure:
+        return result(np.nan, str(failure))
