@@ -79,6 +79,19 @@ def cases_markdown(runs, skipped=()):
             "ball: case B never rests (its contact ignores the load and separates at every impact "
             "with the same velocity ratio), so only the time limit ends it, and bounces lower than the "
             "static sag are an artefact of leaving the load out.",
+            "Case A keeps gravity and F in the contact equation (Eq. 24) and takes α from the model "
+            "at each impact's ξ; case B leaves them out during contact (Eq. 43, scaled load A = 0) and "
+            "takes α from the same model at ξ = 0. In case B the total energy inside a contact dips by "
+            "the left-out m a δ as well; that term is zero again at separation.",
+            "",
+            "Energy ledger: the largest gap |E_in − E_out − D| over the contacts of a run, relative to "
+            "the initial energy, with the damping work D integrated independently by SciPy: "
+            + ", ".join(
+                f"case {ds.attrs['case']} ({ds.attrs['model']}) {ds.attrs['ledger_closure']:.1e}"
+                for ds in runs
+                if "ledger_closure" in ds.attrs
+            )
+            + ".",
             "",
             CASE_HEADER,
             *[case_row(ds) for ds in runs],

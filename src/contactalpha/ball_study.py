@@ -26,12 +26,14 @@ from .ball import (
     FLIGHT,
     Scene,
     contact_alpha,
+    damping_work_reference,
     end_state_name,
     energy_terms,
     run_contact,
 )
 from .impact import ATOL, END_STATES, RTOL, STATUS
 from .kernel import NO_RESTITUTION, SEPARATION
+from .scaling import time_scale
 from .surface import git_commit, history_line
 
 
@@ -256,6 +258,26 @@ def default_scene(section):
     )
 
 
+def ledger_closure(ds):
+    """Largest ``|E_in - E_out - D| / E_0`` over the contacts of a run Dataset, with ``D`` from SciPy.
+
+    ``D`` is the damping work integrated independently of the engine
+    (``ball.damping_work_reference``) up to the contact's end time; contacts that
+    creep to rest (end time inf) are left out.  ``E_0`` is the initial total energy.
+    """
+    scene = Scene(**json.loads(ds.attrs["scene"]))
+    worst = 0.0
+    for i in range(ds.sizes["collision"]):
+        c = {name: float(ds[f"c_{name}"].values[i]) for name in COLLISION_FIELDS}
+        if not np.isfinite(c["t_stop"]):
+            continue
+        tau = (c["t_stop"] - c["t_start"]) / float(time_scale(scene.mass, scene.stiffness, c["v_in"]))
+        w, _, _ = damping_work_reference(c["alpha"], c["A"], tau)
+        gap = c["energy_in"] - c["energy_out"] - scene.mass * c["v_in"] ** 2 * w
+        worst = max(worst, abs(gap))
+    return worst / float(ds["c_energy_in"].values[0])
+
+
 def run_cases(scene, new_model, variants=(), *, config=None, **numerics):
     """Cases A and B with the new model, and case A with each variant model.
 
@@ -286,6 +308,7 @@ def run_cases(scene, new_model, variants=(), *, config=None, **numerics):
     out = {"model": name, "variants": [], "skipped": skipped}
     for case in ("A", "B"):
         out[case] = run_dataset(simulate(scene, name, case, **numerics), config, **tol)
+        out[case].attrs["ledger_closure"] = ledger_closure(out[case])
     ok, absent = registered(variants)
     out["skipped"] += [(m, "not registered yet (no variant run)") for m in absent]
     for m in ok:
