@@ -4,6 +4,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from contactalpha.ball import (
     BOUNCING,
@@ -142,6 +144,43 @@ def test_energy_ledger_closes_with_independent_damping_work(runs, case):
     np.testing.assert_allclose(
         c["energy_in"] - c["energy_out"], c["damping_work"], rtol=1e-9, atol=1e-12 * e0
     )
+
+
+@pytest.mark.parametrize("case", ["A", "B"])
+def test_energy_never_grows_inside_a_contact(runs, case):
+    """Inside a contact the total falls by the damping work, plus the left-out m a delta in case B."""
+    run = runs[case]
+    terms = energy_terms(run.scene, run.delta, run.ddelta, case, in_contact=run.phase == CONTACT)
+    seen = terms["total"] + terms["switched_off"]
+    scale = run.collisions["energy_in"][0]
+    for i in range(run.count):
+        e = seen[(run.phase == CONTACT) & (run.collision == i)]
+        assert np.all(np.diff(e) <= 1e-13 * scale)
+        assert e[0] - e[-1] == pytest.approx(run.collisions["damping_work"][i], rel=1e-9, abs=1e-13 * scale)
+    if case == "B":
+        # without the left-out term the total would rise during restitution
+        assert np.any(np.diff(terms["total"][run.phase == CONTACT]) > 1e-9 * scale)
+
+
+@settings(max_examples=8)
+@given(
+    mass=st.floats(0.05, 5.0),
+    stiffness=st.floats(1e6, 1e10),
+    speed=st.floats(0.05, 3.0),
+    force=st.floats(0.0, 500.0),
+    eps=st.floats(0.2, 1.0),
+)
+def test_ledger_closes_for_any_scene(mass, stiffness, speed, force, eps):
+    scene = Scene(mass=mass, stiffness=stiffness, approach_speed=speed, force=force, eps=eps, t_end=0.05)
+    run = simulate(scene, "flores", "A", max_step=0.2, flight_samples=2)
+    c = run.collisions
+    for i in range(min(run.count, 2)):
+        if not np.isfinite(c["t_stop"][i]):
+            continue
+        tau = (c["t_stop"][i] - c["t_start"][i]) / time_scale(mass, stiffness, c["v_in"][i])
+        w, _, _ = damping_work_reference(c["alpha"][i], c["A"][i], tau)
+        gap = c["energy_in"][i] - c["energy_out"][i] - mass * c["v_in"][i] ** 2 * w
+        assert abs(gap) <= 1e-9 * c["energy_in"][0]
 
 
 def test_whole_run_loses_the_sum_of_damping_works(runs):

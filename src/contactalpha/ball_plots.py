@@ -10,6 +10,7 @@
 
 import numpy as np
 
+from .ball import RESTS
 from .ball_report import loss_error
 from .ball_study import model_label
 from .plotting import new_figure
@@ -41,6 +42,9 @@ def plot_motion(case_a, case_b):
         ax_v.plot(ds["t"], ds["ydot"], **style)
     radius = float(np.asarray(case_a["y"])[0] + np.asarray(case_a["delta"])[0])
     ax_y.axhline(radius * 1e3, color="0.5", lw=0.6, label="contact begins or ends (y = R)")
+    if case_a.attrs["end_state"] == RESTS:
+        rest = radius - case_a.attrs["rest_deformation"]
+        ax_y.axhline(rest * 1e3, color="C0", lw=0.6, ls=":", label="case A rests at y = R − δ_eq")
     ax_y.set_ylabel("height of the centre y (mm)")
     ax_v.set_ylabel("velocity dy/dt (m/s)")
     ax_v.set_xlabel("time (s)")
