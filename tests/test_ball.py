@@ -263,6 +263,13 @@ def test_first_collision_reference_reaches_its_target(first):
     assert np.max(np.abs(last)) <= 1e-6 * np.nanmax(f)
 
 
+def test_exact_reference_separates_above_the_boundary(first):
+    eps_b = first["eps_boundary"].values[:, None]
+    sep = first["state"].sel(model="exact_solve").values == SEPARATION
+    np.testing.assert_array_equal(sep, first["epsilon"].values[None, :] > eps_b)
+    assert np.all(np.diff(first["eps_boundary"].values) > 0)
+
+
 def test_statements_report_every_claim(first, runs):
     a, b = (run_dataset(runs[c]) for c in ("A", "B"))
     rows = statements(first, a, b, "shen_zero_load", ["hunt_crossley", "flores", "hu_guo"])

@@ -44,6 +44,15 @@ def first_collision_table(ds):
         for j, eps in enumerate(ds["epsilon"].values):
             cells = [f"{_fmt(ds['eps_post'].values[i, j, k])} ({states[i, j, k]})" for k in range(len(names))]
             rows.append(f"| {force:g} | {_fmt(ds['xi'].values[i])} | {eps:g} | " + " | ".join(cells) + " |")
+    if "eps_boundary" in ds:
+        rows += [
+            "",
+            "Exact separation boundary: a contact that restitutes exactly the ε asked separates iff ε > ε_b.",
+        ]
+        rows += [
+            f"- F = {f:g} N (ξ = {_fmt(x)}): ε_b = {_fmt(e)}"
+            for f, x, e in zip(ds["force"].values, ds["xi"].values, ds["eps_boundary"].values, strict=True)
+        ]
     return "\n".join(rows) + "\n"
 
 
@@ -116,7 +125,11 @@ def _reference_state(ds, force_i, eps):
     if ref not in list(ds["model"].values):
         return ""
     state, _ = _state(ds, force_i, eps, ref)
-    return f"; reference ({model_label(ref)}): {state_names([state])[0]}"
+    text = f"; reference ({model_label(ref)}): {state_names([state])[0]}"
+    if "eps_boundary" in ds:
+        eps_b = float(ds["eps_boundary"].values[force_i])
+        text += f"; the exact contact separates for every ε > {_fmt(eps_b)} at this ξ"
+    return text
 
 
 def _has_eps(ds, eps):

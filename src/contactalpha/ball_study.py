@@ -31,6 +31,7 @@ from .ball import (
     energy_terms,
     run_contact,
 )
+from .boundary import separation_boundary
 from .impact import ATOL, END_STATES, RTOL, STATUS
 from .kernel import NO_RESTITUTION, SEPARATION
 from .scaling import time_scale
@@ -227,6 +228,11 @@ def first_collision(
         }
     )
     ds["xi"] = ("force", xi, {"units": "1", "long_name": "influence factor of m (g + F/m) (Eq. 10)"})
+    ds["eps_boundary"] = (
+        "force",
+        exact_separation_boundary(xi, rtol=rtol, atol=atol),
+        {"units": "1", "long_name": "exact contact separates for eps above this (0 at xi = 0)"},
+    )
     dims = ("force", "epsilon", "model")
     for name, (units, meaning) in FIRST_FIELDS.items():
         ds[name] = (dims, out[name], {"units": units, "long_name": meaning})
@@ -239,6 +245,22 @@ def first_collision(
         ds[name] = ((*dims, "sample"), values, {"units": units[name], "long_name": f"contact path: {name}"})
     ds.attrs["scene"] = json.dumps(asdict(scene))
     return ds
+
+
+def exact_separation_boundary(xi, **tolerances):
+    """Restitution ``eps_b(xi)`` on the exact separation boundary; 0 where ``xi = 0`` (always separates).
+
+    Raises ``RuntimeError`` if the boundary search fails.
+    """
+    xi = np.asarray(xi, dtype=float)
+    out = np.zeros_like(xi)
+    loaded = xi > 0
+    if np.any(loaded):
+        _, eps_b, status = separation_boundary(xi[loaded], **tolerances)
+        if np.any(status != 0):
+            raise RuntimeError(f"separation boundary search failed at xi = {xi[loaded][status != 0]}")
+        out[loaded] = eps_b
+    return out
 
 
 def state_names(codes):
