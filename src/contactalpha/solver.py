@@ -10,6 +10,10 @@ method cannot diverge; ``eps(alpha)`` is monotone decreasing (SCIENCE.md
 Sect. 6).
 
 - ``xi = 0`` uses the exact relation (``exact.alpha_exact``), no ODE.
+- The starting guess is the exact table (``table.py``, ~1e-7 relative) where
+  it covers the point, so one Newton step usually lands within tolerance;
+  elsewhere, and when building the table itself, it is the exact unloaded
+  alpha.
 - ``eps = 0`` at ``xi > 0`` returns the onset: the smallest alpha at which the
   compression never reverses (end state ``no_restitution``), to relative
   ``ONSET_RTOL``; Newton then works on ``eps^2``, which is linear there.
@@ -27,6 +31,7 @@ from .exact import alpha_exact_scalar, max_compression_exact
 from .impact import ATOL, END_STATES, MAX_STEPS, RTOL, STATUS
 from .kernel import NO_RESTITUTION, impact_kernel
 from .scaling import scaled_load
+from .table import EPS_MIN, XI_MAX, alpha_from_table
 from .validation import check_eps, check_range, check_tolerances, check_xi
 
 NO_BRACKET = 5
@@ -141,8 +146,12 @@ def initial_guess(eps, A):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_point(eps_t, A, tol, rtol, atol, max_steps, use_exact):
-    """Solve one point: exact relation at ``A = 0`` (unless ``use_exact`` is False), else Newton."""
+def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+    """Solve one point: exact relation at ``A = 0`` (unless ``use_exact`` is False), else Newton.
+
+    ``tb`` holds the exact table's arrays (``table.ARRAY_NAMES``), used for the
+    starting guess when ``use_table`` is True and the point is inside its domain.
+    """
     if eps_t >= 1.0:
         out = np.full(N_SOLVE_OUT, np.nan)
         res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, 3)))
@@ -170,17 +179,35 @@ def solve_point(eps_t, A, tol, rtol, atol, max_steps, use_exact):
             out[6] = max_compression_exact(alpha)
             out[7] = 0.0
         return out
-    return solve_kernel(eps_t, A, initial_guess(eps_t, A), tol, rtol, atol, max_steps)
+    if use_table and eps_t >= EPS_MIN and xi <= XI_MAX:
+        guess = alpha_from_table(eps_t, xi, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    else:
+        guess = initial_guess(eps_t, A)
+    return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def solve_many(eps, A, tol, rtol, atol, max_steps, use_exact):
+def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
     """``solve_point`` over flat arrays, in parallel; returns shape (n, 9)."""
     n = eps.size
     out = np.empty((n, N_SOLVE_OUT))
     for i in prange(n):
-        out[i] = solve_point(eps[i], A[i], tol, rtol, atol, max_steps, use_exact)
+        out[i] = solve_point(eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb)
     return out
+
+
+def _guess_arrays(use_table):
+    """Table arrays for the starting guess, or empty stand-ins (and False) without a table."""
+    if use_table:
+        from .table import _arrays
+
+        try:
+            return True, _arrays()
+        except (FileNotFoundError, ValueError):
+            pass  # no usable table: fall back to the formula guess
+    e1 = np.empty(0)
+    e2 = np.empty((0, 0))
+    return False, (e1, e1, e1, e1, e2, e1, e1, e2, e1)
 
 
 @dataclass(frozen=True)
@@ -214,7 +241,9 @@ class AlphaSolution:
         return np.asarray(self.status) == "ok"
 
 
-def solve_table(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True):
+def solve_table(
+    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
+):
     """Validated flat solve: returns the raw ``(n, 9)`` table and the broadcast shape."""
     eps = check_eps(eps)
     xi = check_xi(xi)
@@ -226,20 +255,28 @@ def solve_table(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STE
             "eps = 0.0 at xi = 0.0 cannot be reached: without a load alpha -> infinity; "
             "valid: eps in (0, 1] when xi = 0, eps in [0, 1] when 0 < xi < 1"
         )
+    if guess not in ("table", "formula"):
+        raise ValueError(f"guess = {guess!r} is not one of 'table', 'formula'")
+    use_table, tb = _guess_arrays(guess == "table")
     A = scaled_load(xi)
     table = solve_many(
         np.ascontiguousarray(eps.ravel()),
         np.ascontiguousarray(A.ravel()),
+        np.ascontiguousarray(xi.ravel()),
         tol,
         rtol,
         atol,
         int(max_steps),
         bool(exact_at_zero),
+        use_table,
+        tb,
     )
     return table, eps.shape
 
 
-def solve_alpha(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True):
+def solve_alpha(
+    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
+):
     """Damping factor alpha that makes the loaded impact restitute with ``eps``.
 
     Parameters
@@ -255,6 +292,9 @@ def solve_alpha(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STE
         Integrator settings, as in ``impact``.
     exact_at_zero : bool
         Use the exact relation at ``xi = 0`` (default); False integrates there too.
+    guess : {"table", "formula"}
+        Starting guess: the shipped exact table (fewest impacts), or the exact
+        unloaded alpha (independent of any data file; used to build the table).
 
     Returns
     -------
@@ -262,7 +302,7 @@ def solve_alpha(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STE
         Points that failed carry NaN alpha and say why in ``status``.
     """
     table, shape = solve_table(
-        eps, xi, tol=tol, rtol=rtol, atol=atol, max_steps=max_steps, exact_at_zero=exact_at_zero
+        eps, xi, tol=tol, rtol=rtol, atol=atol, max_steps=max_steps, exact_at_zero=exact_at_zero, guess=guess
     )
     status = table[:, 3].astype(int)
     alpha = np.where(status == 0, table[:, 0], np.nan)

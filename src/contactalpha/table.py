@@ -152,7 +152,7 @@ def _node_values(eps, xi, tol, rtol, atol):
     if one.any():
         slope = impact(0.0, xi[one], rtol=rtol, atol=atol).deps_dalpha
         L[one] = np.log(-1.0 / slope)
-    sol = solve_alpha(eps[~one], xi[~one], tol=tol, rtol=rtol, atol=atol)
+    sol = solve_alpha(eps[~one], xi[~one], tol=tol, rtol=rtol, atol=atol, guess="formula")
     if not np.all(sol.ok):
         bad = np.argwhere(~np.asarray(sol.ok)).ravel()
         raise RuntimeError(
