@@ -35,7 +35,7 @@ def _case_label(ds):
 
 def plot_motion(case_a, case_b):
     """Fig. 11: (a) height y of the centre, (b) its velocity, against time, for both cases."""
-    fig, (ax_y, ax_v) = new_figure(2, 1, aspect=0.45, sharex=True)
+    fig, (ax_y, ax_v) = new_figure(2, 1, aspect=0.45)
     for ds in (case_a, case_b):
         style = CASE_STYLE[ds.attrs["case"]]
         ax_y.plot(ds["t"], ds["y"] * 1e3, label=_case_label(ds), **style)
@@ -47,6 +47,7 @@ def plot_motion(case_a, case_b):
         ax_y.axhline(rest * 1e3, color="C0", lw=0.6, ls=":", label="case A rests at y = R − δ_eq")
     ax_y.set_ylabel("height of the centre y (mm)")
     ax_v.set_ylabel("velocity dy/dt (m/s)")
+    ax_y.set_xlabel("time (s)")
     ax_v.set_xlabel("time (s)")
     ax_y.set_title("(a) position", loc="left")
     ax_v.set_title("(b) velocity", loc="left")
