@@ -96,7 +96,7 @@ def _explicit(values, key):
         i = bad[0]
         what = "repeats" if arr[i + 1] == arr[i] else "comes after"
         raise ValueError(
-            f"{key} is not strictly increasing: {arr[i + 1]!r} {what} {arr[i]!r}; "
+            f"{key} is not strictly increasing: {float(arr[i + 1])!r} {what} {float(arr[i])!r}; "
             "valid: sorted values without duplicates"
         )
     return _round_grid(arr)
@@ -140,10 +140,10 @@ def grid_from_config(section, key="surface"):
     xi = _axis(section["xi"], f"{key}.xi")
     if eps[0] <= 0.0 or eps[-1] > 1.0:
         bad = eps[(eps <= 0.0) | (eps > 1.0)]
-        raise ValueError(f"{key}.epsilon has {bad[0]!r}, outside the valid range (0, 1]")
+        raise ValueError(f"{key}.epsilon has {float(bad[0])!r}, outside the valid range (0, 1]")
     if xi[0] < 0.0 or xi[-1] >= 1.0:
         bad = xi[(xi < 0.0) | (xi >= 1.0)]
-        raise ValueError(f"{key}.xi has {bad[0]!r}, outside the valid range [0, 1)")
+        raise ValueError(f"{key}.xi has {float(bad[0])!r}, outside the valid range [0, 1)")
     return eps, xi
 
 

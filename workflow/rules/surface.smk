@@ -12,6 +12,15 @@ ALL_TARGETS += [
 ]
 
 
+# Light jobs: on a cluster they run on the submitting node, only the chunks are submitted.
+localrules:
+    surface_merge,
+    fig4_alpha_surface,
+    fig5_alpha_section,
+    end_states_map,
+    surface_summary,
+
+
 wildcard_constraints:
     chunk=r"\d+",
 

@@ -1,0 +1,111 @@
+"""How much of a default `snakemake -c2` run is the surface itself, and how much is overhead?
+
+Runs the workflow on the default config.yaml in a fresh temporary directory, with a warm numba
+cache (a warm-up process loads every kernel first), and prints
+
+- the wall time of `snakemake -c2` (whole process, DAG to last job);
+- the surface compute time recorded in the chunk files (sum over chunks, and the span from the
+  first chunk's start to the last chunk's end);
+- the baseline: the same grid in one `compute_surface` call in this process, 2 threads;
+- overhead ratios: snakemake wall / chunk span, snakemake wall / baseline.
+
+Usage:  python benchmarks/bench_workflow.py [--all] [--cores 2]
+Default targets are the surface stage's (surface.h5, Figs. 4 and 5, end-state map, summary);
+--all runs `rule all`, i.e. every stage.
+"""
+
+import argparse
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+SURFACE_TARGETS = [
+    "results/surface.h5",
+    "results/summary.md",
+    *(
+        f"results/figures/{n}.{e}"
+        for n in ("fig4_alpha_surface", "fig5_alpha_section", "end_states")
+        for e in ("png", "pdf")
+    ),
+]
+
+
+def cpu_name():
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def warm_cache():
+    """Load (and if needed compile) every kernel once, in a separate process."""
+    code = "from contactalpha.surface import compute_surface; compute_surface([0.05, 0.5], [0.0, 0.001, 0.5])"
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--all", action="store_true", help="run rule all (every stage), not only the surface")
+    parser.add_argument("--cores", type=int, default=2)
+    args = parser.parse_args()
+
+    print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f} at start")
+    t = time.perf_counter()
+    warm_cache()
+    print(f"warm-up (numba cache load or compile): {time.perf_counter() - t:.1f} s")
+
+    import numba
+
+    from contactalpha.io import load_surface
+    from contactalpha.surface import compute_surface, grid_from_config
+
+    section = yaml.safe_load((ROOT / "config.yaml").read_text())["surface"]
+    eps, xi = grid_from_config(section)
+    numba.set_num_threads(min(args.cores, numba.config.NUMBA_NUM_THREADS))
+    t = time.perf_counter()
+    compute_surface(eps, xi, **section["solver"])
+    baseline = time.perf_counter() - t
+    print(
+        f"baseline: compute_surface on {eps.size} x {xi.size} points, one process, "
+        f"{args.cores} threads: {baseline:.2f} s"
+    )
+
+    with tempfile.TemporaryDirectory(prefix="bench_workflow_") as work:
+        cmd = [
+            sys.executable,
+            "-m",
+            "snakemake",
+            "-s",
+            str(ROOT / "Snakefile"),
+            "-d",
+            work,
+            "-c",
+            str(args.cores),
+        ]
+        cmd += [] if args.all else SURFACE_TARGETS
+        t = time.perf_counter()
+        subprocess.run(cmd, check=True, capture_output=True)
+        wall = time.perf_counter() - t
+        chunks = [load_surface(p) for p in sorted(Path(work, "results/surface/chunks").glob("chunk_*.h5"))]
+    compute = sum(c.attrs["compute_seconds"] for c in chunks)
+    span = max(c.attrs["finished"] for c in chunks) - min(c.attrs["started"] for c in chunks)
+    what = "rule all" if args.all else "surface targets"
+    print(f"snakemake -c{args.cores} ({what}, {len(chunks)} chunk jobs): {wall:.2f} s wall")
+    print(f"surface compute in the chunk files: {compute:.2f} s summed, {span:.2f} s first start to last end")
+    print(f"overhead ratio, snakemake wall / chunk span:  {wall / span:.1f}")
+    print(f"overhead ratio, snakemake wall / baseline:    {wall / baseline:.1f}")
+    print(f"share of the wall time spent computing the surface: {100 * span / wall:.0f} %")
+
+
+if __name__ == "__main__":
+    main()
