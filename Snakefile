@@ -15,6 +15,7 @@ ALL_TARGETS = []
 
 
 include: "workflow/rules/surface.smk"
+include: "workflow/rules/models.smk"
 include: "workflow/rules/ball.smk"
 
 

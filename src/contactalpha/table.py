@@ -351,3 +351,44 @@ def jit_alpha_tabulated(path=DEFAULT_FILE):
         return alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
 
     return alpha_exact_jit
+
+
+def random_points(n, seed):
+    """``n`` random (eps, xi) in the table's domain: half log-uniform in xi (the ridge), half uniform."""
+    rng = np.random.default_rng(seed)
+    eps = np.exp(rng.uniform(U_MIN, 0.0, n))
+    xi = np.where(
+        rng.random(n) < 0.5, np.exp(rng.uniform(np.log(1e-9), np.log(XI_MAX), n)), rng.uniform(0.0, XI_MAX, n)
+    )
+    return eps, xi
+
+
+def check_table(path, *, n=2000, seed=0, shipped=DEFAULT_FILE):
+    """Accuracy of the table at ``path`` against ``solve_alpha``, and its distance to the shipped table.
+
+    Returns
+    -------
+    dict
+        ``max_rel_err``, ``median_rel_err``, ``worst`` (eps, xi), ``n``, and
+        ``max_rel_diff_shipped`` (NaN when no shipped table can be read).
+    """
+    from .solver import solve_alpha
+
+    eps, xi = random_points(n, seed)
+    ref = solve_alpha(eps, xi, tol=1e-13, guess="formula")
+    if not np.all(ref.ok):
+        raise RuntimeError(f"check_table: {int((~np.asarray(ref.ok)).sum())} reference solves failed")
+    got = alpha_tabulated(eps, xi, path=path)
+    rel = np.abs(got / ref.alpha - 1.0)
+    i = int(np.argmax(rel))
+    try:
+        diff = float(np.max(np.abs(alpha_tabulated(eps, xi, path=shipped) / got - 1.0)))
+    except (FileNotFoundError, ValueError):
+        diff = float("nan")
+    return dict(
+        n=n,
+        max_rel_err=float(rel.max()),
+        median_rel_err=float(np.median(rel)),
+        worst=(float(eps[i]), float(xi[i])),
+        max_rel_diff_shipped=diff,
+    )
