@@ -46,7 +46,7 @@ def test_engine_event_location_failure():
 
 
 def test_engine_root_tolerance_not_reached_when_the_integrator_is_too_loose():
-    s = ca.solve_alpha(0.9, 0.2, rtol=1e-4, atol=1e-6, tol=1e-15)
+    s = ca.solve_alpha(0.9, 0.2, rtol=1e-4, atol=1e-6, tol=1e-15, guess="formula")
     assert s.status == "root tolerance not reached"
     assert np.isnan(s.alpha)
 
@@ -153,3 +153,27 @@ def test_fit_power_recovers_an_exponent():
     p, c = wp.fit_power(x, 3.0 * x**1.7)
     assert p == pytest.approx(1.7, rel=1e-12)
     assert c == pytest.approx(3.0, rel=1e-10)
+
+
+def test_cost_to_reach_takes_the_cheapest_setting_that_is_accurate_enough():
+    rows = [
+        {"method": "a", "err_alpha": 1e-4, "seconds": 1.0},
+        {"method": "a", "err_alpha": 1e-8, "seconds": 3.0},
+        {"method": "a", "err_alpha": 1e-9, "seconds": 2.0},
+        {"method": "b", "err_alpha": np.nan, "seconds": 0.1},
+    ]
+    assert wp.cost_to_reach(rows, "a", 1e-7) == 2.0
+    assert wp.cost_to_reach(rows, "a", 1e-3) == 1.0
+    assert np.isnan(wp.cost_to_reach(rows, "b", 1.0))
+
+
+def test_fill_readme_replaces_only_the_marked_block(tmp_path):
+    from contactalpha.benchreport import README_END, README_START, fill_readme
+
+    readme = tmp_path / "README.md"
+    readme.write_text(f"# head\n{README_START}\nold 1.0\n{README_END}\ntail\n")
+    fill_readme(readme, "new 2.0\n")
+    assert readme.read_text() == f"# head\n{README_START}\nnew 2.0\n{README_END}\ntail\n"
+    (tmp_path / "bare.md").write_text("no markers\n")
+    with pytest.raises(ValueError, match="bench:start"):
+        fill_readme(tmp_path / "bare.md", "x\n")

@@ -4,7 +4,11 @@ Every measurement solves the same problem, alpha for a target Stronge
 restitution ``eps`` at load ``xi`` (SCIENCE.md Sect. 1), with one of:
 
 - ``engine``: the adaptive DOP853 engine with sensitivities and Newton
-  (``solve_alpha``; ``exact_at_zero=False`` so xi = 0 is integrated too);
+  (``solve_alpha``, ``guess="formula"``, ``exact_at_zero=False`` so xi = 0 is
+  integrated too), started like the others;
+- ``engine-table``: the same with the default start from the shipped exact
+  table, i.e. what ``solve_alpha`` does for a user: often one impact that
+  confirms the tabulated alpha;
 - ``rk4``: fixed-step classical RK4 (``fixedstep.impact_rk4``) under Brent's
   method (``reference.alpha_bracketed``);
 - ``scipy-RK45``, ``scipy-DOP853``, ``scipy-Radau``, ``scipy-LSODA``:
@@ -14,7 +18,9 @@ The setting of a method is its ``rtol`` (adaptive methods; ``atol = ATOL_RATIO
 * rtol``) or its step ``h`` (rk4).  Error is the relative error of alpha and
 the error of the eps that alpha really produces, both against a reference:
 the exact relation at xi = 0, elsewhere the engine at ``REF_RTOL`` checked by
-SciPy's DOP853 and by RK4 at a small step (``reference_point``).  Cost is the
+SciPy's DOP853 and by RK4 at a small step (``reference_point``).  All methods
+but ``engine-table`` start from the exact unloaded alpha, and on the xi = 0
+column (where that is the answer) from Hu & Guo's alpha (``unloaded_guess``).  Cost is the
 wall time of one alpha solve and its right-hand-side evaluations.  Note that
 one engine evaluation also advances two sensitivities.
 """
@@ -27,9 +33,10 @@ import numpy as np
 
 from .exact import alpha_exact, restitution_exact
 from .fixedstep import impact_rk4
-from .impact import impact
+from .impact import END_STATES, MAX_STEPS, STATUS, impact
 from .reference import alpha_bracketed, impact_scipy_limited
-from .solver import solve_alpha
+from .scaling import scaled_load
+from .solver import solve_alpha, solve_kernel
 from .validation import check_eps, check_xi
 
 # The regimes of the work-precision chart: name -> (eps, xi).
@@ -41,7 +48,7 @@ REGIMES = {
     "unloaded (exact)": (0.1, 0.0),
 }
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
-METHODS = ("engine", "rk4") + tuple(f"scipy-{m}" for m in SCIPY_METHODS)
+METHODS = ("engine", "engine-table", "rk4") + tuple(f"scipy-{m}" for m in SCIPY_METHODS)
 # atol / rtol: the ratio of the engine's defaults (1e-14 / 1e-12).
 ATOL_RATIO = 1e-2
 # Root tolerance (eps for Newton, relative alpha for Brent) per unit rtol, so
@@ -55,8 +62,9 @@ RK4_ROOT_RTOL = 1e-14
 REF_RTOL = 1e-13
 REF_SCIPY_RTOL = 1e-13
 REF_RK4_STEP = 1e-4
-# RHS budget of one SciPy impact: its "step limit"; ~2 s of Python time.
-SCIPY_MAX_NFEV = 200_000
+# RHS budget of one SciPy impact, its "step limit": ~10 s of Python time, and
+# a few times what the stiff ridge needs at rtol = 1e-13.
+SCIPY_MAX_NFEV = 1_000_000
 # Relative error of alpha above which a solve counts as failed (issue 7).
 FAIL_ERROR = 1e-6
 # Failure categories, most serious last; a point gets the first that applies
@@ -96,12 +104,32 @@ def root_tolerance(rtol):
     return max(ROOT_FLOOR, ROOT_RATIO * rtol)
 
 
-def _engine_options(rtol):
-    return {"rtol": rtol, "atol": ATOL_RATIO * rtol, "tol": root_tolerance(rtol), "exact_at_zero": False}
+def _engine_options(rtol, method="engine"):
+    guess = "table" if method == "engine-table" else "formula"
+    return {
+        "rtol": rtol,
+        "atol": ATOL_RATIO * rtol,
+        "tol": root_tolerance(rtol),
+        "exact_at_zero": False,
+        "guess": guess,
+    }
 
 
-def solve_with(method, setting, eps, xi, *, max_nfev=SCIPY_MAX_NFEV):
+def unloaded_guess(eps):
+    """Hu & Guo's alpha (paper Eq. 25), the start of every method on the xi = 0 column.
+
+    Elsewhere every method starts from the exact unloaded alpha, but at
+    xi = 0 that is the answer itself, and a loose root tolerance would return
+    it untouched: the column would measure nothing.
+    """
+    return 1.5 * (1.0 - eps) / eps
+
+
+def solve_with(method, setting, eps, xi, *, max_nfev=SCIPY_MAX_NFEV, alpha0=None):
     """Solve alpha for ``(eps, xi)`` with ``method`` at ``setting`` (rtol, or step for rk4).
+
+    ``alpha0`` overrides the starting alpha (default: the exact unloaded
+    alpha; ``engine-table`` always starts from the shipped exact table).
 
     Returns
     -------
@@ -110,8 +138,17 @@ def solve_with(method, setting, eps, xi, *, max_nfev=SCIPY_MAX_NFEV):
     """
     eps = float(check_eps(eps))
     xi = float(check_xi(xi))
-    if method == "engine":
-        s = solve_alpha(eps, xi, **_engine_options(setting))
+    if method == "engine" and alpha0 is not None:
+        opts = _engine_options(setting)
+        out = solve_kernel(
+            eps, float(scaled_load(xi)), float(alpha0), opts["tol"], opts["rtol"], opts["atol"], MAX_STEPS
+        )
+        status = int(out[3])
+        alpha = float(out[0]) if status == 0 else np.nan
+        state = END_STATES[int(np.nan_to_num(out[2]))]
+        return AlphaSolve(method, setting, alpha, state, STATUS[status], int(out[4]), int(out[8]))
+    if method in ("engine", "engine-table"):
+        s = solve_alpha(eps, xi, **_engine_options(setting, method))
         return AlphaSolve(
             method, setting, float(s.alpha), str(s.state), str(s.status), int(s.impacts), int(s.nfev)
         )
@@ -131,7 +168,8 @@ def solve_with(method, setting, eps, xi, *, max_nfev=SCIPY_MAX_NFEV):
         rtol = max(root_tolerance(setting), 1e-14)
     else:
         raise ValueError(f"method = {method!r} is not known; valid: {', '.join(METHODS)}")
-    b = alpha_bracketed(eps, one_impact, alpha0=float(alpha_exact(eps)), rtol=rtol)
+    alpha0 = float(alpha_exact(eps)) if alpha0 is None else float(alpha0)
+    b = alpha_bracketed(eps, one_impact, alpha0=alpha0, rtol=rtol)
     return AlphaSolve(method, setting, b.alpha, b.state, b.status, b.impacts, b.nfev)
 
 
@@ -149,13 +187,13 @@ def numba_threads(n):
 
 
 def seconds_per_call(fn):
-    """Wall time of ``fn()``: best of ``BATCHES`` batches of calls, each >= ``MIN_BATCH_SECONDS``."""
+    """Wall time of ``fn()`` and its last result: best of ``BATCHES`` batches of >= ``MIN_BATCH_SECONDS``."""
     best = np.inf
     for _ in range(BATCHES):
         n = 0
         start = time.perf_counter()
         while True:
-            fn()
+            result = fn()
             n += 1
             elapsed = time.perf_counter() - start
             if elapsed >= MIN_BATCH_SECONDS:
@@ -163,7 +201,7 @@ def seconds_per_call(fn):
         best = min(best, elapsed / n)
         if elapsed > 10 * MIN_BATCH_SECONDS * BATCHES:
             break  # a slow call: one batch is precise enough, and repeats cost too much
-    return best
+    return best, result
 
 
 def timed_solve(method, setting, eps, xi, **kwargs):
@@ -175,14 +213,15 @@ def timed_solve(method, setting, eps, xi, **kwargs):
     point per call.
     """
     with numba_threads(1):
-        result = solve_with(method, setting, eps, xi, **kwargs)
-        if method == "engine":
+        if method.startswith("engine") and kwargs.get("alpha0") is None:
+            result = solve_with(method, setting, eps, xi, **kwargs)
             batch = np.full(ENGINE_BATCH, float(eps))
-            seconds = (
-                seconds_per_call(lambda: solve_alpha(batch, xi, **_engine_options(setting))) / ENGINE_BATCH
-            )
+            seconds, _ = seconds_per_call(lambda: solve_alpha(batch, xi, **_engine_options(setting, method)))
+            seconds /= ENGINE_BATCH
         else:
-            seconds = seconds_per_call(lambda: solve_with(method, setting, eps, xi, **kwargs))
+            if not method.startswith("scipy-"):
+                solve_with(method, setting, eps, xi, **kwargs)  # jitted: load or compile before timing
+            seconds, result = seconds_per_call(lambda: solve_with(method, setting, eps, xi, **kwargs))
     return AlphaSolve(**{**asdict(result), "seconds": seconds})
 
 
@@ -203,28 +242,32 @@ def reference_point(eps, xi):
     dict
         ``alpha`` (exact at xi = 0, else the engine at ``REF_RTOL``),
         ``alpha_scipy`` (SciPy DOP853 at ``REF_SCIPY_RTOL``), ``alpha_rk4``
-        (RK4 at step ``REF_RK4_STEP``), their largest relative deviation
-        ``spread`` from ``alpha``, and the end ``state``.
+        (RK4 at step ``REF_RK4_STEP``), with their statuses, their largest
+        relative deviation ``spread`` from ``alpha`` (NaN if either failed),
+        and the end ``state``.
     """
     if xi == 0.0:
         alpha = float(alpha_exact(eps))
         state = "separation"
     else:
-        ref = solve_with("engine", REF_RTOL, eps, xi)
+        ref = solve_with("engine-table", REF_RTOL, eps, xi)
         if ref.status != "ok":
             raise RuntimeError(f"reference engine solve failed at eps={eps}, xi={xi}: {ref.status}")
         alpha, state = ref.alpha, ref.state
-    sp = solve_with("scipy-DOP853", REF_SCIPY_RTOL, eps, xi, max_nfev=10 * SCIPY_MAX_NFEV)
+    sp = solve_with("scipy-DOP853", REF_SCIPY_RTOL, eps, xi, max_nfev=SCIPY_MAX_NFEV)
     rk = solve_with("rk4", REF_RK4_STEP, eps, xi)
-    spread = max(abs(sp.alpha / alpha - 1.0), abs(rk.alpha / alpha - 1.0))
+    dev_scipy = abs(sp.alpha / alpha - 1.0)
+    dev_rk4 = abs(rk.alpha / alpha - 1.0)
     return {
         "eps": eps,
         "xi": xi,
         "alpha": alpha,
         "state": state,
         "alpha_scipy": sp.alpha,
+        "status_scipy": sp.status,
         "alpha_rk4": rk.alpha,
-        "spread": spread,
+        "status_rk4": rk.status,
+        "spread": max(dev_scipy, dev_rk4) if sp.status == rk.status == "ok" else np.nan,
     }
 
 
@@ -246,10 +289,11 @@ def work_precision(eps, xi, alpha_ref, settings, **kwargs):
         One row per method and setting: the ``AlphaSolve`` fields plus
         ``err_alpha`` (relative) and ``err_eps`` (absolute).
     """
+    alpha0 = unloaded_guess(eps) if xi == 0.0 else None
     rows = []
     for method, values in settings.items():
         for setting in values:
-            s = timed_solve(method, float(setting), eps, xi, **kwargs)
+            s = timed_solve(method, float(setting), eps, xi, alpha0=alpha0, **kwargs)
             err_alpha = abs(s.alpha / alpha_ref - 1.0) if np.isfinite(s.alpha) else np.nan
             err_eps = abs(true_eps(s.alpha, xi) - eps)
             rows.append({**asdict(s), "eps": eps, "xi": xi, "err_alpha": err_alpha, "err_eps": err_eps})
@@ -443,3 +487,92 @@ def ridge_share(eps, xi, *, eps_max=0.1, xi_max=0.1):
     for key in ("points", "nfev", "seconds"):
         out[f"share_{key}"] = out[f"ridge_{key}"] / (out[f"ridge_{key}"] + out[f"rest_{key}"])
     return out
+
+
+# --- whole studies: lists of flat rows, ready for a table -------------------------
+
+
+def reference_rows(regimes=None):
+    """``reference_point`` for each regime (default ``REGIMES``), with its name under ``regime``."""
+    regimes = REGIMES if regimes is None else regimes
+    return [{"regime": name, **reference_point(e, x)} for name, (e, x) in regimes.items()]
+
+
+def work_precision_rows(references, settings, **kwargs):
+    """``work_precision`` at each reference row (``reference_rows``), tagged with its regime."""
+    rows = []
+    for ref in references:
+        for row in work_precision(ref["eps"], ref["xi"], ref["alpha"], settings, **kwargs):
+            rows.append({"regime": ref["regime"], **row})
+    return rows
+
+
+# Per-point fields of ``failure_map`` copied into ``failure_rows``.
+FAILURE_FIELDS = ("alpha", "err_alpha", "nfev", "status", "state", "true_state")
+
+
+def failure_rows(method, setting, eps, xi, **kwargs):
+    """``failure_map`` of one method as flat rows (one per grid point), with ``category`` named."""
+    alpha_ref, _ = reference_grid(eps, xi)
+    fm = failure_map(method, setting, eps, xi, alpha_ref, **kwargs)
+    rows = []
+    for i, e in enumerate(eps):
+        for j, x in enumerate(xi):
+            row = {"method": method, "setting": float(setting), "eps": float(e), "xi": float(x)}
+            row["alpha_ref"] = float(alpha_ref[i, j])
+            row.update({k: fm[k][i, j] for k in FAILURE_FIELDS})
+            row["category"] = CATEGORIES[fm["category"][i, j]]
+            rows.append(row)
+    return rows
+
+
+def cost_to_reach(rows, method, target):
+    """Least time per alpha solve of ``method`` among ``rows`` with ``err_alpha <= target`` (NaN if none)."""
+    times = [r["seconds"] for r in rows if r["method"] == method and r["err_alpha"] <= target]
+    return min(times) if times else np.nan
+
+
+def scaling_study(sizes, thread_points, alpha_runs, alpha_fit_min, ridge_eps, ridge_xi):
+    """Grid time against size and threads, impact cost against alpha, and the ridge's share.
+
+    Parameters
+    ----------
+    sizes : sequence of int
+        Approximate grid sizes (``square_grid``).
+    thread_points : int
+        Approximate grid size of the 1- against 2-thread timing.
+    alpha_runs : dict
+        Label -> ``(method, setting, xi, alphas)`` for ``cost_vs_alpha``.
+    alpha_fit_min : float
+        Smallest alpha in the fit of ``nfev = c alpha^p``.
+    ridge_eps, ridge_xi : array_like
+        The surface grid whose ridge share is measured (``ridge_share``).
+
+    Returns
+    -------
+    dict
+        ``grid``, ``grid_fit``, ``threads``, ``cost_vs_alpha``, ``alpha_fits``,
+        ``alpha_fit_min`` and ``ridge``.
+    """
+    solve_alpha(np.array([0.5, 0.1]), np.array([0.2, 0.0]))  # compile / load before timing
+    grid = grid_timing(sizes)
+    p, c = fit_power([r["n"] for r in grid], [r["seconds"] for r in grid])
+    costs = {}
+    fits = {}
+    for label, (method, setting, xi, alphas) in alpha_runs.items():
+        with numba_threads(1):
+            rows = cost_vs_alpha(method, setting, xi, alphas)
+        costs[label] = rows
+        use = [r for r in rows if r["status"] == "ok" and r["alpha"] >= alpha_fit_min]
+        if len(use) >= 2:
+            q, k = fit_power([r["alpha"] for r in use], [r["nfev"] for r in use])
+            fits[label] = {"exponent": q, "prefactor": k, "points": len(use)}
+    return {
+        "grid": grid,
+        "grid_fit": {"exponent": p, "prefactor": c},
+        "threads": thread_timing(thread_points),
+        "cost_vs_alpha": costs,
+        "alpha_fits": fits,
+        "alpha_fit_min": alpha_fit_min,
+        "ridge": ridge_share(ridge_eps, ridge_xi),
+    }

@@ -1,0 +1,16 @@
+"""Figure: the failure map, one panel per method, points coloured by failure category.
+
+Settings: none.
+Inputs: failure_map.csv.
+Outputs: png, pdf.
+"""
+
+import pandas as pd
+
+from contactalpha.benchreport import plot_failure_map
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_fig_failure_map", sm.log[0])
+plot_failure_map(pd.read_csv(sm.input[0]), [sm.output.png, sm.output.pdf])
+log.info(f"wrote {sm.output.png}")

@@ -1,0 +1,17 @@
+"""Figure: grid time against size, 1 against 2 threads, impact cost against alpha.
+
+Settings: none.
+Inputs: scaling.json.
+Outputs: png, pdf.
+"""
+
+import json
+from pathlib import Path
+
+from contactalpha.benchreport import plot_scaling
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_fig_scaling", sm.log[0])
+plot_scaling(json.loads(Path(sm.input[0]).read_text()), [sm.output.png, sm.output.pdf])
+log.info(f"wrote {sm.output.png}")

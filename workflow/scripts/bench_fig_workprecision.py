@@ -1,0 +1,18 @@
+"""Figure: error against cost, one curve per method, one column per regime.
+
+Settings: none.
+Inputs: reference (reference.csv), table (workprecision.csv).
+Outputs: png, pdf.
+"""
+
+import pandas as pd
+
+from contactalpha.benchreport import plot_work_precision
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_fig_workprecision", sm.log[0])
+plot_work_precision(
+    pd.read_csv(sm.input.table), pd.read_csv(sm.input.reference), [sm.output.png, sm.output.pdf]
+)
+log.info(f"wrote {sm.output.png}")

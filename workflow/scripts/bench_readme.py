@@ -1,0 +1,16 @@
+"""Put results/bench/summary.md between the bench markers of README.md.
+
+Settings (snakemake.params): readme (path of README.md).
+Inputs: summary.md.
+Outputs: a flag file (touched by Snakemake); README.md is edited in place, atomically.
+"""
+
+from pathlib import Path
+
+from contactalpha.benchreport import fill_readme
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_readme", sm.log[0])
+fill_readme(sm.params.readme, Path(sm.input[0]).read_text(encoding="utf-8"))
+log.info(f"filled the bench block of {sm.params.readme}")

@@ -1,0 +1,14 @@
+"""Scaling: grid time against size and threads, impact cost against alpha, the ridge's share.
+
+Settings (snakemake.params.scaling): sizes, thread_points, stiff_xi, alphas, scipy_methods,
+scipy_rtol, scipy_alphas, alpha_fit_min.
+Inputs: none.
+Outputs: scaling.json (with the machine), written atomically.
+"""
+
+from contactalpha.benchreport import run_scaling
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_scaling", sm.log[0])
+run_scaling({"scaling": sm.params.scaling}, sm.output[0], log=log.info)

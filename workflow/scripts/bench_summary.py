@@ -1,0 +1,16 @@
+"""results/bench/summary.md: machine, cost ratios at equal accuracy, references, failures, scaling.
+
+Settings (snakemake.params): failure (grids, named in the text), scipy_max_nfev.
+Inputs: reference, table (workprecision.csv), counts (failure_counts.csv), scaling (scaling.json).
+Outputs: the markdown file, written atomically.
+"""
+
+from contactalpha.benchreport import run_summary
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_summary", sm.log[0])
+run_summary(
+    dict(sm.params.items()), sm.input.reference, sm.input.table, sm.input.counts, sm.input.scaling, sm.output[0]
+)
+log.info(f"wrote {sm.output[0]}")

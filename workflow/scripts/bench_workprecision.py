@@ -1,0 +1,13 @@
+"""Work-precision study: references of the five regimes, then error against cost of every method.
+
+Settings (snakemake.params): rtols, rk4_steps, scipy_methods, scipy_max_nfev.
+Inputs: none.
+Outputs: reference (reference.csv), table (workprecision.csv), written atomically.
+"""
+
+from contactalpha.benchreport import run_workprecision
+from contactalpha.io import script_logger
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("bench_workprecision", sm.log[0])
+run_workprecision(dict(sm.params.items()), sm.output.reference, sm.output.table, log=log.info)
