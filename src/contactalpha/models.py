@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .exact import alpha_exact
+from .shen import shen_published, shen_refit
 from .validation import check_eps, check_xi
 
 
@@ -150,6 +151,10 @@ _REGISTRY.append(
         exact_tabulated,
     )
 )
+_REGISTRY += [
+    Model("shen_published", "Shen et al., Eq. 40", "Shen et al., Eq. 40", "Eq. 40", True, shen_published),
+    Model("shen_refit", "Shen et al., refit", "Eq. 40 refit to this surface", "Eq. 40", True, shen_refit),
+]
 MODELS = {m.name: m for m in _REGISTRY}
 
 
@@ -213,6 +218,8 @@ def alpha(eps, xi=0.0, model="exact"):
     """
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
+    if model == "exact":
+        return exact_tabulated(eps, xi)  # validates in one jitted pass: keeps formula speed
     e = check_eps(eps)
     x = check_xi(xi)
     if np.any(e == 0.0) and model not in ("exact_solve",):

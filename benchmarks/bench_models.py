@@ -1,0 +1,104 @@
+"""Benchmark: exact alpha at formula speed (issue: contact models).
+
+Run: ``python benchmarks/bench_models.py`` (``--quick`` for a smoke run, ``--out FILE`` for JSON).
+Prints, measured in this run on the same random points of the table's domain:
+- evaluations per second of ``alpha(..., model="exact")`` (vectorised, and the jitted scalar
+  form in a user's numba loop), of the published Eq. 40 and of ``solve_alpha``;
+- the accuracy of each against ``solve_alpha`` (max and median relative error in alpha);
+- the cost ratio exact / Eq. 40 (the target is at most 3).
+"""
+
+import argparse
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def rate(fn, n, repeat=5):
+    """Best evaluations per second over ``repeat`` runs of ``fn()`` evaluating ``n`` points."""
+    best = np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return n / best
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true")
+    p.add_argument("--out", type=Path)
+    args = p.parse_args(argv)
+
+    import numba
+    from numba import njit
+
+    import contactalpha as ca
+    from contactalpha.models import MODELS
+    from contactalpha.table import random_points
+
+    n = 100_000 if args.quick else 1_000_000
+    n_solve = 300 if args.quick else 3000
+    eps, xi = random_points(n, seed=7)
+    print(f"machine: {platform.machine()}, {os.cpu_count()} cores, numba threads {numba.get_num_threads()}")
+
+    ref = ca.solve_alpha(eps[:n_solve], xi[:n_solve], tol=1e-13, guess="formula")
+    solve_rate = rate(lambda: ca.solve_alpha(eps[:n_solve], xi[:n_solve]), n_solve, repeat=2)
+
+    ca.alpha(eps[:10], xi[:10], model="exact")
+    exact_rate = rate(lambda: ca.alpha(eps, xi, model="exact"), n)
+    f = ca.jit_alpha_tabulated()
+
+    @njit
+    def user_loop(e, x):
+        s = 0.0
+        for i in range(e.size):
+            s += f(e[i], x[i])
+        return s
+
+    user_loop(eps[:10], xi[:10])
+    jit_rate = rate(lambda: user_loop(eps, xi), n)
+
+    rows = [
+        ("exact (table, vectorised)", exact_rate, ca.alpha(eps[:n_solve], xi[:n_solve], model="exact")),
+        ("exact (jitted scalar, user loop, 1 thread)", jit_rate, None),
+        ("solve_alpha (Newton on the engine)", solve_rate, ref.alpha),
+    ]
+    eq40 = "shen_published"
+    if eq40 in MODELS:
+        ca.alpha(eps[:10], xi[:10], model=eq40)
+        eq40_rate = rate(lambda: ca.alpha(eps, xi, model=eq40), n)
+        rows.insert(
+            2, ("Eq. 40 published (numpy)", eq40_rate, ca.alpha(eps[:n_solve], xi[:n_solve], model=eq40))
+        )
+    else:
+        eq40_rate = float("nan")
+        print(f"note: model {eq40!r} not registered; Eq. 40 row skipped")
+
+    print(f"{'method':45s} {'evals/s':>12s} {'max rel err':>12s} {'median':>10s}")
+    out = {"n": n, "n_solve": n_solve, "rows": []}
+    for name, r, a in rows:
+        if a is None:
+            err_max = err_med = float("nan")
+        else:
+            rel = np.abs(np.asarray(a) / ref.alpha - 1)
+            err_max, err_med = float(np.nanmax(rel)), float(np.nanmedian(rel))
+        print(f"{name:45s} {r:12.3e} {err_max:12.2e} {err_med:10.1e}")
+        out["rows"].append(dict(method=name, evals_per_s=r, max_rel_err=err_max, median_rel_err=err_med))
+    ratio = eq40_rate / exact_rate
+    print(
+        f"cost ratio exact / Eq. 40: {ratio:.2f} (target <= 3); exact vs solve_alpha speed-up: "
+        f"{exact_rate / solve_rate:.0f}x"
+    )
+    out.update(cost_ratio_exact_over_eq40=ratio, speedup_over_solve=exact_rate / solve_rate)
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()
