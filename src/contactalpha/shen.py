@@ -25,7 +25,10 @@ With ``D_c``, ``D_r`` the damping work of compression and restitution (unit
 With these, Eq. 38 holds exactly (``eq38``), since ``0.47 = 0.4 / 0.851``.
 """
 
+import json
 from dataclasses import dataclass
+from functools import lru_cache
+from importlib.resources import files
 
 import numpy as np
 from scipy.integrate import quad
@@ -43,6 +46,9 @@ ZERO_LOAD_EXP = 0.89
 EQ26_PUBLISHED = {"tau": 0.01, "sigma": 0.011, "beta": 0.113}
 # Absolute tolerance of the s1 quadrature (Eq. 31); s1 is about 0.2.
 S1_QUAD_EPSABS = 1e-13
+
+# Refit constants shipped with the package, written by the workflow (rule fit_refit).
+REFIT_FILE = "shen_refit.json"
 
 # Every numeric constant of Eq. 40 (0 < xi < 1), as printed, with its role.
 PUBLISHED = {
@@ -334,3 +340,31 @@ def compression_work_path(path, alpha):
     n = stop[0] + 1 if stop.size else len(t)
     power = 1.25 * alpha * np.clip(x[:n], 0.0, None) ** 1.5 * np.clip(v[:n], 0.0, None) ** 2
     return float(np.trapezoid(power, t[:n]))
+
+
+@lru_cache(maxsize=1)
+def load_refit():
+    """The refit constants shipped in ``contactalpha/data/shen_refit.json`` (a dict).
+
+    Raises
+    ------
+    FileNotFoundError
+        If the package was built without the file (run the workflow's ``fit_refit`` rule).
+    """
+    path = files("contactalpha") / "data" / REFIT_FILE
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"{path} is missing: run `snakemake -c2 fit_refit` to write the refit constants"
+        )
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def shen_published(eps, xi):
+    """Eq. 40 as published, read as ``BEST_READING`` (beta = 1 as printed); both branches."""
+    return eq40(eps, xi)
+
+
+def shen_refit(eps, xi):
+    """Eq. 40 with every constant refit to the computed surface (``load_refit``), both branches."""
+    d = load_refit()
+    return eq40(eps, xi, {**PUBLISHED, **d["constants"]}, d["reading"], d["zero_load_exp"])
