@@ -6,12 +6,15 @@ Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md
 """
 
 import json
+import time
 
 import numpy as np
 
+from contactalpha import __version__
 from contactalpha.comparison import deviation_table, fig9_statements, post_vs_pre, statements_markdown
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
+from contactalpha.surface import git_commit, history_line
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_fig9", sm.log[0])
@@ -21,20 +24,34 @@ if missing:
     raise SystemExit(f"Fig. 9: model(s) {missing} not registered; known: {sorted(MODELS)}")
 r = p["eps"]
 eps = np.round(np.arange(r["start"], r["stop"] + 0.5 * r["step"], r["step"]), 10)
+start = time.perf_counter()
 ds = post_vs_pre(list(p["models"]) + [p["reference"]], p["xi"], eps, rtol=p["rtol"], atol=p["atol"])
-ds.attrs["config"] = json.dumps(dict(p))
+wall = time.perf_counter() - start
+ds.attrs.update(
+    config=json.dumps(dict(p)),
+    contactalpha_version=__version__,
+    git_commit=git_commit(),
+    solver="contactalpha.impact (DOP853, events by change of variable)",
+    rtol=p["rtol"],
+    atol=p["atol"],
+    wall_time_s=wall,
+    history=history_line("models_fig9: post- versus pre-restitution"),
+)
+footer = f"\n_contactalpha {__version__}, commit {ds.attrs['git_commit']}, computed in {wall:.1f} s._\n"
 write_dataset_atomic(ds, sm.output.data)
 write_text_atomic(
     sm.output.table,
     "# Fig. 9: largest |post − pre| per model and load (at which pre-restitution ε)\n\n"
     + deviation_table(ds)
-    + "\n",
+    + "\n"
+    + footer,
 )
 statements = fig9_statements(ds, new=p["models"][-1], reference=p["reference"])
 write_text_atomic(
     sm.output.statements,
     "# The paper's conclusions about Fig. 9, checked on our numbers\n\n"
     + statements_markdown(statements)
-    + "\n",
+    + "\n"
+    + footer,
 )
 log.info("wrote %s, %s, %s", sm.output.data, sm.output.table, sm.output.statements)
