@@ -8,6 +8,14 @@ import xarray as xr
 
 # netCDF4/HDF5 through h5py: no netCDF C library needed.
 ENGINE = "h5netcdf"
+# Permissions of written files before the umask, as open() would give them.
+FILE_MODE = 0o666
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_atomic(path, write):
@@ -24,6 +32,7 @@ def write_atomic(path, write):
         write(tmp)
         with open(tmp, "rb+") as fh:
             os.fsync(fh.fileno())
+        os.chmod(tmp, FILE_MODE & ~_umask())  # mkstemp makes 0600; results are for everyone to read
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
