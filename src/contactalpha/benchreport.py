@@ -267,7 +267,8 @@ def summary_markdown(wp, references, counts, scaling, grids):
         "",
         f"**Scaling.** Grid time grows as n^{g['exponent']:.2f} from {scaling['grid'][0]['n']} to "
         f"{scaling['grid'][-1]['n']} points ({scaling['grid'][-1]['seconds']:.1f} s for the largest). "
-        f"Two threads against one: {th[1] / th[2]:.2f}× faster. Cost of one impact against α, "
+        f"{scaling['threads'][0]['n']} points take {th[1]:.2f} s on 1 thread and {th[2]:.2f} s on 2 "
+        f"(speed-up {th[1] / th[2]:.2f}). Cost of one impact against α, "
         "fitted exponent p in nfev ∝ α^p for α ≥ "
         + f"{scaling['alpha_fit_min']:g}: "
         + "; ".join(f"{k} p = {v['exponent']:.2f}" for k, v in fits.items())
@@ -323,7 +324,7 @@ def _read_csv(path):
 
 def method_settings(cfg):
     """Method name -> settings of the work-precision chart, from the ``bench`` config section."""
-    settings = {"engine": cfg["rtols"], "rk4": cfg["rk4_steps"]}
+    settings = {"engine": cfg["rtols"], "engine-table": cfg["rtols"], "rk4": cfg["rk4_steps"]}
     settings.update({f"scipy-{m}": cfg["rtols"] for m in cfg["scipy_methods"]})
     return settings
 
