@@ -15,6 +15,7 @@ ALL_TARGETS = []
 
 
 include: "workflow/rules/surface.smk"
+include: "workflow/rules/fit.smk"
 include: "workflow/rules/models.smk"
 include: "workflow/rules/ball.smk"
 include: "workflow/rules/bench.smk"
