@@ -51,6 +51,14 @@ def test_engine_root_tolerance_not_reached_when_the_integrator_is_too_loose():
     assert np.isnan(s.alpha)
 
 
+def test_engine_no_root_bracketed_beyond_its_alpha_limit():
+    # eps(5e8) = 2e-6 at xi = 1e-8 (cheap: the impact ends in a proved creep),
+    # so eps = 1e-6 needs alpha > ALPHA_MAX = 1e9.
+    s = ca.solve_alpha(1e-6, 1e-8)
+    assert s.status == "no root bracketed"
+    assert np.isnan(s.alpha)
+
+
 # --- Brent's method and the budgeted SciPy impact --------------------------------
 
 
@@ -177,3 +185,11 @@ def test_fill_readme_replaces_only_the_marked_block(tmp_path):
     (tmp_path / "bare.md").write_text("no markers\n")
     with pytest.raises(ValueError, match="bench:start"):
         fill_readme(tmp_path / "bare.md", "x\n")
+
+
+def test_brent_counts_a_round_off_nan_eps_as_zero():
+    # eps^2 < 0 by round-off gives NaN with status "ok" in impact_scipy.
+    # Above alpha = 5 every eps is NaN, i.e. 0 < 0.1: the sign change sits at 5.
+    b = alpha_bracketed(0.1, lambda a: Fake(1.0 / (1.0 + a) if a < 5.0 else np.nan), alpha0=0.5, rtol=1e-14)
+    assert b.status == "ok"
+    assert b.alpha == pytest.approx(5.0, rel=1e-13)

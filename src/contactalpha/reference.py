@@ -239,7 +239,9 @@ def alpha_bracketed(eps, impact_fn, *, alpha0, rtol=1e-13, expand=2.0, alpha_max
         r = seen[alpha]
         if r.status != "ok":
             raise _ImpactFailed(r.status)
-        return r.eps - eps
+        # ``impact_scipy`` returns NaN when eps^2 < 0 by round-off (a spurious
+        # v = 0 event as compression creeps to x_eq): that eps is 0.
+        return (r.eps if np.isfinite(r.eps) else 0.0) - eps
 
     def result(alpha, status):
         r = seen.get(alpha)
