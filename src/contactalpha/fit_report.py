@@ -22,6 +22,7 @@ DEFAULTS = {
     "verdict_k": fit.VERDICT_K,
     "eq26": {"xi": 0.2, "eps_max": fit.EQ26_EPS_MAX},
     "restitution": True,
+    "max_nfev": fit.MAX_NFEV,
 }
 # Order and labels of the models in the comparison table.
 MODEL_LABELS = {
@@ -47,7 +48,8 @@ def refit_report(ds, **settings):
         Overrides of ``DEFAULTS``: ``readings`` (keys of ``shen.READINGS``
         refitted for the evidence), ``weights``, ``loss``, ``verdict_k``,
         ``eq26`` (``{"xi", "eps_max"}`` or None to skip), ``restitution``
-        (measure the error as restitution through the engine).
+        (measure the error as restitution through the engine), ``max_nfev``
+        (evaluation budget of each Eq. 40 fit).
 
     Returns
     -------
@@ -77,11 +79,10 @@ def refit_report(ds, **settings):
 
     slices = fit.fit_eq39_slices(ds)
     evidence = fit.reading_evidence(slices)
-    readings = {
-        r: fit.fit_eq40(loaded, r, loss=cfg["loss"]) for r in dict.fromkeys([reading, *cfg["readings"]])
-    }
+    opts = {"loss": cfg["loss"], "max_nfev": int(cfg["max_nfev"])}
+    readings = {r: fit.fit_eq40(loaded, r, **opts) for r in dict.fromkeys([reading, *cfg["readings"]])}
     eq40 = readings[reading]
-    beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, loss=cfg["loss"])
+    beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, **opts)
     beta_only.label = f"Eq. 40 ({reading}), beta only"
     zero = fit.fit_zero_load(np.unique(np.concatenate([unloaded.eps, loaded.eps])))
     s21 = fit.fit_s21(np.unique(np.concatenate([[0.0], loaded.xi, unloaded.xi])))

@@ -123,8 +123,17 @@ def contact_factor(xi):
 
 def _s1_scalar(xi):
     r = xi / (1.0 - xi)
+    # sqrt(g) = sqrt(1 - x) sqrt(g / (1 - x)): the endpoint singularity goes to quad's weight.
+    slope = 2.5 + 1.5 * r  # -g'(1), the limit of g / (1 - x)
+
+    def smooth(x):
+        if x >= 1.0:
+            return slope
+        g = 1.0 - x**2.5 + r * (x - x**2.5)
+        return x**1.5 * np.sqrt(max(g / (1.0 - x), 0.0))
+
     val, _ = quad(
-        lambda x: x**1.5 * np.sqrt(max(1.0 - x**2.5 + r * (x - x**2.5), 0.0)), 0.0, 1.0, epsabs=S1_QUAD_EPSABS
+        smooth, 0.0, 1.0, weight="alg", wvar=(0.0, 0.5), epsabs=S1_QUAD_EPSABS, epsrel=S1_QUAD_EPSABS
     )
     return val
 

@@ -8,12 +8,14 @@ ALL_TARGETS += [
     "results/fit/coefficients.json",
     "results/fit/comparison.md",
     "results/fit/eq40_readings.md",
+    "results/fit/shen_refit.json",
     config["fit"]["package_coefficients"],
     *expand("results/figures/{name}.{ext}", name=FIT_FIGURES, ext=["png", "pdf"]),
 ]
 
 
 localrules:
+    fit_ship,
     fit_fig6,
     fit_fig7,
     fit_lambda,
@@ -27,7 +29,7 @@ rule fit_refit:
         coefficients="results/fit/coefficients.json",
         comparison="results/fit/comparison.md",
         readings="results/fit/eq40_readings.md",
-        package=config["fit"]["package_coefficients"],
+        package="results/fit/shen_refit.json",
     params:
         readings=config["fit"]["readings"],
         weights=config["fit"]["weights"],
@@ -41,6 +43,21 @@ rule fit_refit:
         "../envs/contactalpha.yaml"
     script:
         "../scripts/fit_refit.py"
+
+
+# A separate step, so the shipped file is replaced only after a successful refit (Snakemake
+# removes a job's outputs before it runs and after it fails).
+rule fit_ship:
+    input:
+        "results/fit/shen_refit.json",
+    output:
+        config["fit"]["package_coefficients"],
+    log:
+        "logs/fit/ship.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/fit_ship.py"
 
 
 rule fit_fig6:

@@ -4,7 +4,7 @@ Settings (snakemake.params): readings, weights, loss, verdict_k, eq26 (xi, eps_m
 restitution (see contactalpha.fit_report.DEFAULTS).
 Inputs: results/surface.h5.
 Outputs: coefficients (JSON report), comparison (markdown table), readings (evidence note on
-Eq. 40's damaged term), package (refit constants shipped as contactalpha/data/shen_refit.json).
+Eq. 40's damaged term), package (refit constants; rule fit_ship copies them into the package).
 Nothing is written when a fit does not converge: the rule fails with scipy's message.
 """
 
