@@ -17,7 +17,7 @@ from contactalpha.ball import (
     energy_terms,
     simulate,
 )
-from contactalpha.ball_report import statements, statements_markdown
+from contactalpha.ball_report import cases_markdown, statements, statements_markdown
 from contactalpha.ball_study import first_collision, resolve_model, run_dataset
 from contactalpha.exact import restitution_exact
 from contactalpha.kernel import NONSEPARATION, SEPARATION
@@ -290,6 +290,9 @@ def test_resolve_model_falls_back_in_order():
 
 def test_run_dataset_keeps_ledger_and_counts(runs):
     ds = run_dataset(runs["A"])
+    text = cases_markdown([ds], [("shen_missing", "not registered")])
+    assert "Counting rule" in text and "`shen_missing` skipped" in text and "nan" not in text.lower()
+    assert f"| {runs['A'].count} | {runs['A'].rebounds} |" in text
     assert ds.attrs["collisions"] == runs["A"].count
     assert ds.sizes["collision"] == runs["A"].count
     assert set(np.unique(ds["phase"].values)) == {FLIGHT, CONTACT}
