@@ -77,20 +77,22 @@ def refit_report(ds, **settings):
     reading = shen.BEST_READING
     k = float(cfg["verdict_k"])
 
-    slices = fit.fit_eq39_slices(ds)
-    evidence = fit.reading_evidence(slices)
     opts = {"loss": cfg["loss"], "max_nfev": int(cfg["max_nfev"])}
-    readings = {r: fit.fit_eq40(loaded, r, **opts) for r in dict.fromkeys([reading, *cfg["readings"]])}
-    eq40 = readings[reading]
+    eq40 = fit.fit_eq40(loaded, reading, **opts)
+    fit.require_converged(eq40)  # fail fast: the main result
+    readings = {r: eq40 if r == reading else fit.fit_eq40(loaded, r, **opts) for r in cfg["readings"]}
+    readings.setdefault(reading, eq40)
     beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, **opts)
     beta_only.label = f"Eq. 40 ({reading}), beta only"
     zero = fit.fit_zero_load(np.unique(np.concatenate([unloaded.eps, loaded.eps])))
     s21 = fit.fit_s21(np.unique(np.concatenate([[0.0], loaded.xi, unloaded.xi])))
     fits = {"eq40": eq40, "beta_only": beta_only, "zero_load": zero, "s21": s21, "readings": readings}
-    fits["slices"] = slices
     if cfg["eq26"] is not None:
         fits["eq26"] = fit.fit_eq26(ds, **cfg["eq26"])
-    fit.require_converged(eq40, beta_only, zero, s21, *([fits["eq26"]] if "eq26" in fits else []))
+    fit.require_converged(beta_only, zero, s21, *([fits["eq26"]] if "eq26" in fits else []))
+    slices = fit.fit_eq39_slices(ds)
+    evidence = fit.reading_evidence(slices)
+    fits["slices"] = slices
 
     models = {
         "published": fit.eq40_model(loaded, {}, reading),

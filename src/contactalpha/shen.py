@@ -164,7 +164,7 @@ def s21(xi, coef=S21_COEF):
 def lambda_eq40(eps, xi, c=PUBLISHED):
     """End-to-maximum compression ratio of Eq. 40, clipped at 0 (0 at xi = 0)."""
     eps, xi = np.asarray(eps, dtype=float), np.asarray(xi, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         power = 1.0 + xi ** c["lam_xi_pow"] * (1.0 - eps * (1.0 - xi))
         lam = 1.0 - (eps / xi ** c["lam_xi_exp"]) ** power
     return np.where(xi > 0, np.clip(np.nan_to_num(lam, nan=0.0, neginf=0.0), 0.0, None), 0.0)
