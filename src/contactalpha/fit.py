@@ -44,6 +44,12 @@ SLICE_BOUNDS = ([-1.0, 1e-4, 1e-6, -3.0, 1e-3], [1.0, 10.0, 1e3, 3.0, 1e3])
 SLICE_A = 6.0
 # Lower bound of positive constants of Eq. 40 in the global refit.
 POSITIVE = {"beta": 1e-8, "width_coef": 1e-8}
+# Continuation of the Eq. 40 refit: a first fit on every 4th row and column of the grid.
+COARSE_STRIDE = 4
+# ... done only with at least this many points per fitted constant.
+COARSE_MIN_RATIO = 5
+# xi grid of the Eq. 34 fit: the paper's range, uniform, independent of the surface grid.
+S21_XI = np.linspace(0.0, 0.99, 100)
 WEIGHTS = ("area", "uniform")
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
 
@@ -299,6 +305,38 @@ def fit_eq40(points, reading=shen.BEST_READING, *, start=None, loss="linear", ma
     return fit
 
 
+def fit_eq40_surface(ds, reading=shen.BEST_READING, *, weights="area", coarse_stride=COARSE_STRIDE, **opts):
+    """``fit_eq40`` on a surface, by continuation: first every ``coarse_stride``-th row and column.
+
+    Both stages start from the published constants' basin: the coarse fit starts
+    at them, the full fit at the coarse optimum.  On our surface a direct fit on
+    the full grid stops early (``ftol``) in a poorer local minimum.  The coarse
+    stage is skipped when it would have fewer than ``COARSE_MIN_RATIO`` points
+    per constant.  ``opts`` go to ``fit_eq40``.
+
+    Returns
+    -------
+    FitResult
+        The full-grid fit; ``extra["coarse"]`` describes the first stage (or None).
+    """
+    loaded, _, _ = surface_points(ds, weights=weights)
+    start = eq40_fit_start(reading)
+    coarse = None
+    if coarse_stride > 1:
+        sub = ds.isel(epsilon=slice(None, None, coarse_stride), xi=slice(None, None, coarse_stride))
+        pts, _, _ = surface_points(sub, weights=weights)
+        if len(pts) >= COARSE_MIN_RATIO * len(start):
+            coarse = fit_eq40(pts, reading, start=start, **opts)
+            require_converged(coarse)
+            start = coarse.values()
+    full = fit_eq40(loaded, reading, start=start, **opts)
+    full.extra["coarse"] = (
+        None if coarse is None else {"points": coarse.n_points, "rms": coarse.rms, "nfev": coarse.nfev}
+    )
+    full.x0 = np.array([eq40_fit_start(reading)[k] for k in full.names])
+    return full
+
+
 def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A):
     """Eq. 39 on one xi section: tau, sigma, beta, b and eta = eta_r / eta_c, with lambda measured.
 
@@ -470,9 +508,9 @@ def fit_zero_load(eps):
     )
 
 
-def fit_s21(xi):
-    """The factor 0.851 of Eq. 34, fitted to s1 (Eq. 31) on ``xi`` with relative residuals."""
-    xi = np.asarray(xi, dtype=float)
+def fit_s21(xi=None):
+    """The factor 0.851 of Eq. 34 fitted to s1 (Eq. 31) on ``xi`` (default ``S21_XI``), relative residuals."""
+    xi = S21_XI if xi is None else np.asarray(xi, dtype=float)
     target = shen.s1(xi)
     S = shen.contact_factor(xi)
     return least_squares_fit(

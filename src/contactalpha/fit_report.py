@@ -23,6 +23,7 @@ DEFAULTS = {
     "eq26": {"xi": 0.2, "eps_max": fit.EQ26_EPS_MAX},
     "restitution": True,
     "max_nfev": fit.MAX_NFEV,
+    "coarse_stride": fit.COARSE_STRIDE,
 }
 # Order and labels of the models in the comparison table.
 MODEL_LABELS = {
@@ -49,7 +50,8 @@ def refit_report(ds, **settings):
         refitted for the evidence), ``weights``, ``loss``, ``verdict_k``,
         ``eq26`` (``{"xi", "eps_max"}`` or None to skip), ``restitution``
         (measure the error as restitution through the engine), ``max_nfev``
-        (evaluation budget of each Eq. 40 fit).
+        (evaluation budget of each Eq. 40 fit), ``coarse_stride`` (continuation
+        of the Eq. 40 fits, ``fit.fit_eq40_surface``; 1 for none).
 
     Returns
     -------
@@ -78,14 +80,17 @@ def refit_report(ds, **settings):
     k = float(cfg["verdict_k"])
 
     opts = {"loss": cfg["loss"], "max_nfev": int(cfg["max_nfev"])}
-    eq40 = fit.fit_eq40(loaded, reading, **opts)
+    surface_opts = {**opts, "weights": cfg["weights"], "coarse_stride": int(cfg["coarse_stride"])}
+    eq40 = fit.fit_eq40_surface(ds, reading, **surface_opts)
     fit.require_converged(eq40)  # fail fast: the main result
-    readings = {r: eq40 if r == reading else fit.fit_eq40(loaded, r, **opts) for r in cfg["readings"]}
+    readings = {
+        r: eq40 if r == reading else fit.fit_eq40_surface(ds, r, **surface_opts) for r in cfg["readings"]
+    }
     readings.setdefault(reading, eq40)
     beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, **opts)
     beta_only.label = f"Eq. 40 ({reading}), beta only"
     zero = fit.fit_zero_load(np.unique(np.concatenate([unloaded.eps, loaded.eps])))
-    s21 = fit.fit_s21(np.unique(np.concatenate([[0.0], loaded.xi, unloaded.xi])))
+    s21 = fit.fit_s21()
     fits = {"eq40": eq40, "beta_only": beta_only, "zero_load": zero, "s21": s21, "readings": readings}
     if cfg["eq26"] is not None:
         fits["eq26"] = fit.fit_eq26(ds, **cfg["eq26"])
@@ -153,6 +158,7 @@ def _fit_entry(f, verdicts):
         "n_points": f.n_points,
         "loss": f.loss,
         "rms_residual": f.rms,
+        "coarse_stage": f.extra.get("coarse"),
         "constants": verdicts,
     }
 
@@ -287,7 +293,7 @@ def comparison_markdown(report):
         constants_table(report["eq40"]),
         "",
         f"Converged: {report['eq40']['converged']} ({report['eq40']['message']}; "
-        f"{report['eq40']['nfev']} evaluations).",
+        f"{report['eq40']['nfev']} evaluations). {_coarse(report['eq40'].get('coarse_stage'))}",
         "",
         "## Models: error in α and as restitution (the ε that α produces through the engine)",
         "",
@@ -301,7 +307,7 @@ def comparison_markdown(report):
         f"published {_fmt(report['zero_load_models']['published']['alpha_rel_max'], 3)}, "
         f"refit {_fmt(report['zero_load_models']['refit']['alpha_rel_max'], 3)}.",
         "",
-        "## Eq. 34: s21 = c S against s1 (Eq. 31, quadrature)",
+        "## Eq. 34: s21 = c S against s1 (Eq. 31, quadrature), on 0 ≤ ξ ≤ 0.99",
         "",
         constants_table(report["s21"]),
     ]
@@ -325,6 +331,15 @@ def comparison_markdown(report):
         "",
     ]
     return "\n".join(parts)
+
+
+def _coarse(stage):
+    if not stage:
+        return "Fitted on all points directly."
+    return (
+        f"Fitted by continuation: first on {stage['points']} points (a sub-grid; RMS {stage['rms']:.3g}), "
+        "then on all points from that optimum."
+    )
 
 
 def _reasons(ex):
