@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import simpson
 
@@ -77,8 +77,10 @@ def test_energy_identity_equals_quadrature_of_contact_work(alpha, xi):
     assert np.sqrt(-W_r / W_c) == pytest.approx(r.eps, abs=1e-10)
 
 
+# Few examples: SciPy at rtol 1e-12 in SI units costs ~1 s per creeping impact.
+@settings(max_examples=10)
 @given(
-    alpha=st.floats(0.05, 20.0),
+    alpha=st.floats(0.05, 5.0),
     xi=st.floats(0.0, 0.95),
     m_e=st.floats(0.01, 100.0),
     k=st.floats(1e6, 1e11),

@@ -217,5 +217,5 @@ def statements_markdown(statements):
 
 
 def nonseparation_mask(ds):
-    """True where the impact ended without separating (marked in Fig. 9)."""
-    return ds.state == NONSEPARATION
+    """True where the impact ended without separating: non-separation, creep or no restitution."""
+    return ds.state >= NONSEPARATION

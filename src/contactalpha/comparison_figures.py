@@ -24,8 +24,8 @@ def fig9(ds):
         for m in ds.model.values:
             name = str(m)
             post = ds.eps_post.sel(model=m, xi=xi).values
-            style = _STYLE.get(name, {})
-            line = ax.plot(pre, post, label=MODELS[name].label if name in MODELS else name, lw=1.2, **style)
+            style = dict(lw=1.2) | _STYLE.get(name, {})
+            line = ax.plot(pre, post, label=MODELS[name].label if name in MODELS else name, **style)
             mask = ns.sel(model=m, xi=xi).values
             if mask.any():
                 ax.plot(pre[mask], post[mask], "x", ms=3, color=line[0].get_color())

@@ -199,49 +199,43 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
             record[n_rec, 1] = y[1]
             record[n_rec, 2] = y[2]
             n_rec += 1
+        # The two end states reached only as t -> inf: their limits are set after the loop.
         if in_linear_zone(y[1], y[2], A, alpha):
             kl, cl = linear_constants(A, alpha)
             turns, u_turn = linear_turn(y[1] - xeq, y[2], kl, cl)
             if compressing:
                 if not turns:
                     state = NO_RESTITUTION
-                    x_m = xeq
-                    t_m = np.inf
-                    x_e = xeq
-                    v_e = 0.0
-                    t_e = np.inf
                     break
                 x_m = xeq + u_turn
                 dxm = y[3]
                 t_m = np.nan
                 turns, u_turn = linear_turn(u_turn, -1e-300, kl, cl)
-            t_e = np.inf
-            v_e = 0.0
             if turns:
                 state = NONSEPARATION
                 x_e = xeq + u_turn
+                v_e = 0.0
+                t_e = np.inf
                 dxe = y[3]
             else:
                 state = CREEP
-                x_e = xeq
             break
         if compressing:
             if trapped_below(y[1], y[2], A, alpha):
                 state = NO_RESTITUTION
-                x_m = xeq
-                t_m = np.inf
-                x_e = xeq
-                v_e = 0.0
-                t_e = np.inf
                 break
         elif trapped_above(y[1], y[2], A, alpha):
             state = CREEP
-            x_e = xeq
-            v_e = 0.0
-            t_e = np.inf
             break
         h *= step_factor(err, rejected)
         rejected = False
+    if state == NO_RESTITUTION:
+        x_m = xeq
+        t_m = np.inf
+    if state == NO_RESTITUTION or state == CREEP:
+        x_e = xeq
+        v_e = 0.0
+        t_e = np.inf
     out = np.full(N_OUT, np.nan)
     if state != FAILED:
         if state == NO_RESTITUTION:
