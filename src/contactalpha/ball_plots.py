@@ -109,5 +109,5 @@ def plot_first_collision(ds, force_index, kind, reference=None):
         if kind == "velocity":
             ax.axhline(0.0, color="0.5", lw=0.5)
     axes.ravel()[0].legend(loc="best")
-    fig.suptitle(f"first collision, F = {float(sub['force']):g} N, ξ = {float(sub['xi']):.3f}")
+    fig.suptitle(f"first collision, F = {float(sub['force']):g} N, ξ = {float(sub['xi']):.4f}")
     return fig
