@@ -1,5 +1,6 @@
 # contactalpha workflow: `snakemake -c2` rebuilds every result under results/.
 # Stages live in workflow/rules/<stage>.smk; each appends its default targets to ALL_TARGETS.
+# Every rule declares `conda: "../envs/contactalpha.yaml"`, so that `snakemake --lint` is clean.
 from snakemake.utils import validate
 
 from contactalpha.config import check_config

@@ -35,7 +35,7 @@ REGION_NAMES = {1: "I", 2: "II", 3: "III"}
 def _zoom_axes(ax):
     """Symlog xi and log eps, so the ridge near (eps, xi) = (0, 0) is resolved."""
     ax.set_xscale("symlog", linthresh=XI_LINTHRESH, linscale=0.3)
-    ax.set_xticks(XI_TICKS, [f"{t:g}" if t else "0" for t in XI_TICKS])
+    ax.set_xticks(XI_TICKS, [rf"$10^{{{np.log10(t):.0f}}}$" if t else "0" for t in XI_TICKS])
     ax.set_yscale("log")
     ax.set_xlabel(r"influence factor $\xi$ (symlog)")
     ax.set_ylabel(r"restitution coefficient $\varepsilon$ (log)")
@@ -87,7 +87,7 @@ def plot_end_states(ds):
         ax.pcolormesh(xi, eps, codes, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
     axes[0].set_xlabel(r"influence factor $\xi$")
     axes[0].set_ylabel(r"restitution coefficient $\varepsilon$")
-    axes[0].set_title("(a) end state of the impact at alpha(eps, xi)")
+    axes[0].set_title(r"(a) end state of the impact at $\alpha(\varepsilon, \xi)$")
     _zoom_axes(axes[1])
     axes[1].set_title(r"(b) small $\varepsilon$, small $\xi$")
     handles = [
