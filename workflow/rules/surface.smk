@@ -48,7 +48,9 @@ rule surface_merge:
     output:
         "results/surface.h5",
     params:
-        surface=config["surface"],
+        # The settings that make the surface, stored in its attrs (not the figure settings:
+        # editing those must not rebuild the surface).
+        surface={key: config["surface"][key] for key in ("epsilon", "xi", "solver", "chunks")},
     log:
         "logs/surface/merge.log",
     conda:

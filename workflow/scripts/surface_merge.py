@@ -1,6 +1,7 @@
 """Merge the surface chunks into results/surface.h5.
 
-Settings (snakemake.params): surface (the config section, stored as JSON in the attrs).
+Settings (snakemake.params): surface (grid, solver and chunks of the config section; stored as JSON
+in the attrs).
 Inputs: the chunk files of one run.
 Outputs: the merged surface as netCDF4/HDF5, written atomically.
 """
