@@ -30,7 +30,7 @@ from .impact import STATUS, impact
 
 # Coverage factor of the verdict: about 95 % for a normal estimate.
 VERDICT_K = 2.0
-# Residual that stands in for a non-finite model value, so the optimiser backs off.
+# Residual that stands in for a non-finite model value (and caps huge ones), so the optimiser backs off.
 BAD_RESIDUAL = 1e3
 # Function-evaluation budget of one least-squares fit.
 MAX_NFEV = 20_000
@@ -175,8 +175,8 @@ def least_squares_fit(
     x0 = np.asarray(x0, dtype=float)
 
     def safe(x):
-        r = residuals(x)
-        return np.nan_to_num(r, nan=BAD_RESIDUAL, posinf=BAD_RESIDUAL, neginf=-BAD_RESIDUAL)
+        r = np.nan_to_num(residuals(x), nan=BAD_RESIDUAL, posinf=BAD_RESIDUAL, neginf=-BAD_RESIDUAL)
+        return np.clip(r, -BAD_RESIDUAL, BAD_RESIDUAL)
 
     res = least_squares(safe, x0, bounds=bounds, loss=loss, x_scale="jac", max_nfev=max_nfev, method="trf")
     n = res.fun.size
