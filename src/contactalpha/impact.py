@@ -63,15 +63,32 @@ class ImpactResult:
         return np.asarray(self.status) == "ok"
 
 
+# Below this many points the serial loop wins: waking the worker threads costs more,
+# and far more (milliseconds) when other processes hold the cores.
+PARALLEL_MIN = 32
+
+
+@njit(cache=True, error_model="numpy")
+def _impact_row(alpha, A, rtol, atol, max_steps, out, i):
+    res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, np.empty((0, 3)))
+    out[i] = res
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def impact_many(alpha, A, rtol, atol, max_steps):
-    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A``; returns shape (n, 11)."""
-    n = alpha.size
-    out = np.empty((n, N_OUT))
-    rec = np.empty((0, 3))
-    for i in prange(n):
-        res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, rec)
-        out[i] = res
+    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A`` in parallel; returns shape (n, 11)."""
+    out = np.empty((alpha.size, N_OUT))
+    for i in prange(alpha.size):
+        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def impact_serial(alpha, A, rtol, atol, max_steps):
+    """``impact_many`` in one thread, for small inputs."""
+    out = np.empty((alpha.size, N_OUT))
+    for i in range(alpha.size):
+        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
     return out
 
 
@@ -127,7 +144,8 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    table = impact_many(
+    run = impact_many if alpha.size >= PARALLEL_MIN else impact_serial
+    table = run(
         np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, int(max_steps)
     )
     return _as_result(table, shape)

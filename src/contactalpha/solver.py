@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from .exact import alpha_exact_scalar, max_compression_exact
-from .impact import ATOL, END_STATES, MAX_STEPS, RTOL, STATUS
+from .impact import ATOL, END_STATES, MAX_STEPS, PARALLEL_MIN, RTOL, STATUS
 from .kernel import NO_RESTITUTION, impact_kernel
 from .scaling import scaled_load
 from .table import EPS_MIN, XI_MAX, alpha_from_table
@@ -186,13 +186,26 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
     return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps)
 
 
+@njit(cache=True, error_model="numpy")
+def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i):
+    out[i] = solve_point(eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb)
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
     """``solve_point`` over flat arrays, in parallel; returns shape (n, 9)."""
-    n = eps.size
-    out = np.empty((n, N_SOLVE_OUT))
-    for i in prange(n):
-        out[i] = solve_point(eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb)
+    out = np.empty((eps.size, N_SOLVE_OUT))
+    for i in prange(eps.size):
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def solve_serial(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+    """``solve_many`` in one thread, for small inputs."""
+    out = np.empty((eps.size, N_SOLVE_OUT))
+    for i in range(eps.size):
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
     return out
 
 
@@ -259,7 +272,8 @@ def solve_table(
         raise ValueError(f"guess = {guess!r} is not one of 'table', 'formula'")
     use_table, tb = _guess_arrays(guess == "table")
     A = scaled_load(xi)
-    table = solve_many(
+    run = solve_many if eps.size >= PARALLEL_MIN else solve_serial
+    table = run(
         np.ascontiguousarray(eps.ravel()),
         np.ascontiguousarray(A.ravel()),
         np.ascontiguousarray(xi.ravel()),

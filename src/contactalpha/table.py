@@ -121,11 +121,24 @@ def alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def alpha_from_table_many(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
-    """``alpha_from_table`` over flat arrays."""
+    """``alpha_from_table`` over flat arrays, in parallel."""
     out = np.empty(eps.size)
     for i in prange(eps.size):
         out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
     return out
+
+
+@njit(cache=True, error_model="numpy")
+def alpha_from_table_serial(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
+    """``alpha_from_table_many`` in one thread, for small inputs."""
+    out = np.empty(eps.size)
+    for i in range(eps.size):
+        out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
+    return out
+
+
+# Below this many points one thread is faster than waking the others.
+PARALLEL_MIN_LOOKUPS = 4096
 
 
 def _spline2d(eta, p, L):
@@ -346,7 +359,8 @@ def alpha_tabulated(eps, xi, *, path=DEFAULT_FILE):
         check_range("eps", e_flat, EPS_MIN, 1.0)
     if _first_outside(x_flat, 0.0, XI_MAX) >= 0:
         check_range("xi", x_flat, 0.0, XI_MAX)
-    out = alpha_from_table_many(e_flat, x_flat, *_arrays(path)).reshape(e.shape)
+    run = alpha_from_table_many if e_flat.size >= PARALLEL_MIN_LOOKUPS else alpha_from_table_serial
+    out = run(e_flat, x_flat, *_arrays(path)).reshape(e.shape)
     return out[()] if out.ndim == 0 else out
 
 
