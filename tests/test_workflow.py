@@ -18,9 +18,9 @@ TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 SURFACE_FIGURES = ["fig4_alpha_surface", "fig5_alpha_section", "end_states"]
 
 
-def snakemake(workdir, *args):
+def snakemake(workdir, *args, configfile=TEST_CONFIG):
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir)]
-    cmd += ["--configfile", str(TEST_CONFIG), "--cores", "2", *args]
+    cmd += ["--configfile", str(configfile), "--cores", "2", *args]
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     return done.stdout + done.stderr
@@ -45,6 +45,17 @@ def test_rerun_resumes_and_then_has_nothing_to_do(run):
     assert "chunk=0" not in run["log"]
     again = snakemake(run["work"], "--dry-run")
     assert "Nothing to be done" in again
+
+
+def test_a_figure_setting_reruns_only_what_uses_it(run):
+    config = yaml.safe_load(TEST_CONFIG.read_text())
+    config["surface"]["figures"]["section_xi"] = 0.4
+    edited = run["work"] / "edited-config.yaml"
+    edited.write_text(yaml.safe_dump(config, sort_keys=False))  # Snakemake compares params in key order
+    plan = snakemake(run["work"], "--dry-run", configfile=edited)
+    assert "rule fig5_alpha_section" in plan and "rule surface_summary" in plan
+    for rule in ("surface_chunk", "surface_merge", "fig4_alpha_surface", "end_states_map"):
+        assert f"rule {rule}:" not in plan, rule
 
 
 def test_outputs_exist_and_are_complete(run):
