@@ -156,6 +156,16 @@ def test_surface_layout_units_and_codes(surface):
         assert key in surface.attrs
 
 
+def test_compute_surface_keeps_the_grid_and_rejects_bad_ones():
+    eps = [0.123456789012345678, 0.5]
+    ds = compute_surface(eps, [0.3])
+    assert ds.epsilon.values[0] == eps[0]  # only config grids are rounded, not the caller's values
+    with pytest.raises(ValueError, match=r"xi is not strictly increasing: 0.1 comes after 0.3"):
+        compute_surface([0.5], [0.3, 0.1])
+    with pytest.raises(ValueError, match=r"eps = -0.1 is outside the valid range"):
+        compute_surface([-0.1], [0.3])
+
+
 def test_failed_points_are_flagged_not_numbers():
     ds = compute_surface([0.05, 0.5], [0.0, 0.3], max_steps=5)
     loaded = ds.sel(xi=0.3)

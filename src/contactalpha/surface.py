@@ -89,7 +89,8 @@ def _logarithmic(spec, key):
     return _round_grid(np.geomspace(start, stop, num))
 
 
-def _explicit(values, key):
+def _increasing(values, key):
+    """``values`` as a float array, or ``ValueError`` if not strictly increasing."""
     arr = np.asarray(values, dtype=float)
     bad = np.flatnonzero(np.diff(arr) <= 0)
     if bad.size:
@@ -99,7 +100,11 @@ def _explicit(values, key):
             f"{key} is not strictly increasing: {float(arr[i + 1])!r} {what} {float(arr[i])!r}; "
             "valid: sorted values without duplicates"
         )
-    return _round_grid(arr)
+    return arr
+
+
+def _explicit(values, key):
+    return _round_grid(_increasing(values, key))
 
 
 def _axis(spec, key):
@@ -229,8 +234,8 @@ def compute_surface(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX
         nonzero ``status``.  Attributes record the solver, its settings, the
         compute time and a ``history`` line.
     """
-    eps = _explicit(check_eps(np.atleast_1d(eps)), "eps")
-    xi = _explicit(check_xi(np.atleast_1d(xi)), "xi")
+    eps = _increasing(check_eps(np.atleast_1d(eps)), "eps")
+    xi = _increasing(check_xi(np.atleast_1d(xi)), "xi")
     solver = {"tol": float(tol), "rtol": float(rtol), "atol": float(atol), "max_steps": int(max_steps)}
     if progress is True:
         progress = _tqdm_progress()
