@@ -106,3 +106,13 @@ def test_lint_is_clean():
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=ROOT)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "Lints for" not in done.stdout + done.stderr
+
+
+def test_slurm_profile_is_accepted(tmp_path):
+    # No cluster here: a dry run checks that the profile and the executor plugin load and plan the jobs.
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path)]
+    cmd += ["--profile", str(ROOT / "workflow/profiles/slurm"), "--configfile", str(TEST_CONFIG), "-n"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    out = done.stdout + done.stderr
+    assert "Using profile" in out and "surface_chunk" in out
