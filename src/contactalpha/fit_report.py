@@ -170,6 +170,7 @@ def _reading_entry(f, points):
     return {
         "text": shen.READINGS[f.extra["reading"]],
         "converged": f.converged,
+        "message": f.message,
         "published_rms_area": float(np.sqrt(np.nansum(w * rel**2) / np.sum(w[np.isfinite(rel)]))),
         "published_max": float(np.nanmax(rel)),
         "refit_rms_area": f.rms,
@@ -350,16 +351,19 @@ def readings_markdown(report):
     """The evidence note ``results/fit/eq40_readings.md``: which reading of Eq. 40 the surface supports."""
     ev = report["reading"]["evidence"]
     rows = [
-        "| reading | text | published RMS rel. err. (area) | published max | refit RMS (area) |",
-        "|---|---|---|---|---|",
+        "| reading | text | published RMS rel. err. (area) | published max | refit RMS (area) "
+        "| refit converged |",
+        "|---|---|---|---|---|---|",
     ]
     for r, v in report["readings"].items():
         rows.append(
             f"| `{r}` | {v['text']} | {_fmt(v['published_rms_area'], 3)} | {_fmt(v['published_max'], 3)} | "
-            f"{_fmt(v['refit_rms_area'], 3)} |"
+            f"{_fmt(v['refit_rms_area'], 3)} | {'yes' if v['converged'] else 'no: ' + v['message']} |"
         )
-    srows = ["| ξ | τ | σ | β | b | η | 0.1568 ξ^0.9 | 1 − ξ^0.05 | RMS | on bound |", "|---|" * 10]
-    srows[1] = "|---|---|---|---|---|---|---|---|---|---|"
+    srows = [
+        "| ξ | τ | σ | β | b | η | 0.1568 ξ^0.9 | 1 − ξ^0.05 | RMS | on bound |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for s in report["slices"]:
         c, x = s["constants"], s["xi"]
         srows.append(
