@@ -210,12 +210,27 @@ def _fmt_ratio(x):
     return "not reached" if not np.isfinite(x) else f"{x:,.0f}×" if x >= 10 else f"{x:.1f}×"
 
 
+# What each curve is; static text, the numbers below it are generated.
+METHODS_NOTE = (
+    "Methods: *engine* is the adaptive DOP853 engine with Newton on its sensitivities "
+    '(`solve_alpha(..., guess="formula", exact_at_zero=False)`), started like every other method from '
+    "the exact unloaded α (from Hu & Guo's α on the ξ = 0 column, where that is the answer); "
+    "*engine-table* is `solve_alpha`'s default, started from the shipped exact table (often one "
+    "confirming impact); *rk4* is fixed-step classical RK4 with naive events "
+    "(`contactalpha.fixedstep`); *scipy-X* is `solve_ivp(method=X)` with events. rk4 and SciPy find "
+    "α by bracketing and Brent's method. The root tolerance equals the integrator's rtol (atol = "
+    "rtol/100); rk4's Brent tolerance is 1e-14."
+)
+
+
 def summary_markdown(wp, references, counts, scaling, grids):
     """The README section: machine, headline ratios, references, failure counts, scaling."""
     info = scaling["machine"]
     lines = [
         f"Measured on {info} (shared by other jobs while it ran; times are the best of "
         "repeated batches, one thread, per α solve; the engine's per point of a 64-point call).",
+        "",
+        METHODS_NOTE,
         "",
     ]
     ratios = ratio_table(wp)
@@ -329,24 +344,53 @@ def method_settings(cfg):
     return settings
 
 
+def _checkpoint(path):
+    """Rows saved by an interrupted run of the same stage (a JSON-lines file), and an appender."""
+    path = Path(str(path) + ".partial")
+    done = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
+
+    def save(rows):
+        with open(path, "a", encoding="utf-8") as fh:
+            for row in rows:
+                fh.write(json.dumps({k: (None if _is_nan(v) else v) for k, v in row.items()}) + "\n")
+
+    return done, save, path
+
+
+def _is_nan(v):
+    return isinstance(v, float) and not np.isfinite(v)
+
+
 def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
-    """References of every regime, then error against cost of every method and setting."""
+    """References of every regime, then error against cost of every method and setting.
+
+    Long: each (regime, method) block is appended to ``<table>.partial`` as it
+    finishes, and a rerun after an interruption (same settings) skips blocks
+    found there; the file is removed when the table is written.
+    """
     refs = workprecision.reference_rows()
     for r in refs:
         log(f"reference {r['regime']}: alpha = {r['alpha']:.15g}, spread {r['spread']:.2e}")
     _write_csv(refs, reference_csv)
-    rows = []
+    rows, save, partial = _checkpoint(workprecision_csv)
+    done = {(r["regime"], r["method"]) for r in rows}
     for ref in refs:
         for method, values in method_settings(cfg).items():
+            if (ref["regime"], method) in done:
+                log(f"{ref['regime']} {method}: taken from {partial.name}")
+                continue
             part = workprecision.work_precision(
                 ref["eps"], ref["xi"], ref["alpha"], {method: values}, max_nfev=cfg["scipy_max_nfev"]
             )
-            rows += [{"regime": ref["regime"], **r} for r in part]
+            part = [{"regime": ref["regime"], **r} for r in part]
+            save(part)
+            rows += part
             log(
                 f"{ref['regime']} {method}: {sum(r['status'] == 'ok' for r in part)}/{len(part)} ok, "
                 f"{sum(r['seconds'] for r in part):.1f} s"
             )
     _write_csv(rows, workprecision_csv)
+    partial.unlink(missing_ok=True)
 
 
 def run_failures(cfg, failure_csv, counts_csv, log=print):
@@ -355,19 +399,25 @@ def run_failures(cfg, failure_csv, counts_csv, log=print):
     plan = [(m, f["rtol"], f["eps"], f["xi"]) for m in ("engine", "engine-table")]
     plan += [("rk4", f["rk4_step"], f["eps"], f["xi"])]
     plan += [(f"scipy-{m}", f["rtol"], f["eps_coarse"], f["xi_coarse"]) for m in cfg["scipy_methods"]]
-    rows = []
+    rows, save, partial = _checkpoint(failure_csv)
     counts = []
     for method, setting, eps, xi in plan:
-        part = workprecision.failure_rows(method, setting, eps, xi, max_nfev=cfg["scipy_max_nfev"])
-        rows += part
+        part = [r for r in rows if r["method"] == method]
+        if part:
+            log(f"failures {method}: taken from {partial.name}")
+        else:
+            part = workprecision.failure_rows(method, setting, eps, xi, max_nfev=cfg["scipy_max_nfev"])
+            save(part)
+            rows += part
         n = workprecision.category_counts([workprecision.CATEGORIES.index(r["category"]) for r in part])
-        n_err = sum(1 for r in part if r["err_alpha"] > workprecision.FAIL_ERROR)
+        n_err = sum(1 for r in part if (r["err_alpha"] or 0.0) > workprecision.FAIL_ERROR)
         counts.append(
             {"method": method, "setting": setting, "points": len(part), **n, "any error > 1e-6": n_err}
         )
         log(f"failures {method}: {n}")
     _write_csv(rows, failure_csv)
     _write_csv(counts, counts_csv)
+    partial.unlink(missing_ok=True)
 
 
 def run_scaling(cfg, scaling_json, log=print):

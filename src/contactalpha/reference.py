@@ -171,6 +171,12 @@ def impact_scipy_limited(
         )
     except _BudgetExceeded:
         return ReferenceResult(np.nan, "failed", np.nan, np.nan, np.nan, max_nfev, "step limit exceeded")
+    except ValueError as err:
+        # solve_ivp's event root-finder raises when the event function has the
+        # same sign at both ends of a step (seen with LSODA near x_eq).
+        return ReferenceResult(
+            np.nan, "failed", np.nan, np.nan, np.nan, count[0], f"event location failed: {err}"
+        )
 
 
 @dataclass(frozen=True)
