@@ -42,6 +42,9 @@ rule table_check:
 
 
 rule fig9:
+    input:
+        # shen_refit reads the constants the fit stage ships: wait for them.
+        [config["fit"]["package_coefficients"]] if "fit" in config else [],
     output:
         data="results/models/fig9.h5",
         table="results/models/fig9_max_deviation.md",

@@ -1,6 +1,7 @@
 """Fig. 9 data: post-restitution eps of each model at each load, the deviation table, the statements.
 
-Settings (snakemake.params.fig9): xi (panels), models, reference, eps (start, stop, step), rtol, atol.
+Settings (snakemake.params.fig9): xi (panels), models, new_model, reference, eps (start, stop, step),
+rtol, atol.
 Inputs: none.
 Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md, fig9_statements.md.
 """
@@ -46,7 +47,7 @@ write_text_atomic(
     + "\n"
     + footer,
 )
-statements = fig9_statements(ds, new=p["models"][-1], reference=p["reference"])
+statements = fig9_statements(ds, new=p["new_model"], reference=p["reference"])
 write_text_atomic(
     sm.output.statements,
     "# The paper's conclusions about Fig. 9, checked on our numbers\n\n"
