@@ -312,7 +312,8 @@ def fit_eq40_surface(ds, reading=shen.BEST_READING, *, weights="area", coarse_st
     at them, the full fit at the coarse optimum.  On our surface a direct fit on
     the full grid stops early (``ftol``) in a poorer local minimum.  The coarse
     stage is skipped when it would have fewer than ``COARSE_MIN_RATIO`` points
-    per constant.  ``opts`` go to ``fit_eq40``.
+    per constant, and its result is not used if it did not converge.  ``opts``
+    go to ``fit_eq40``.
 
     Returns
     -------
@@ -327,12 +328,17 @@ def fit_eq40_surface(ds, reading=shen.BEST_READING, *, weights="area", coarse_st
         pts, _, _ = surface_points(sub, weights=weights)
         if len(pts) >= COARSE_MIN_RATIO * len(start):
             coarse = fit_eq40(pts, reading, start=start, **opts)
-            require_converged(coarse)
-            start = coarse.values()
+            if coarse.converged:  # otherwise the full fit starts from the published values
+                start = coarse.values()
     full = fit_eq40(loaded, reading, start=start, **opts)
-    full.extra["coarse"] = (
-        None if coarse is None else {"points": coarse.n_points, "rms": coarse.rms, "nfev": coarse.nfev}
-    )
+    if coarse is not None:
+        full.extra["coarse"] = {
+            "points": coarse.n_points,
+            "rms": coarse.rms,
+            "nfev": coarse.nfev,
+            "converged": coarse.converged,
+            "message": coarse.message,
+        }
     full.x0 = np.array([eq40_fit_start(reading)[k] for k in full.names])
     return full
 
