@@ -44,7 +44,9 @@ def test_ci_comparison_table_is_printed_and_refit_beats_published(ci_report, cap
     with capsys.disabled():
         print("\n\n" + fit_report.comparison_markdown(report))
     m = report["models"]
-    for key in ("alpha_rel_rms_area", "alpha_rel_max", "eps_abs_rms_area", "eps_abs_max"):
+    # Not the max relative error in alpha: it is capped at 1 for a model that only underestimates
+    # (as published Eq. 40 does on the ridge), so it can favour a far worse model.
+    for key in ("alpha_rel_rms_area", "eps_abs_rms_area", "eps_abs_max"):
         assert m["refit"][key] <= m["published"][key], f"refit worse than published in {key}"
     assert m["refit"]["n_invalid"] == 0 and not m["refit"]["skipped"]
     z = report["zero_load_models"]
