@@ -139,6 +139,15 @@ def test_area_weights_integrate_like_the_trapezoid_rule_whatever_the_refinement(
     assert np.all(uniform.weight == 1.0)
 
 
+def test_tiny_surface_gives_undetermined_verdicts_not_a_crash():
+    # the workflow's test config: 3 eps x 4 xi, fewer points than constants
+    ds = compute_surface([0.2, 0.5, 0.8], [0.0, 0.001, 0.2, 0.4])
+    report, _ = fit_report.refit_report(ds, readings=[shen.BEST_READING], eq26=None)
+    verdicts = {v["verdict"] for k, v in report["eq40"]["constants"].items() if k != "beta"}
+    assert verdicts == {"undetermined"} and report["points"]["fitted"] == 9
+    assert report["reading"]["evidence"]["role"] == "none" and report["slices"] == []
+
+
 @pytest.mark.parametrize(
     ("call", "message"),
     [

@@ -199,8 +199,8 @@ def least_squares_fit(
 
 def _trapezoid_widths(values):
     v = np.asarray(values, dtype=float)
-    if v.size == 1:
-        return np.ones(1)
+    if v.size <= 1:
+        return np.ones(v.size)
     edges = np.concatenate([[v[0]], 0.5 * (v[1:] + v[:-1]), [v[-1]]])
     return np.diff(edges)
 
