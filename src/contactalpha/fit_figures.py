@@ -11,8 +11,8 @@ from matplotlib.colors import LogNorm, SymLogNorm
 from . import fit, shen
 from .plotting import COLUMN_WIDTH, new_figure
 
-# xi from which the symlog xi axes turn linear: below it lies the ridge.
-XI_LINTHRESH = 1e-2
+# Below this xi the symlog xi axes are linear; the ridge (1e-4 < xi < 1e-2) stays on the log part.
+XI_LINTHRESH = 1e-5
 # Sections drawn in the line figures (the nearest grid value is used).
 EPS_LINES = (0.05, 0.1, 0.3, 0.5, 0.7, 0.9)
 XI_LINES = (0.01, 0.1, 0.2, 0.5, 0.8)
