@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .exact import alpha_exact
+from .shen import eq40 as shen_eq40  # noqa: F401  (issue 4: contactalpha.models.shen_eq40)
 from .shen import shen_published, shen_refit
 from .validation import check_eps, check_xi
 
