@@ -23,6 +23,8 @@ rule table:
     log:
         "logs/models/table.log",
     threads: workflow.cores
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/models_table.py"
 
@@ -37,6 +39,8 @@ rule table_check:
     log:
         "logs/models/table_check.log",
     threads: workflow.cores
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/models_table_check.py"
 
@@ -53,6 +57,8 @@ rule fig9:
         fig9=config["models"]["fig9"],
     log:
         "logs/models/fig9.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/models_fig9.py"
 
@@ -65,5 +71,7 @@ rule fig9_figure:
         pdf="results/figures/fig9_post_vs_pre.pdf",
     log:
         "logs/models/fig9_figure.log",
+    conda:
+        "../envs/contactalpha.yaml"
     script:
         "../scripts/models_fig9_figure.py"
