@@ -1,32 +1,44 @@
-"""contactalpha: the hysteresis damping factor of a Hunt-Crossley contact under a constant load."""
+"""contactalpha: the hysteresis damping factor of a Hunt-Crossley contact under a constant load.
+
+The public names below are imported on first use (PEP 562), so that ``import contactalpha``
+in a workflow job that only draws a figure does not load every numba kernel.
+"""
+
+import importlib
 
 __version__ = "0.1.0"
 
-from .exact import alpha_exact, restitution_exact  # noqa: E402
-from .impact import ImpactResult, impact, restitution, trajectory  # noqa: E402
-from .io import load_surface  # noqa: E402
-from .models import alpha, contact_force  # noqa: E402
-from .scaling import influence_factor, length_scale, load_for, scaled_load, time_scale  # noqa: E402
-from .solver import AlphaSolution, solve_alpha  # noqa: E402
-from .table import alpha_tabulated, jit_alpha_tabulated  # noqa: E402
+# Public name -> module that defines it.
+_EXPORTS = {
+    "alpha": "models",
+    "contact_force": "models",
+    "alpha_tabulated": "table",
+    "jit_alpha_tabulated": "table",
+    "AlphaSolution": "solver",
+    "solve_alpha": "solver",
+    "alpha_exact": "exact",
+    "restitution_exact": "exact",
+    "ImpactResult": "impact",
+    "impact": "impact",
+    "restitution": "impact",
+    "trajectory": "impact",
+    "influence_factor": "scaling",
+    "length_scale": "scaling",
+    "load_for": "scaling",
+    "scaled_load": "scaling",
+    "time_scale": "scaling",
+    "load_surface": "io",
+}
+__all__ = sorted(_EXPORTS)
 
-__all__ = [
-    "alpha",
-    "alpha_tabulated",
-    "contact_force",
-    "jit_alpha_tabulated",
-    "AlphaSolution",
-    "alpha_exact",
-    "restitution_exact",
-    "solve_alpha",
-    "ImpactResult",
-    "impact",
-    "influence_factor",
-    "load_surface",
-    "length_scale",
-    "load_for",
-    "restitution",
-    "scaled_load",
-    "time_scale",
-    "trajectory",
-]
+
+def __getattr__(name):
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'contactalpha' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -22,7 +22,7 @@ rule table:
         table=config["models"]["table"],
     log:
         "logs/models/table.log",
-    threads: workflow.cores
+    threads: 2
     conda:
         "../envs/contactalpha.yaml"
     script:
@@ -38,7 +38,7 @@ rule table_check:
         check=config["models"]["check"],
     log:
         "logs/models/table_check.log",
-    threads: workflow.cores
+    threads: 2
     conda:
         "../envs/contactalpha.yaml"
     script:
