@@ -31,10 +31,16 @@ def cold_compile_seconds():
     )
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, NUMBA_CACHE_DIR=tmp)
-        cold = float(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                                    text=True, check=True).stdout)
-        warm = float(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                                    text=True, check=True).stdout)
+        cold = float(
+            subprocess.run(
+                [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+            ).stdout
+        )
+        warm = float(
+            subprocess.run(
+                [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+            ).stdout
+        )
     return cold, warm
 
 
@@ -59,20 +65,36 @@ def main(argv=None):
     from contactalpha.reference import impact_scipy
 
     cold, warm = cold_compile_seconds()
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"numba threads {numba.get_num_threads()}, python {platform.python_version()}")
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"numba threads {numba.get_num_threads()}, python {platform.python_version()}"
+    )
     print(f"compile (cold cache): {cold:.2f} s   import+first call (warm cache): {warm:.2f} s")
 
     rec = np.empty((0, 3))
     results = {"compile_cold_s": cold, "warm_start_s": warm, "impact": []}
-    for alpha, xi, label in [(0.5, 0.2, "separation"), (5.0, 0.2, "nonseparation"), (50.0, 0.2, "creep"),
-                             (10.0, 0.0, "unloaded")]:
+    for alpha, xi, label in [
+        (0.5, 0.2, "separation"),
+        (5.0, 0.2, "nonseparation"),
+        (50.0, 0.2, "creep"),
+        (10.0, 0.0, "unloaded"),
+    ]:
         A = float(ca.scaled_load(xi))
         n = 200 if args.quick else 2000
-        ours = best_of(lambda: [impact_kernel(alpha, A, 1e-12, 1e-14, 2_000_000, rec) for _ in range(n)], 3) / n
-        ref = best_of(lambda: impact_scipy(alpha, xi, method="DOP853", rtol=1e-12, atol=1e-14), 3)
-        print(f"one impact [{label:13s}] ours {ours * 1e6:8.1f} us   scipy DOP853 {ref * 1e6:9.0f} us"
-              f"   ratio {ref / ours:6.0f}x")
+
+        def ours_run(alpha=alpha, A=A, n=n):
+            for _ in range(n):
+                impact_kernel(alpha, A, 1e-12, 1e-14, 2_000_000, rec)
+
+        def scipy_run(alpha=alpha, xi=xi):
+            impact_scipy(alpha, xi, method="DOP853", rtol=1e-12, atol=1e-14)
+
+        ours = best_of(ours_run, 3) / n
+        ref = best_of(scipy_run, 3)
+        print(
+            f"one impact [{label:13s}] ours {ours * 1e6:8.1f} us   scipy DOP853 {ref * 1e6:9.0f} us"
+            f"   ratio {ref / ours:6.0f}x"
+        )
         results["impact"].append(dict(label=label, ours_s=ours, scipy_s=ref, ratio=ref / ours))
 
     eps = np.round(np.arange(1, 100) * 0.01, 2)
@@ -88,13 +110,22 @@ def main(argv=None):
     grid_one = time.perf_counter() - t
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     loaded = X > 0
-    print(f"99 x 100 grid: {grid_all:.2f} s on {numba.config.NUMBA_NUM_THREADS} threads, "
-          f"{grid_one:.2f} s on 1 thread (speed-up {grid_one / grid_all:.2f}x); "
-          f"failed points {int((~s.ok).sum())}")
-    print(f"impacts per loaded point: mean {s.impacts[loaded].mean():.2f}, max {s.impacts[loaded].max()}; "
-          f"steps per impact: mean {s.steps[loaded].sum() / s.impacts[loaded].sum():.0f}")
-    results.update(grid_s=grid_all, grid_one_thread_s=grid_one, failed=int((~s.ok).sum()),
-                   impacts_mean=float(s.impacts[loaded].mean()), impacts_max=int(s.impacts[loaded].max()))
+    print(
+        f"99 x 100 grid: {grid_all:.2f} s on {numba.config.NUMBA_NUM_THREADS} threads, "
+        f"{grid_one:.2f} s on 1 thread (speed-up {grid_one / grid_all:.2f}x); "
+        f"failed points {int((~s.ok).sum())}"
+    )
+    print(
+        f"impacts per loaded point: mean {s.impacts[loaded].mean():.2f}, max {s.impacts[loaded].max()}; "
+        f"steps per impact: mean {s.steps[loaded].sum() / s.impacts[loaded].sum():.0f}"
+    )
+    results.update(
+        grid_s=grid_all,
+        grid_one_thread_s=grid_one,
+        failed=int((~s.ok).sum()),
+        impacts_mean=float(s.impacts[loaded].mean()),
+        impacts_max=int(s.impacts[loaded].max()),
+    )
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.write_text(json.dumps(results, indent=2))
