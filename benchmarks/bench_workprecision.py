@@ -62,6 +62,7 @@ def main(argv=None):
             out / "scaling.json",
             out / "summary.md",
             readme=ROOT / "README.md" if args.readme else None,
+            failure_csv=out / "failure_map.csv",
         )
         print(text)
     log("done")

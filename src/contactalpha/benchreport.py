@@ -72,7 +72,7 @@ def plot_work_precision(wp, references, paths):
     is the spread of the independent confirmations of the reference.
     """
     regimes = list(REGIMES)
-    fig, axes = new_figure(len(regimes), 3, aspect=0.62, sharey="row")
+    fig, axes = new_figure(len(regimes), 3, aspect=0.8, sharey="row")
     rows = (
         ("err_alpha", "seconds", "time per α solve [s]"),
         ("err_alpha", "nfev", "RHS evaluations"),
@@ -104,7 +104,8 @@ def plot_work_precision(wp, references, paths):
             if c == 0:
                 ax.set_ylabel(label)
             ax.set_xlabel("rel. error of α" if err == "err_alpha" else "error of ε")
-    axes[0, 0].legend(loc="best", fontsize=6)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=4)
     save_figure(fig, paths)
 
 
@@ -207,7 +208,9 @@ def ratio_table(wp):
 
 
 def _fmt_ratio(x):
-    return "not reached" if not np.isfinite(x) else f"{x:,.0f}×" if x >= 10 else f"{x:.1f}×"
+    if not np.isfinite(x):
+        return "not reached"
+    return f"{x:,.0f}×" if x >= 10 else f"{x:.2g}×"
 
 
 # What each curve is; static text, the numbers below it are generated.
@@ -223,7 +226,32 @@ METHODS_NOTE = (
 )
 
 
-def summary_markdown(wp, references, counts, scaling, grids):
+def failure_details(failures):
+    """One sentence per failure kind: which end states were confused, which statuses, worst error."""
+    out = []
+    wrong = failures[failures.category == "wrong end state"]
+    if len(wrong):
+        pairs = wrong.groupby(["state", "true_state"]).size().sort_values(ascending=False)
+        out.append(
+            "Wrong end states (reported → true at the same α): "
+            + ", ".join(f"{a} → {b} ×{n}" for (a, b), n in pairs.items())
+            + f"; the largest relative α error among them is {wrong.err_alpha.max():.1e}."
+        )
+    other = failures[failures.category.isin(["other", "missed event", "step limit", "no root bracketed"])]
+    if len(other):
+        statuses = other.status.str.split(":").str[0].value_counts()
+        out.append("Statuses of failed solves: " + ", ".join(f"{k} ×{n}" for k, n in statuses.items()) + ".")
+    errs = failures[failures.category == "error > 1e-6"]
+    if len(errs):
+        out.append(
+            "Errors above 1e-6 at (ε, ξ) = "
+            + ", ".join(f"({r.eps:g}, {r.xi:g}) {r.method} {r.err_alpha:.1e}" for r in errs.itertuples())
+            + "."
+        )
+    return " ".join(out)
+
+
+def summary_markdown(wp, references, counts, scaling, grids, failures=None):
     """The README section: machine, headline ratios, references, failure counts, scaling."""
     info = scaling["machine"]
     lines = [
@@ -258,8 +286,13 @@ def summary_markdown(wp, references, counts, scaling, grids):
     lines += [
         "",
         "References: ξ = 0 from the exact relation; elsewhere the engine at rtol = 1e-13, "
-        "confirmed by SciPy DOP853 (rtol 1e-13) and fixed-step RK4 (h = 1e-4); largest relative "
-        "deviation of α: " + ", ".join(f"{r.regime} {r.spread:.1e}" for r in references.itertuples()) + ".",
+        "confirmed by SciPy DOP853 (rtol 1e-13) and fixed-step RK4 (h = 1e-4); relative deviation of "
+        "their α from it (DOP853, RK4): "
+        + ", ".join(
+            f"{r.regime} {abs(r.alpha_scipy / r.alpha - 1):.1e}, {abs(r.alpha_rk4 / r.alpha - 1):.1e}"
+            for r in references.itertuples()
+        )
+        + ". The dotted lines on the chart mark the larger of the two: errors below it are not resolved.",
         "",
     ]
     lines += [
@@ -274,6 +307,8 @@ def summary_markdown(wp, references, counts, scaling, grids):
             + " | ".join(str(c[k]) for k in CATEGORIES)
             + " |"
         )
+    if failures is not None:
+        lines += ["", failure_details(failures)]
     g = scaling["grid_fit"]
     th = {r["threads"]: r["seconds"] for r in scaling["threads"]}
     fits = scaling["alpha_fits"]
@@ -455,13 +490,16 @@ def grid_description(cfg):
     )
 
 
-def run_summary(cfg, reference_csv, workprecision_csv, counts_csv, scaling_json, summary_md, readme=None):
+def run_summary(
+    cfg, reference_csv, workprecision_csv, counts_csv, scaling_json, summary_md, readme=None, failure_csv=None
+):
     """Write the generated markdown and, if ``readme`` is given, put it between the README markers."""
     wp = _read_csv(workprecision_csv)
     refs = _read_csv(reference_csv)
     counts = _read_csv(counts_csv).to_dict("records")
     scaling = json.loads(Path(scaling_json).read_text())
-    text = summary_markdown(wp, refs, counts, scaling, grid_description(cfg))
+    failures = None if failure_csv is None else _read_csv(failure_csv)
+    text = summary_markdown(wp, refs, counts, scaling, grid_description(cfg), failures)
     write_text_atomic(summary_md, text)
     if readme is not None:
         fill_readme(readme, text)

@@ -113,6 +113,7 @@ rule bench_summary:
         reference=f"{BENCH}/reference.csv",
         table=f"{BENCH}/workprecision.csv",
         counts=f"{BENCH}/failure_counts.csv",
+        failures=f"{BENCH}/failure_map.csv",
         scaling=f"{BENCH}/scaling.json",
     output:
         f"{BENCH}/summary.md",

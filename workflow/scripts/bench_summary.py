@@ -1,7 +1,8 @@
 """results/bench/summary.md: machine, cost ratios at equal accuracy, references, failures, scaling.
 
 Settings (snakemake.params): failure (grids, named in the text), scipy_max_nfev.
-Inputs: reference, table (workprecision.csv), counts (failure_counts.csv), scaling (scaling.json).
+Inputs: reference, table (workprecision.csv), counts (failure_counts.csv), failures (failure_map.csv),
+scaling (scaling.json).
 Outputs: the markdown file, written atomically.
 """
 
@@ -11,6 +12,12 @@ from contactalpha.io import script_logger
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_summary", sm.log[0])
 run_summary(
-    dict(sm.params.items()), sm.input.reference, sm.input.table, sm.input.counts, sm.input.scaling, sm.output[0]
+    dict(sm.params.items()),
+    sm.input.reference,
+    sm.input.table,
+    sm.input.counts,
+    sm.input.scaling,
+    sm.output[0],
+    failure_csv=sm.input.failures,
 )
 log.info(f"wrote {sm.output[0]}")
