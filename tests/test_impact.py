@@ -138,3 +138,14 @@ def test_physical_scales_reject_non_positive_inputs():
         ca.load_for(0.2, 1.0, 0.0, 1.0)
     with pytest.raises(ValueError, match="v0 = nan"):
         ca.length_scale(1.0, 1e8, np.nan)
+
+
+def test_public_names_resolve_to_functions_after_submodule_imports():
+    import importlib
+
+    for mod in ("impact", "models", "table", "solver", "exact", "scaling"):
+        importlib.import_module(f"contactalpha.{mod}")
+    for name in ("impact", "alpha", "alpha_tabulated", "solve_alpha", "alpha_exact", "scaled_load"):
+        assert callable(getattr(ca, name)), name
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        ca.nope  # noqa: B018

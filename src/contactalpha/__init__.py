@@ -8,6 +8,10 @@ import importlib
 
 __version__ = "0.1.0"
 
+# Eager: the submodule ``impact`` shares its name with the function, and importing the
+# submodule anywhere would otherwise leave the module object under ``contactalpha.impact``.
+from .impact import ImpactResult, impact, restitution, trajectory  # noqa: E402, F401
+
 # Public name -> module that defines it.
 _EXPORTS = {
     "alpha": "models",
@@ -18,10 +22,6 @@ _EXPORTS = {
     "solve_alpha": "solver",
     "alpha_exact": "exact",
     "restitution_exact": "exact",
-    "ImpactResult": "impact",
-    "impact": "impact",
-    "restitution": "impact",
-    "trajectory": "impact",
     "influence_factor": "scaling",
     "length_scale": "scaling",
     "load_for": "scaling",
@@ -29,7 +29,7 @@ _EXPORTS = {
     "time_scale": "scaling",
     "load_surface": "io",
 }
-__all__ = sorted(_EXPORTS)
+__all__ = sorted([*_EXPORTS, "ImpactResult", "impact", "restitution", "trajectory"])
 
 
 def __getattr__(name):
