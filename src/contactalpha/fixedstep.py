@@ -25,7 +25,9 @@ It fails in the ways explicit fixed-step methods fail, and says so in
 import numpy as np
 from numba import njit
 
+from .events import equilibrium
 from .impact import END_STATES, ImpactResult
+from .rk import contact_acceleration as acceleration
 from .scaling import scaled_load
 from .validation import check_alpha, check_range, check_xi
 
@@ -55,17 +57,8 @@ MAX_STEP_COUNT = 100_000_000
 REST_TOL = 1e-9
 # Bisection steps placing an event on the Hermite interpolant (to 2^-60 of h).
 EVENT_BISECTIONS = 60
-# Hertz stiffness of the scaled equation.
-HERTZ = 1.25
 # Number of fields returned by ``rk4_impact_kernel``.
 N_RK4_OUT = 10
-
-
-@njit(cache=True, error_model="numpy")
-def acceleration(x, v, A, alpha):
-    """``x''`` of the scaled Eq. 24; no contact force for ``x < 0``."""
-    xp = max(x, 0.0)
-    return A - HERTZ * xp * np.sqrt(xp) * (1.0 + alpha * v)
 
 
 @njit(cache=True, error_model="numpy")
@@ -147,7 +140,7 @@ def rk4_impact_kernel(alpha, A, h, max_steps, rest_tol):
         ``eps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev``.
     """
     out = np.full(N_RK4_OUT, np.nan)
-    xeq = (A / HERTZ) ** (2.0 / 3.0) if A > 0.0 else np.inf
+    xeq = equilibrium(A) if A > 0.0 else np.inf
     x = 0.0
     v = 1.0
     t = 0.0
