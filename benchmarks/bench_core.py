@@ -61,8 +61,8 @@ def main(argv=None):
     import numba
 
     import contactalpha as ca
-    from contactalpha.kernel import impact_kernel
-    from contactalpha.reference import impact_scipy
+    from contactalpha.baselines.reference import impact_scipy
+    from contactalpha.engine.kernel import impact_kernel
 
     cold, warm = cold_compile_seconds()
     print(

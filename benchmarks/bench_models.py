@@ -38,8 +38,8 @@ def main(argv=None):
     from numba import njit
 
     import contactalpha as ca
+    from contactalpha.engine.table_build import random_points
     from contactalpha.models import MODELS
-    from contactalpha.table import random_points
 
     n = 100_000 if args.quick else 1_000_000
     n_solve = 300 if args.quick else 3000

@@ -50,7 +50,10 @@ def cpu_name():
 
 def warm_cache():
     """Load (and if needed compile) every kernel once, in a separate process."""
-    code = "from contactalpha.surface import compute_surface; compute_surface([0.05, 0.5], [0.0, 0.001, 0.5])"
+    code = (
+        "from contactalpha.paper.surface.compute import compute_surface; "
+        "compute_surface([0.05, 0.5], [0.0, 0.001, 0.5])"
+    )
     subprocess.run([sys.executable, "-c", code], check=True)
 
 
@@ -70,7 +73,7 @@ def main():
     import numba
 
     from contactalpha.io import load_surface
-    from contactalpha.surface import compute_surface, grid_from_config
+    from contactalpha.paper.surface.compute import compute_surface, grid_from_config
 
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     section = config["surface"]

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import yaml
 
-from contactalpha import benchreport as br
+from contactalpha.paper.bench import report as br
 
 ROOT = Path(__file__).resolve().parent.parent
 

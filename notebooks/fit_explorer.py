@@ -24,7 +24,13 @@
 # %%
 import os
 
-from contactalpha import fit, fit_figures, fit_report, shen
+from contactalpha.paper.fit import compute as fit
+
+from contactalpha.paper.fit import figures as fit_figures
+
+from contactalpha.paper.fit import report as fit_report
+
+from contactalpha.models import shen
 from contactalpha.io import load_surface
 
 surface_path = os.environ.get("CONTACTALPHA_SURFACE", "../results/surface.h5")

@@ -6,30 +6,30 @@ in a workflow job that only draws a figure does not load every numba kernel.
 
 import importlib
 
-__version__ = "0.1.0"
-
-# Eager: the submodule ``impact`` shares its name with the function, and importing the
-# submodule anywhere would otherwise leave the module object under ``contactalpha.impact``.
-from .impact import ImpactResult, impact, restitution, trajectory  # noqa: E402, F401
+from contactalpha.version import __version__  # noqa: F401
 
 # Public name -> module that defines it.
 _EXPORTS = {
-    "alpha": "models",
-    "contact_force": "models",
-    "alpha_tabulated": "table",
-    "jit_alpha_tabulated": "table",
-    "AlphaSolution": "solver",
-    "solve_alpha": "solver",
-    "alpha_exact": "exact",
-    "restitution_exact": "exact",
-    "influence_factor": "scaling",
-    "length_scale": "scaling",
-    "load_for": "scaling",
-    "scaled_load": "scaling",
-    "time_scale": "scaling",
+    "ImpactResult": "engine.driver",
+    "impact": "engine.driver",
+    "restitution": "engine.driver",
+    "trajectory": "engine.driver",
+    "alpha": "models.registry",
+    "contact_force": "models.registry",
+    "alpha_tabulated": "engine.table",
+    "jit_alpha_tabulated": "engine.table",
+    "AlphaSolution": "engine.solver",
+    "solve_alpha": "engine.solver",
+    "alpha_exact": "engine.exact",
+    "restitution_exact": "engine.exact",
+    "influence_factor": "engine.scaling",
+    "length_scale": "engine.scaling",
+    "load_for": "engine.scaling",
+    "scaled_load": "engine.scaling",
+    "time_scale": "engine.scaling",
     "load_surface": "io",
 }
-__all__ = sorted([*_EXPORTS, "ImpactResult", "impact", "restitution", "trajectory"])
+__all__ = sorted(_EXPORTS)
 
 
 def __getattr__(name):

@@ -3,8 +3,8 @@
 import argparse
 import sys
 
-from .impact import ATOL, RTOL, impact
-from .solver import EPS_TOL, solve_alpha
+from contactalpha.engine.driver import ATOL, RTOL, impact
+from contactalpha.engine.solver import EPS_TOL, solve_alpha
 
 
 def _number(text):

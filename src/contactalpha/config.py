@@ -4,7 +4,7 @@ The Snakefile calls ``check_config`` right after the schema validation, so a
 bad grid fails before any job runs, with a message naming the key.
 """
 
-from .surface import check_surface_config
+from contactalpha.paper.surface.compute import check_surface_config
 
 # Section name -> check; stages add theirs here.
 SECTION_CHECKS = {"surface": check_surface_config}

@@ -10,9 +10,9 @@ summary (markdown: counts, end states, counting rule, skipped models); all writt
 
 from dataclasses import replace
 
-from contactalpha.ball_report import cases_markdown
-from contactalpha.ball_study import default_scene, run_cases
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
+from contactalpha.paper.ball.report import cases_markdown
+from contactalpha.paper.ball.study import default_scene, run_cases
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("ball_cases", sm.log[0])

@@ -6,8 +6,8 @@ Inputs: results/ball/first_collision.nc.
 Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 """
 
-from contactalpha.ball_plots import plot_first_collision
 from contactalpha.io import load_dataset, script_logger
+from contactalpha.paper.ball.figures import plot_first_collision
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

@@ -5,8 +5,8 @@ Inputs: case_a, case_b (runs from ball_cases).
 Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 """
 
-from contactalpha.ball_plots import plot_motion
 from contactalpha.io import load_dataset, script_logger
+from contactalpha.paper.ball.figures import plot_motion
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

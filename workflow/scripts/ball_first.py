@@ -8,9 +8,9 @@ Outputs: data (netCDF4/HDF5: per-run results and contact paths), table (markdown
 eps and end state of every combination); written atomically.
 """
 
-from contactalpha.ball_report import first_collision_table
-from contactalpha.ball_study import default_scene, run_first_collision
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
+from contactalpha.paper.ball.report import first_collision_table
+from contactalpha.paper.ball.study import default_scene, run_first_collision
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("ball_first", sm.log[0])

@@ -7,8 +7,8 @@ Outputs: the statements as a markdown table (results/ball/statements.md), writte
 
 import json
 
-from contactalpha.ball_report import statements, statements_markdown
 from contactalpha.io import load_dataset, script_logger, write_text_atomic
+from contactalpha.paper.ball.report import statements, statements_markdown
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("ball_statements", sm.log[0])

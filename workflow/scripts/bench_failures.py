@@ -6,8 +6,8 @@ Inputs: none.
 Outputs: table (failure_map.csv, one row per method and point), counts (failure_counts.csv).
 """
 
-from contactalpha.benchreport import run_failures
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import run_failures
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_failures", sm.log[0])

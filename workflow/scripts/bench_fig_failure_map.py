@@ -7,8 +7,8 @@ Outputs: png, pdf.
 
 import pandas as pd
 
-from contactalpha.benchreport import plot_failure_map
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import plot_failure_map
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_fig_failure_map", sm.log[0])

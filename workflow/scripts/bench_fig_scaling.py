@@ -8,8 +8,8 @@ Outputs: png, pdf.
 import json
 from pathlib import Path
 
-from contactalpha.benchreport import plot_scaling
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import plot_scaling
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_fig_scaling", sm.log[0])

@@ -7,8 +7,8 @@ Outputs: png, pdf.
 
 import pandas as pd
 
-from contactalpha.benchreport import plot_work_precision
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import plot_work_precision
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_fig_workprecision", sm.log[0])

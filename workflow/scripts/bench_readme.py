@@ -7,8 +7,8 @@ Outputs: a flag file (touched by Snakemake); README.md is edited in place, atomi
 
 from pathlib import Path
 
-from contactalpha.benchreport import fill_readme
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import fill_readme
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_readme", sm.log[0])

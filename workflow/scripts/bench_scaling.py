@@ -6,8 +6,8 @@ Inputs: none.
 Outputs: scaling.json (with the machine), written atomically.
 """
 
-from contactalpha.benchreport import run_scaling
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import run_scaling
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_scaling", sm.log[0])

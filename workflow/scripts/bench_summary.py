@@ -6,8 +6,8 @@ scaling (scaling.json).
 Outputs: the markdown file, written atomically.
 """
 
-from contactalpha.benchreport import run_summary
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import run_summary
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_summary", sm.log[0])

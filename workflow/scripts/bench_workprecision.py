@@ -5,8 +5,8 @@ Inputs: none.
 Outputs: reference (reference.csv), table (workprecision.csv), written atomically.
 """
 
-from contactalpha.benchreport import run_workprecision
 from contactalpha.io import script_logger
+from contactalpha.paper.bench.report import run_workprecision
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("bench_workprecision", sm.log[0])

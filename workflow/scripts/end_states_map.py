@@ -6,8 +6,8 @@ Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 """
 
 from contactalpha.io import load_surface, script_logger
+from contactalpha.paper.surface.figures import plot_end_states
 from contactalpha.plotting import save_figure
-from contactalpha.surface_figures import plot_end_states
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("end_states_map", sm.log[0])

@@ -6,8 +6,8 @@ Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 """
 
 from contactalpha.io import load_surface, script_logger
+from contactalpha.paper.surface.figures import plot_alpha_surface
 from contactalpha.plotting import save_figure
-from contactalpha.surface_figures import plot_alpha_surface
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("fig4_alpha_surface", sm.log[0])

@@ -5,8 +5,8 @@ Inputs: results/surface.h5.
 Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 """
 
-from contactalpha.fit_figures import eta_figure
 from contactalpha.io import load_surface, script_logger
+from contactalpha.paper.fit.figures import eta_figure
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

@@ -8,8 +8,8 @@ Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 import json
 from pathlib import Path
 
-from contactalpha.fit_figures import fig6_s1
 from contactalpha.io import script_logger
+from contactalpha.paper.fit.figures import fig6_s1
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

@@ -8,9 +8,9 @@ Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 import json
 from pathlib import Path
 
-from contactalpha import shen
-from contactalpha.fit_figures import fig8_errors
 from contactalpha.io import load_surface, script_logger
+from contactalpha.models import shen
+from contactalpha.paper.fit.figures import fig8_errors
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

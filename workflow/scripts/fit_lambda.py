@@ -8,8 +8,8 @@ Outputs: the figure as PNG and PDF (output png, pdf), written atomically.
 import json
 from pathlib import Path
 
-from contactalpha.fit_figures import lambda_figure
 from contactalpha.io import load_surface, script_logger
+from contactalpha.paper.fit.figures import lambda_figure
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

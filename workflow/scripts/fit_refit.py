@@ -1,16 +1,16 @@
 """Refit Eqs. 26, 34, 39 and 40 to the surface and compare with the published constants.
 
 Settings (snakemake.params): readings, weights, loss, verdict_k, eq26 (xi, eps_max, or null),
-restitution (see contactalpha.fit_report.DEFAULTS).
+restitution (see contactalpha.paper.fit.report.DEFAULTS).
 Inputs: results/surface.h5.
 Outputs: coefficients (JSON report), comparison (markdown table), readings (evidence note on
 Eq. 40's damaged term), package (refit constants; rule fit_ship copies them into the package).
 Nothing is written when a fit does not converge: the rule fails with scipy's message.
 """
 
-from contactalpha import fit_report
-from contactalpha.fit import FitNotConverged
 from contactalpha.io import load_surface, script_logger, write_text_atomic
+from contactalpha.paper.fit import report as fit_report
+from contactalpha.paper.fit.compute import FitNotConverged
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("fit_refit", sm.log[0])

@@ -11,11 +11,11 @@ import time
 
 import numpy as np
 
-from contactalpha import __version__
-from contactalpha.comparison import deviation_table, fig9_statements, post_vs_pre, statements_markdown
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
-from contactalpha.surface import git_commit, history_line
+from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre, statements_markdown
+from contactalpha.provenance import git_commit, history_line
+from contactalpha.version import __version__
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_fig9", sm.log[0])
@@ -32,7 +32,7 @@ ds.attrs.update(
     config=json.dumps(dict(p)),
     contactalpha_version=__version__,
     git_commit=git_commit(),
-    solver="contactalpha.impact (DOP853, events by change of variable)",
+    solver="contactalpha.engine.driver (DOP853, events by change of variable)",
     rtol=p["rtol"],
     atol=p["atol"],
     wall_time_s=wall,

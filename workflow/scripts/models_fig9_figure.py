@@ -5,8 +5,8 @@ Inputs: results/models/fig9.h5.
 Outputs: the figure as PNG and PDF, written atomically.
 """
 
-from contactalpha.comparison_figures import fig9
 from contactalpha.io import load_dataset, script_logger
+from contactalpha.paper.fig9.figures import fig9
 from contactalpha.plotting import save_figure
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)

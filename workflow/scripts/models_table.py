@@ -1,4 +1,4 @@
-"""Build the exact-alpha spline table (contactalpha.table.build_table).
+"""Build the exact-alpha spline table (contactalpha.engine.table_build.build_table).
 
 Settings (snakemake.params.table): n_eta, n_p, refine_n, tol, rtol, atol.
 Inputs: none (the table is computed from the impact engine).
@@ -8,10 +8,10 @@ package version, git commit and build time in its metadata.
 
 import time
 
-from contactalpha import __version__
+from contactalpha.engine.table_build import build_table, save_table
 from contactalpha.io import script_logger
-from contactalpha.surface import git_commit
-from contactalpha.table import build_table, save_table
+from contactalpha.provenance import git_commit
+from contactalpha.version import __version__
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_table", sm.log[0])

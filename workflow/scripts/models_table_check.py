@@ -7,8 +7,9 @@ Outputs: results/models/table_check.md; the rule fails if the table misses max_r
 
 import json
 
+from contactalpha.engine.table import DEFAULT_FILE, load_table
+from contactalpha.engine.table_build import check_table
 from contactalpha.io import script_logger, write_text_atomic
-from contactalpha.table import DEFAULT_FILE, check_table, load_table
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_table_check", sm.log[0])

@@ -10,7 +10,7 @@ Log: progress lines with points/s.
 import numba
 
 from contactalpha.io import script_logger, write_dataset_atomic
-from contactalpha.surface import compute_chunk, grid_from_config, log_progress
+from contactalpha.paper.surface.compute import compute_chunk, grid_from_config, log_progress
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("surface_chunk", sm.log[0])

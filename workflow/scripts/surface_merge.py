@@ -7,7 +7,7 @@ Outputs: the merged surface as netCDF4/HDF5, written atomically.
 """
 
 from contactalpha.io import script_logger, write_dataset_atomic
-from contactalpha.surface import merge_chunks
+from contactalpha.paper.surface.compute import merge_chunks
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("surface_merge", sm.log[0])

@@ -6,7 +6,7 @@ Outputs: the markdown file, written atomically.
 """
 
 from contactalpha.io import load_surface, script_logger, write_text_atomic
-from contactalpha.surface_report import surface_summary
+from contactalpha.paper.surface.report import surface_summary
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("surface_summary", sm.log[0])

@@ -1,0 +1,94 @@
+"""The separation / non-separation boundary of the (eps, xi) plane.
+
+For a load ``xi > 0`` there is one damping ``alpha_b(xi)`` at which the
+impact ends exactly at ``x = 0`` with ``v = 0``: lighter damping separates,
+heavier damping does not.  On it Stronge's coefficient is
+``eps_b = sqrt(A x_m / (1/2 + A x_m))`` (SCIENCE.md Sect. 3 with ``v_e = x_e = 0``).
+
+``alpha(eps, xi)`` is continuous across the boundary but not smooth: near it
+the two end states differ by terms of order ``|alpha - alpha_b|^{5/2}`` (the
+Hertz force near ``x = 0``), which is why the exact table (``table.py``) puts
+the boundary on a grid line instead of interpolating across it.
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from .kernel import SEPARATION, impact_kernel
+
+# Bisection stops when the bracket is this narrow, relative.
+BOUNDARY_RTOL = 1e-14
+# Upper end of the search in alpha; beyond it the boundary is reported missing.
+ALPHA_SEARCH_MAX = 1e8
+
+
+@njit(cache=True, error_model="numpy")
+def boundary_kernel(A, rtol, atol, max_steps):
+    """Return ``(alpha_b, eps_b, status)`` for scaled load ``A > 0`` by bisection on the end state."""
+    rec = np.empty((0, 3))
+    lo = 0.0  # separates
+    hi = 1.0
+    while True:
+        res, _ = impact_kernel(hi, A, rtol, atol, max_steps, rec)
+        if res[3] != 0:
+            return np.nan, np.nan, int(res[3])
+        if res[2] != SEPARATION:
+            break
+        lo = hi
+        hi *= 4.0
+        if hi > ALPHA_SEARCH_MAX:
+            return np.nan, np.nan, 5
+    x_m = np.nan
+    while hi - lo > BOUNDARY_RTOL * hi:
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        res, _ = impact_kernel(mid, A, rtol, atol, max_steps, rec)
+        if res[3] != 0:
+            return np.nan, np.nan, int(res[3])
+        if res[2] == SEPARATION:
+            lo = mid
+            x_m = res[4]
+        else:
+            hi = mid
+    if not np.isfinite(x_m):
+        res, _ = impact_kernel(lo, A, rtol, atol, max_steps, rec)
+        x_m = res[4]
+    return lo, np.sqrt(A * x_m / (0.5 + A * x_m)), 0
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def boundary_many(A, rtol, atol, max_steps):
+    """``boundary_kernel`` over an array of loads; returns shape (n, 3)."""
+    out = np.empty((A.size, 3))
+    for i in prange(A.size):
+        a, e, s = boundary_kernel(A[i], rtol, atol, max_steps)
+        out[i, 0] = a
+        out[i, 1] = e
+        out[i, 2] = s
+    return out
+
+
+def separation_boundary(xi, *, rtol=1e-12, atol=1e-14, max_steps=2_000_000):
+    """Damping ``alpha_b`` and restitution ``eps_b`` on the separation boundary at load ``xi``.
+
+    Parameters
+    ----------
+    xi : array_like
+        Influence factor, 0 < xi < 1.
+
+    Returns
+    -------
+    alpha_b, eps_b : ndarray
+        NaN where the search failed (see the status codes of ``impact.STATUS``).
+    status : ndarray of int
+    """
+    from contactalpha.validation import check_range
+
+    from .scaling import scaled_load
+
+    xi = check_range("xi", xi, 0.0, 1.0, lo_open=True, hi_open=True)
+    A = np.ascontiguousarray(np.atleast_1d(scaled_load(xi)).ravel())
+    out = boundary_many(A, float(rtol), float(atol), int(max_steps))
+    shape = np.shape(xi)
+    return out[:, 0].reshape(shape), out[:, 1].reshape(shape), out[:, 2].astype(int).reshape(shape)

@@ -1,0 +1,171 @@
+"""One impact: the public, validated, broadcasting face of ``kernel.impact_kernel``."""
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from contactalpha.validation import check_alpha, check_tolerances, check_xi
+
+from .codes import END_STATES, STATUS
+from .kernel import N_OUT, impact_kernel
+from .scaling import scaled_load
+
+# Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
+# over the paper's domain, which the alpha root-finder needs for 1e-10.
+RTOL = 1e-12
+ATOL = 1e-14
+# Step budget of one impact; the stiff ridge (alpha ~ 1e4) needs ~1e5.
+MAX_STEPS = 2_000_000
+
+_EMPTY_RECORD = np.empty((0, 3))
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """Outcome of one scaled impact (arrays when the inputs were arrays).
+
+    Attributes
+    ----------
+    eps : Stronge's restitution coefficient (Eq. 17); NaN when the run failed.
+    state : end state name: separation, nonseparation, creep, no_restitution, failed.
+    x_max, x_end, v_end : maximum compression and end state, scaled by delta_star
+        and v0.  For creep and no restitution the end is the limit t -> inf.
+    t_max, t_end : scaled times of maximum compression and of the end (inf for limits).
+    steps, nfev : attempted steps and right-hand-side evaluations.
+    status : "ok" or the reason the integrator stopped (see ``STATUS``).
+    deps_dalpha : sensitivity of eps to alpha.
+    """
+
+    eps: np.ndarray
+    state: np.ndarray
+    x_max: np.ndarray
+    x_end: np.ndarray
+    v_end: np.ndarray
+    t_max: np.ndarray
+    t_end: np.ndarray
+    steps: np.ndarray
+    nfev: np.ndarray
+    status: np.ndarray
+    deps_dalpha: np.ndarray
+
+    @property
+    def ok(self):
+        """True where the integrator finished."""
+        return np.asarray(self.status) == "ok"
+
+
+# Below this many points the serial loop wins: waking the worker threads costs more,
+# and far more (milliseconds) when other processes hold the cores.
+PARALLEL_MIN = 32
+
+
+@njit(cache=True, error_model="numpy")
+def _impact_row(alpha, A, rtol, atol, max_steps, out, i):
+    res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, np.empty((0, 3)))
+    out[i] = res
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def impact_many(alpha, A, rtol, atol, max_steps):
+    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A`` in parallel; returns shape (n, 11)."""
+    out = np.empty((alpha.size, N_OUT))
+    for i in prange(alpha.size):
+        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def impact_serial(alpha, A, rtol, atol, max_steps):
+    """``impact_many`` in one thread, for small inputs."""
+    out = np.empty((alpha.size, N_OUT))
+    for i in range(alpha.size):
+        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
+    return out
+
+
+def _as_result(table, shape):
+    eps2 = table[:, 0]
+    eps = np.sqrt(np.maximum(eps2, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        deps = np.where(eps > 0, table[:, 1] / (2 * eps), np.nan)
+    codes = table[:, 2].astype(int)
+    status = table[:, 3].astype(int)
+
+    def shaped(a):
+        a = a.reshape(shape)
+        return a[()] if a.ndim == 0 else a
+
+    return ImpactResult(
+        eps=shaped(eps),
+        state=shaped(np.array([END_STATES[c] for c in codes], dtype=object)),
+        x_max=shaped(table[:, 4]),
+        x_end=shaped(table[:, 5]),
+        v_end=shaped(table[:, 6]),
+        t_max=shaped(table[:, 7]),
+        t_end=shaped(table[:, 8]),
+        steps=shaped(table[:, 9].astype(np.int64)),
+        nfev=shaped(table[:, 10].astype(np.int64)),
+        status=shaped(np.array([STATUS[s] for s in status], dtype=object)),
+        deps_dalpha=shaped(deps),
+    )
+
+
+def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+    """Integrate the scaled impact (Eq. 24) for damping ``alpha`` and load ``xi``.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Hysteresis damping factor, >= 0.
+    xi : float or array_like
+        Influence factor of the external load, 0 <= xi < 1 (Eq. 10).
+        Broadcast against ``alpha``.
+    rtol, atol : float
+        Tolerances of the adaptive DOP853 integrator.
+    max_steps : int
+        Step budget; exceeding it is reported in ``status``, never hidden.
+
+    Returns
+    -------
+    ImpactResult
+    """
+    alpha = check_alpha(alpha)
+    xi = check_xi(xi)
+    rtol, atol = check_tolerances(rtol, atol)
+    alpha, xi = np.broadcast_arrays(alpha, xi)
+    shape = alpha.shape
+    A = scaled_load(xi)
+    run = impact_many if alpha.size >= PARALLEL_MIN else impact_serial
+    table = run(
+        np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, int(max_steps)
+    )
+    return _as_result(table, shape)
+
+
+def restitution(alpha, xi, **kwargs):
+    """Stronge's restitution coefficient produced by ``alpha`` at load ``xi``.
+
+    Same arguments as ``impact``; returns ``impact(...).eps``.  NaN marks a
+    failed integration: check ``impact(...).status`` for the reason.
+    """
+    return impact(alpha, xi, **kwargs).eps
+
+
+def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100_000):
+    """Accepted steps ``(t, x, v)`` of one impact, scaled, plus its ``ImpactResult``.
+
+    ``max_step`` caps the time step (scaled time) for smooth plots and
+    quadratures; ``max_rows`` caps the rows recorded.
+
+    Returns
+    -------
+    path : ndarray, shape (n, 3)
+    result : ImpactResult
+    """
+    alpha = float(check_alpha(alpha))
+    A = float(scaled_load(xi))
+    rtol, atol = check_tolerances(rtol, atol)
+    rec = np.empty((int(max_rows), 3))
+    out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, float(max_step))
+    return rec[:n].copy(), _as_result(out[None, :], ())

@@ -1,0 +1,257 @@
+"""The jitted driver for one impact: phases, events, end states, Stronge's epsilon.
+
+Stronge's energetic coefficient (paper Eq. 17) is evaluated from the energy
+identity of the scaled equation (SCIENCE.md Sect. 3), exact for the ODE:
+
+    eps^2 = (v_e^2 / 2 + A (x_m - x_e)) / (1/2 + A x_m).
+
+Its derivative with respect to alpha comes from the sensitivities ``p, q``
+integrated along the trajectory, so a Newton step costs no extra impact.
+"""
+
+import numpy as np
+from numba import njit
+
+from .codes import (
+    CREEP,
+    EVENT_FAILED,
+    FAILED,
+    NO_RESTITUTION,
+    NON_FINITE,
+    NONSEPARATION,
+    OK,
+    SEPARATION,
+    STEP_LIMIT,
+    STEP_UNDERFLOW,
+)
+from .events import (
+    MIN_REL_STEP,
+    equilibrium,
+    in_linear_zone,
+    linear_constants,
+    linear_turn,
+    locate,
+    trapped_above,
+    trapped_below,
+)
+from .rk import (
+    MODE_SQRT_X,
+    N_STAGES,
+    N_STATE,
+    contact_acceleration,
+    dop853_step,
+    error_norm,
+    rhs,
+    step_factor,
+)
+
+# First trial step in scaled time.  Small, because x^{3/2} is not smooth at
+# t = 0 and the embedded error estimate is unreliable across that point.
+FIRST_STEP = 1e-4
+# Number of result fields returned by ``impact_kernel``.
+N_OUT = 11
+
+
+@njit(cache=True, error_model="numpy")
+def stronge(A, x_m, x_e, v_e, dxm, dxe, dve):
+    """Return ``(eps^2, d eps^2 / d alpha)`` from the end state and its sensitivities."""
+    wc = 0.5 + A * x_m
+    wr = 0.5 * v_e * v_e + A * (x_m - x_e)
+    e2 = wr / wc
+    de2 = ((v_e * dve + A * (dxm - dxe)) * wc - wr * A * dxm) / (wc * wc)
+    return e2, de2
+
+
+@njit(cache=True, error_model="numpy")
+def _copy(src, dst):
+    for i in range(N_STATE):
+        dst[i] = src[i]
+
+
+@njit(cache=True, error_model="numpy")
+def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
+    """Integrate one impact of the scaled Eq. 24 from ``x = 0, v = 1``.
+
+    Parameters
+    ----------
+    alpha, A : float
+        Damping factor and scaled load (both >= 0; validated by the caller).
+    rtol, atol : float
+        Tolerances of the step-size controller on ``t``, ``x`` and ``v``.
+    max_steps : int
+        Limit on accepted plus rejected steps, events included.
+    record : ndarray, shape (n, 3)
+        Buffer for ``(t, x, v)`` at every accepted step; ``n = 0`` records nothing.
+    max_step : float
+        Cap on the time step, for dense trajectories (figures, quadratures).
+
+    Returns
+    -------
+    out : ndarray, shape (11,)
+        ``eps2, deps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev``
+        followed by the number of recorded rows in ``record`` (returned separately).
+    n_rec : int
+    """
+    K = np.empty((N_STAGES + 1, N_STATE))
+    y = np.zeros(N_STATE)
+    y_new = np.empty(N_STATE)
+    ytmp = np.empty(N_STATE)
+    y[2] = 1.0
+    n_rec = 0
+    if record.shape[0] > 0:
+        record[0, 0] = 0.0
+        record[0, 1] = 0.0
+        record[0, 2] = 1.0
+        n_rec = 1
+    xeq = equilibrium(A) if A > 0.0 else np.inf
+    state = FAILED
+    status = OK
+    x_m = np.nan
+    dxm = 0.0
+    t_m = np.nan
+    x_e = np.nan
+    v_e = np.nan
+    t_e = np.nan
+    dxe = 0.0
+    dve = 0.0
+    compressing = True
+    steps = 0
+    nfev = 1
+    h = FIRST_STEP
+    rejected = False
+    rhs(y, A, alpha, 0, K[0])
+    while state == FAILED:
+        if steps >= max_steps:
+            status = STEP_LIMIT
+            break
+        h = min(h, max_step)
+        dop853_step(y, h, A, alpha, 0, K, y_new, ytmp)
+        nfev += N_STAGES
+        steps += 1
+        err = error_norm(K, h, y, y_new, rtol, atol)
+        if err > 1.0:
+            h *= step_factor(err, True)
+            rejected = True
+            if h < MIN_REL_STEP * (1.0 + y[0]):
+                status = STEP_UNDERFLOW if np.isfinite(err) else NON_FINITE
+                break
+            continue
+        # Which event, if any, did this step cross?  An event is only placed
+        # from a step whose start already moves towards it; otherwise the
+        # step is shortened so that the crossing becomes monotone.
+        k = -1
+        if compressing:
+            if y_new[2] <= 0.0:
+                k = 2
+        elif y_new[1] <= 0.0:
+            k = 1
+        elif y_new[2] > 0.0:
+            k = 2
+        if k >= 0:
+            if K[0, k] * y[k] >= 0.0:
+                h *= 0.5
+                rejected = True
+                continue
+            if k == 1:
+                # Separation: integrate in w = sqrt(x), where the Hertz force is smooth.
+                k = MODE_SQRT_X
+                y[5] = np.sqrt(y[1])
+            st, ls, lf = locate(y, k, A, alpha, rtol, atol, max_steps - steps, K, y_new, ytmp)
+            steps += ls
+            nfev += lf
+            if st != OK:
+                status = EVENT_FAILED if st == STEP_UNDERFLOW else st
+                break
+            if record.shape[0] > n_rec:
+                record[n_rec, 0] = y[0]
+                record[n_rec, 1] = y[1]
+                record[n_rec, 2] = y[2]
+                n_rec += 1
+            if compressing:
+                compressing = False
+                x_m = y[1]
+                dxm = y[3]
+                t_m = y[0]
+                y[2] = 0.0
+                rhs(y, A, alpha, 0, K[0])
+                continue
+            t_e = y[0]
+            if k == MODE_SQRT_X:
+                state = SEPARATION
+                y[1] = 0.0
+                x_e = 0.0
+                v_e = y[2]
+                acc = contact_acceleration(0.0, v_e, A, alpha)
+                dxe = 0.0
+                dve = y[4] - acc * y[3] / v_e
+            else:
+                state = NONSEPARATION
+                x_e = y[1]
+                v_e = 0.0
+                dxe = y[3]
+                dve = 0.0
+            break
+        _copy(y_new, y)
+        for i in range(N_STATE):
+            K[0, i] = K[N_STAGES, i]
+        if record.shape[0] > n_rec:
+            record[n_rec, 0] = y[0]
+            record[n_rec, 1] = y[1]
+            record[n_rec, 2] = y[2]
+            n_rec += 1
+        # The two end states reached only as t -> inf: their limits are set after the loop.
+        if in_linear_zone(y[1], y[2], A, alpha):
+            kl, cl = linear_constants(A, alpha)
+            turns, u_turn = linear_turn(y[1] - xeq, y[2], kl, cl)
+            if compressing:
+                if not turns:
+                    state = NO_RESTITUTION
+                    break
+                x_m = xeq + u_turn
+                dxm = y[3]
+                t_m = np.nan
+                turns, u_turn = linear_turn(u_turn, -1e-300, kl, cl)
+            if turns:
+                state = NONSEPARATION
+                x_e = xeq + u_turn
+                v_e = 0.0
+                t_e = np.inf
+                dxe = y[3]
+            else:
+                state = CREEP
+            break
+        if compressing:
+            if trapped_below(y[1], y[2], A, alpha):
+                state = NO_RESTITUTION
+                break
+        elif trapped_above(y[1], y[2], A, alpha):
+            state = CREEP
+            break
+        h *= step_factor(err, rejected)
+        rejected = False
+    if state == NO_RESTITUTION:
+        x_m = xeq
+        t_m = np.inf
+    if state == NO_RESTITUTION or state == CREEP:
+        x_e = xeq
+        v_e = 0.0
+        t_e = np.inf
+    out = np.full(N_OUT, np.nan)
+    if state != FAILED:
+        if state == NO_RESTITUTION:
+            out[0] = 0.0
+            out[1] = 0.0
+        else:
+            e2, de2 = stronge(A, x_m, x_e, v_e, dxm, dxe, dve)
+            out[0] = e2
+            out[1] = de2
+    out[2] = state
+    out[3] = status
+    out[4] = x_m
+    out[5] = x_e
+    out[6] = v_e
+    out[7] = t_m
+    out[8] = t_e
+    out[9] = steps
+    out[10] = nfev
+    return out, n_rec

@@ -1,0 +1,339 @@
+"""alpha for a target restitution: the paper's Fig. 3 process, as a safeguarded Newton method.
+
+For a target ``eps`` at load ``xi`` the root of ``eps(alpha) = eps_target`` is
+found with Newton steps on ``ln eps`` against ``ln alpha`` (exact for the
+``alpha ~ 1/eps`` law of light damping), using the sensitivity ``deps/dalpha``
+integrated along each impact, so every iteration costs one impact.  A bracket
+``[lo, hi]`` with ``eps(lo) > target > eps(hi)`` is kept from the start
+(``eps(0) = 1``) and any step that leaves it is replaced by bisection, so the
+method cannot diverge; ``eps(alpha)`` is monotone decreasing (SCIENCE.md
+Sect. 6).
+
+- ``xi = 0`` uses the exact relation (``exact.alpha_exact``), no ODE.
+- The starting guess is the exact table (``table.py``, ~1e-7 relative) where
+  it covers the point, so one Newton step usually lands within tolerance;
+  elsewhere, and when building the table itself, it is the exact unloaded
+  alpha.
+- ``eps = 0`` at ``xi > 0`` returns the onset: the smallest alpha at which the
+  compression never reverses (end state ``no_restitution``), to relative
+  ``ONSET_RTOL``; Newton then works on ``eps^2``, which is linear there.
+
+Every point is solved from a starting guess that depends on its own
+``(eps, xi)`` only, so a grid gives bit-identical results however it is split.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from contactalpha.validation import check_eps, check_range, check_tolerances, check_xi
+
+from .codes import END_STATES, NO_BRACKET, NOT_CONVERGED, STATUS
+from .driver import ATOL, MAX_STEPS, PARALLEL_MIN, RTOL
+from .exact import alpha_exact_scalar, max_compression_exact
+from .kernel import NO_RESTITUTION, impact_kernel
+from .scaling import scaled_load
+from .table import EPS_MIN, XI_MAX, alpha_from_table
+
+# Default absolute tolerance on the restitution coefficient reached.
+EPS_TOL = 1e-12
+# Relative width of the final bracket around the onset alpha (eps = 0).
+ONSET_RTOL = 1e-11
+# Iteration limit; each iteration is one impact.
+MAX_ITER = 60
+# Growth factor while no upper bracket is known yet.
+EXPAND = 8.0
+# Upper limit on alpha: beyond it the explicit integrator's step budget runs out.
+ALPHA_MAX = 1e9
+# Number of fields returned per point by ``solve_kernel``.
+N_SOLVE_OUT = 9
+
+
+@njit(cache=True, error_model="numpy")
+def _bisect(lo, hi):
+    """Midpoint of the bracket, geometric when it spans more than a factor of 4."""
+    if not np.isfinite(hi):
+        return EXPAND * max(lo, 1.0)
+    if lo > 0.0 and hi > 4.0 * lo:
+        return np.sqrt(lo * hi)
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True, error_model="numpy")
+def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
+    """Find alpha with ``eps(alpha, A) = eps_t``.
+
+    Returns
+    -------
+    out : ndarray, shape (9,)
+        ``alpha, eps_reached, state, status, impacts, steps, x_m, x_e, nfev``.
+    """
+    out = np.full(N_SOLVE_OUT, np.nan)
+    lo = 0.0
+    hi = np.inf
+    alpha = alpha0
+    best = np.full(11, np.nan)
+    impacts = 0
+    steps = 0
+    nfev = 0
+    status = NOT_CONVERGED
+    onset = eps_t == 0.0
+    for _ in range(MAX_ITER):
+        res, _ = impact_kernel(alpha, A, rtol, atol, max_steps, np.empty((0, 3)))
+        impacts += 1
+        steps += int(res[9])
+        nfev += int(res[10])
+        if res[3] != 0:
+            status = int(res[3])
+            best = res
+            break
+        e2 = res[0]
+        eps = np.sqrt(max(e2, 0.0))
+        if onset:
+            if res[2] == NO_RESTITUTION:
+                hi = alpha
+                best = res
+            else:
+                lo = alpha
+            if np.isfinite(hi) and hi - lo <= ONSET_RTOL * hi:
+                status = 0
+                alpha = hi
+                break
+            new = alpha - e2 / res[1] if (res[2] != NO_RESTITUTION and res[1] < 0.0) else np.inf
+            # Aim a hair past the Newton estimate, so the bracket closes from above too.
+            new *= 1.0 + 0.5 * ONSET_RTOL
+        else:
+            best = res
+            if abs(eps - eps_t) <= tol:
+                status = 0
+                break
+            if eps > eps_t:
+                lo = alpha
+            else:
+                hi = alpha
+            new = np.inf
+            if eps > 0.0 and res[1] < 0.0 and alpha > 0.0:
+                # Newton on ln eps versus ln alpha.
+                slope = alpha * res[1] / (2.0 * e2)
+                new = alpha * np.exp(-(np.log(eps) - np.log(eps_t)) / slope)
+        if not (lo < new < hi) or not np.isfinite(new):
+            new = _bisect(lo, hi)
+        if new > ALPHA_MAX:
+            status = NO_BRACKET
+            break
+        if new == alpha or (np.isfinite(hi) and hi - lo <= 4e-16 * hi):
+            break  # the bracket cannot shrink further: status stays NOT_CONVERGED
+        alpha = new
+    out[0] = alpha
+    out[1] = np.sqrt(max(best[0], 0.0)) if best[3] == 0 else np.nan
+    out[2] = best[2]
+    out[3] = status
+    out[4] = impacts
+    out[5] = steps
+    out[6] = best[4]
+    out[7] = best[5]
+    out[8] = nfev
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def initial_guess(eps, A):
+    """Starting alpha: the exact unloaded value, bounded for the eps = 0 onset search."""
+    if eps <= 0.0:
+        return 1.0 / max(A, 1e-6)
+    return max(alpha_exact_scalar(eps), 1e-8)
+
+
+@njit(cache=True, error_model="numpy")
+def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+    """Solve one point: exact relation at ``A = 0`` (unless ``use_exact`` is False), else Newton.
+
+    ``tb`` holds the exact table's arrays (``table.ARRAY_NAMES``), used for the
+    starting guess when ``use_table`` is True and the point is inside its domain.
+    """
+    if eps_t >= 1.0:
+        out = np.full(N_SOLVE_OUT, np.nan)
+        res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, 3)))
+        out[0] = 0.0
+        out[1] = np.sqrt(max(res[0], 0.0))
+        out[2:4] = res[2:4]
+        out[4] = 1
+        out[5] = res[9]
+        out[6] = res[4]
+        out[7] = res[5]
+        out[8] = res[10]
+        return out
+    if A == 0.0 and use_exact:
+        out = np.full(N_SOLVE_OUT, np.nan)
+        out[2] = 0  # failed unless a root exists
+        out[3] = NO_BRACKET
+        out[4:6] = 0.0
+        out[8] = 0.0
+        if eps_t > 0.0:
+            alpha = alpha_exact_scalar(eps_t)
+            out[0] = alpha
+            out[1] = eps_t
+            out[2] = 1  # separation
+            out[3] = 0
+            out[6] = max_compression_exact(alpha)
+            out[7] = 0.0
+        return out
+    if use_table and eps_t >= EPS_MIN and xi <= XI_MAX:
+        guess = alpha_from_table(eps_t, xi, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
+    else:
+        guess = initial_guess(eps_t, A)
+    return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps)
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i):
+    out[i] = solve_point(eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+    """``solve_point`` over flat arrays, in parallel; returns shape (n, 9)."""
+    out = np.empty((eps.size, N_SOLVE_OUT))
+    for i in prange(eps.size):
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def solve_serial(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+    """``solve_many`` in one thread, for small inputs."""
+    out = np.empty((eps.size, N_SOLVE_OUT))
+    for i in range(eps.size):
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
+    return out
+
+
+def _guess_arrays(use_table):
+    """Table arrays for the starting guess, or empty stand-ins (and False) without a table."""
+    if use_table:
+        from .table import table_arrays
+
+        try:
+            return True, table_arrays()
+        except (FileNotFoundError, ValueError):
+            pass  # no usable table: fall back to the formula guess
+    e1 = np.empty(0)
+    e2 = np.empty((0, 0))
+    return False, (e1, e1, e1, e1, e2, e1, e1, e2, e1)
+
+
+@dataclass(frozen=True)
+class AlphaSolution:
+    """Result of ``solve_alpha`` (arrays shaped like the broadcast inputs).
+
+    Attributes
+    ----------
+    alpha : damping factor; NaN where ``status`` is not "ok".
+    eps_reached : Stronge's epsilon that ``alpha`` actually produces.
+    state : end state of the impact at ``alpha``.
+    status : "ok" or why the root-finder stopped.
+    impacts : impacts integrated for this point (0 on the exact xi = 0 path).
+    steps, nfev : integrator steps and right-hand-side evaluations, all impacts.
+    x_max, x_end : maximum compression and end compression at ``alpha`` (scaled).
+    """
+
+    alpha: np.ndarray
+    eps_reached: np.ndarray
+    state: np.ndarray
+    status: np.ndarray
+    impacts: np.ndarray
+    steps: np.ndarray
+    nfev: np.ndarray
+    x_max: np.ndarray
+    x_end: np.ndarray
+
+    @property
+    def ok(self):
+        """True where a root was found to tolerance."""
+        return np.asarray(self.status) == "ok"
+
+
+def solve_table(
+    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
+):
+    """Validated flat solve: returns the raw ``(n, 9)`` table and the broadcast shape."""
+    eps = check_eps(eps)
+    xi = check_xi(xi)
+    rtol, atol = check_tolerances(rtol, atol)
+    tol = float(check_range("tol", tol, 0.0, 1e-3, lo_open=True))
+    eps, xi = np.broadcast_arrays(eps, xi)
+    if exact_at_zero and np.any((eps == 0.0) & (xi == 0.0)):
+        raise ValueError(
+            "eps = 0.0 at xi = 0.0 cannot be reached: without a load alpha -> infinity; "
+            "valid: eps in (0, 1] when xi = 0, eps in [0, 1] when 0 < xi < 1"
+        )
+    if guess not in ("table", "formula"):
+        raise ValueError(f"guess = {guess!r} is not one of 'table', 'formula'")
+    use_table, tb = _guess_arrays(guess == "table")
+    A = scaled_load(xi)
+    run = solve_many if eps.size >= PARALLEL_MIN else solve_serial
+    table = run(
+        np.ascontiguousarray(eps.ravel()),
+        np.ascontiguousarray(A.ravel()),
+        np.ascontiguousarray(xi.ravel()),
+        tol,
+        rtol,
+        atol,
+        int(max_steps),
+        bool(exact_at_zero),
+        use_table,
+        tb,
+    )
+    return table, eps.shape
+
+
+def solve_alpha(
+    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
+):
+    """Damping factor alpha that makes the loaded impact restitute with ``eps``.
+
+    Parameters
+    ----------
+    eps : float or array_like
+        Target Stronge restitution coefficient, 0 <= eps <= 1.  ``eps = 0``
+        (only for ``xi > 0``) returns the onset alpha where restitution stops.
+    xi : float or array_like
+        Influence factor of the load, 0 <= xi < 1; broadcast against ``eps``.
+    tol : float
+        Absolute tolerance on the epsilon reached.
+    rtol, atol, max_steps
+        Integrator settings, as in ``impact``.
+    exact_at_zero : bool
+        Use the exact relation at ``xi = 0`` (default); False integrates there too.
+    guess : {"table", "formula"}
+        Starting guess: the shipped exact table (fewest impacts), or the exact
+        unloaded alpha (independent of any data file; used to build the table).
+
+    Returns
+    -------
+    AlphaSolution
+        Points that failed carry NaN alpha and say why in ``status``.
+    """
+    table, shape = solve_table(
+        eps, xi, tol=tol, rtol=rtol, atol=atol, max_steps=max_steps, exact_at_zero=exact_at_zero, guess=guess
+    )
+    status = table[:, 3].astype(int)
+    alpha = np.where(status == 0, table[:, 0], np.nan)
+    state = np.nan_to_num(table[:, 2], nan=0.0).astype(int)
+
+    def shaped(a):
+        a = np.asarray(a).reshape(shape)
+        return a[()] if a.ndim == 0 else a
+
+    return AlphaSolution(
+        alpha=shaped(alpha),
+        eps_reached=shaped(table[:, 1]),
+        state=shaped(np.array([END_STATES[c] for c in state], dtype=object)),
+        status=shaped(np.array([STATUS[c] for c in status], dtype=object)),
+        impacts=shaped(table[:, 4].astype(np.int64)),
+        steps=shaped(table[:, 5].astype(np.int64)),
+        nfev=shaped(table[:, 8].astype(np.int64)),
+        x_max=shaped(table[:, 6]),
+        x_end=shaped(table[:, 7]),
+    )

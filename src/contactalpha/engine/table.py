@@ -1,0 +1,197 @@
+"""Exact alpha(eps, xi) at formula speed: a quintic spline table in boundary-aligned coordinates.
+
+What is tabulated
+    ``L = ln(alpha eps / (1 - eps))``, which is finite and smooth at both
+    ends: ``alpha ~ 1/eps`` for small eps without load, and
+    ``alpha ~ (1 - eps) / (-deps/dalpha at alpha = 0)`` as eps -> 1.
+
+Coordinates
+    ``eta = ln(1 + xi / XI_SCALE) - ln(1 - xi)`` is 0 at xi = 0 (the exact
+    column is a grid line), logarithmic through the ridge near xi ~ eps^2 ..
+    eps (SCIENCE.md Sect. 6), and stretches xi -> 1.  ``u = ln eps``.
+    alpha is continuous but not smooth across the separation boundary
+    ``u = b(eta)`` (``boundary.py``), so the plane is cut along it into a
+    separation region S (``u >= b``) and a non-separation region N
+    (``u < b``), each mapped to ``p`` in [0, 1] and splined on its own.
+    On both sides alpha behaves like ``c1 s + c2 s^{5/2} + ...`` in the
+    distance ``s`` from the boundary (the Hertz force near x = 0), so ``p``
+    grows like ``sqrt(s)``: in ``p`` the expansion is a polynomial.
+    S: ``u = b (1 - p^2)`` (p = 1 at eps = 1); N: ``u = b - p^2 (b - U_MIN)``.
+    Where the boundary leaves the domain (small xi) a smooth floor
+    ``b_eff = F + s softplus((b - F)/s)`` keeps the mapping smooth in eta.
+
+Accuracy is verified against ``solve_alpha`` at random points off the nodes
+(tests/test_table.py); the build records its grid and tolerances, and
+``load_table`` refuses a file whose format version differs.  The one-off build
+(node values, splines, writing the file) lives in ``table_build``.
+"""
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numba import njit, prange
+
+from .bspline import eval_1d_uniform, eval_2d_uniform
+
+# Bumped whenever the meaning of the stored arrays changes.
+TABLE_FORMAT_VERSION = 3
+# Domain of the table: eps in [EPS_MIN, 1], xi in [0, XI_MAX].
+EPS_MIN = 0.01
+XI_MAX = 0.99
+U_MIN = float(np.log(EPS_MIN))
+# xi below which the eta coordinate is linear in xi (the ridge starts near eps^2 >= 1e-4).
+XI_SCALE = 1e-10
+# Spline degree in both directions.
+DEGREE = 5
+DEFAULT_FILE = Path(__file__).parents[1] / "data" / "alpha_table.npz"
+# Arrays stored in the table file, in the argument order of ``alpha_from_table``.
+ARRAY_NAMES = ("b_t", "b_c", "s_tx", "s_ty", "s_c", "n_tx", "n_ty", "n_c", "geom")
+
+
+@njit(cache=True, error_model="numpy")
+def eta_of_xi(xi):
+    """Load coordinate ``eta(xi)``; 0 at xi = 0."""
+    return np.log1p(xi / XI_SCALE) - np.log1p(-xi)
+
+
+@dataclass(frozen=True)
+class AlphaTable:
+    """Spline data of the exact table (see module docstring)."""
+
+    b_t: np.ndarray
+    b_c: np.ndarray
+    s_tx: np.ndarray
+    s_ty: np.ndarray
+    s_c: np.ndarray
+    n_tx: np.ndarray
+    n_ty: np.ndarray
+    n_c: np.ndarray
+    geom: np.ndarray
+    meta: dict
+
+
+# Layout of ``AlphaTable.geom``: (first node, spacing, node count) of each uniform grid.
+G_S_ETA, G_S_P, G_N_ETA, G_N_P = 0, 3, 6, 9
+
+
+@njit(cache=True, error_model="numpy")
+def alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
+    """Scalar, numba-callable alpha(eps, xi) from the table arrays (no range checks).
+
+    Valid for ``EPS_MIN <= eps <= 1`` and ``0 <= xi <= XI_MAX``.
+    """
+    if eps >= 1.0:
+        return 0.0
+    u = np.log(eps)
+    eta = eta_of_xi(xi)
+    b = eval_1d_uniform(b_t, b_c, g[0], g[1], int(g[2]), eta)
+    if u >= b:
+        p = np.sqrt(1.0 - u / b)
+        L = eval_2d_uniform(s_tx, s_ty, s_c, g[0], g[1], int(g[2]), g[3], g[4], int(g[5]), eta, p)
+    else:
+        p = np.sqrt((b - u) / (b - U_MIN))
+        L = eval_2d_uniform(n_tx, n_ty, n_c, g[6], g[7], int(g[8]), g[9], g[10], int(g[11]), eta, p)
+    return np.exp(L) * (1.0 - eps) / eps
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def alpha_from_table_many(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
+    """``alpha_from_table`` over flat arrays, in parallel."""
+    out = np.empty(eps.size)
+    for i in prange(eps.size):
+        out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def alpha_from_table_serial(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
+    """``alpha_from_table_many`` in one thread, for small inputs."""
+    out = np.empty(eps.size)
+    for i in range(eps.size):
+        out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
+    return out
+
+
+# Below this many points one thread is faster than waking the others.
+PARALLEL_MIN_LOOKUPS = 4096
+
+
+def load_table(path=DEFAULT_FILE):
+    """Read a table written by ``save_table``; refuse a different format version."""
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"exact-alpha table {path} not found; build it with `snakemake -c2 table`")
+    with np.load(path) as z:
+        meta = json.loads(str(z["meta"]))
+        if meta.get("format_version") != TABLE_FORMAT_VERSION:
+            raise ValueError(
+                f"exact-alpha table {path} has format version {meta.get('format_version')!r}, "
+                f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with `snakemake -c2 table`"
+            )
+        arrays = {k: np.ascontiguousarray(z[k]) for k in ARRAY_NAMES}
+        return AlphaTable(**arrays, meta=meta)
+
+
+_CACHE = {}
+
+
+def table_arrays(path=DEFAULT_FILE):
+    """The table's arrays in the argument order of ``alpha_from_table`` (read once per path)."""
+    key = str(path)
+    if key not in _CACHE:
+        t = load_table(path)
+        _CACHE[key] = tuple(getattr(t, name) for name in ARRAY_NAMES)
+    return _CACHE[key]
+
+
+@njit(cache=True, error_model="numpy")
+def _first_outside(values, lo, hi):
+    """Index of the first value outside [lo, hi] (NaN included), or -1."""
+    for i in range(values.size):
+        v = values[i]
+        if not (lo <= v <= hi):
+            return i
+    return -1
+
+
+def alpha_tabulated(eps, xi, *, path=DEFAULT_FILE):
+    """Exact alpha(eps, xi) from the shipped table: ~1e-7 relative, at formula speed.
+
+    Parameters
+    ----------
+    eps : array_like
+        Restitution coefficient, ``EPS_MIN <= eps <= 1`` (the table's domain;
+        use ``solve_alpha`` below 0.01).
+    xi : array_like
+        Influence factor, ``0 <= xi <= XI_MAX``.
+    """
+    from contactalpha.validation import check_range
+
+    e, x = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
+    e_flat = np.ascontiguousarray(e).ravel()
+    x_flat = np.ascontiguousarray(x).ravel()
+    # One jitted pass finds bad input; check_range then words the error.
+    if _first_outside(e_flat, EPS_MIN, 1.0) >= 0:
+        check_range("eps", e_flat, EPS_MIN, 1.0)
+    if _first_outside(x_flat, 0.0, XI_MAX) >= 0:
+        check_range("xi", x_flat, 0.0, XI_MAX)
+    run = alpha_from_table_many if e_flat.size >= PARALLEL_MIN_LOOKUPS else alpha_from_table_serial
+    out = run(e_flat, x_flat, *table_arrays(path)).reshape(e.shape)
+    return out[()] if out.ndim == 0 else out
+
+
+def jit_alpha_tabulated(path=DEFAULT_FILE):
+    """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
+
+    The table arrays are frozen into the compiled function as constants.  No
+    range checks inside: keep ``EPS_MIN <= eps <= 1`` and ``0 <= xi <= XI_MAX``.
+    """
+    b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g = table_arrays(path)
+
+    @njit(error_model="numpy")
+    def alpha_exact_jit(eps, xi):
+        return alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
+
+    return alpha_exact_jit

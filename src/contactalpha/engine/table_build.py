@@ -1,0 +1,233 @@
+"""One-off build of the exact-alpha table (``table.py`` holds the runtime lookup).
+
+The node values are Newton solves of the engine at every node of the two
+boundary-aligned grids described in ``table.py``; the splines are SciPy's
+interpolating quintic tensor splines, re-expressed on uniform knots so that the
+jitted evaluator needs no knot search.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from contactalpha.io import write_atomic
+
+from .boundary import separation_boundary
+from .bspline import clamp_to_uniform
+from .driver import impact
+from .solver import solve_alpha
+from .table import (
+    ARRAY_NAMES,
+    DEFAULT_FILE,
+    DEGREE,
+    EPS_MIN,
+    TABLE_FORMAT_VERSION,
+    U_MIN,
+    XI_MAX,
+    XI_SCALE,
+    AlphaTable,
+    alpha_tabulated,
+    eta_of_xi,
+)
+
+# Smooth floor of the boundary position, in ln eps, and its softness.
+B_FLOOR = U_MIN - 2.0
+B_SOFTNESS = 0.1
+# Below this xi the boundary lies far under B_FLOOR and is not searched for.
+XI_BOUNDARY_MIN = 1e-6
+
+
+def xi_of_eta(eta):
+    """Inverse of ``eta_of_xi`` (bisection in log space; build time only)."""
+    eta = np.asarray(eta, dtype=float)
+    lo = np.zeros_like(eta)
+    hi = np.full_like(eta, XI_MAX + 0.5 * (1 - XI_MAX))
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        below = np.log1p(mid / XI_SCALE) - np.log1p(-mid) < eta
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+def soft_floor(b):
+    """``B_FLOOR + s softplus((b - B_FLOOR)/s)``; -inf maps to B_FLOOR."""
+    z = (np.asarray(b, dtype=float) - B_FLOOR) / B_SOFTNESS
+    return B_FLOOR + B_SOFTNESS * np.logaddexp(0.0, z)
+
+
+def _spline2d(eta, p, L):
+    """Interpolating quintic tensor spline, refined so that every node is a knot."""
+    from scipy.interpolate import RectBivariateSpline
+
+    r = RectBivariateSpline(eta, p, L, kx=DEGREE, ky=DEGREE, s=0)
+    tx, ty, c = r.tck
+    c = c.reshape(len(tx) - DEGREE - 1, len(ty) - DEGREE - 1)
+    tx, c = clamp_to_uniform(tx, c, DEGREE, eta, axis=0)
+    ty, c = clamp_to_uniform(ty, c, DEGREE, p, axis=1)
+    return tx, ty, np.ascontiguousarray(c)
+
+
+def _node_values(eps, xi, tol, rtol, atol):
+    """``L`` at nodes; eps = 1 uses the slope of eps(alpha) at alpha = 0."""
+    eps = np.asarray(eps, dtype=float)
+    xi = np.broadcast_to(np.asarray(xi, dtype=float), eps.shape)
+    L = np.empty(eps.shape)
+    one = eps >= 1.0
+    if one.any():
+        slope = impact(0.0, xi[one], rtol=rtol, atol=atol).deps_dalpha
+        L[one] = np.log(-1.0 / slope)
+    sol = solve_alpha(eps[~one], xi[~one], tol=tol, rtol=rtol, atol=atol, guess="formula")
+    if not np.all(sol.ok):
+        bad = np.argwhere(~np.asarray(sol.ok)).ravel()
+        raise RuntimeError(
+            f"table build: alpha solve failed at {bad.size} nodes, e.g. "
+            f"eps={eps[~one][bad[0]]!r}, xi={xi[~one][bad[0]]!r}: {sol.status[bad[0]]}"
+        )
+    e = eps[~one]
+    L[~one] = np.log(sol.alpha * e / (1.0 - e))
+    return L
+
+
+def build_table(n_eta=277, n_p=101, refine_n=2, *, tol=1e-13, rtol=1e-12, atol=1e-14, progress=None):
+    """Compute the table: boundary, region S and region N node values, splines.
+
+    Parameters
+    ----------
+    n_eta : int
+        Rows in eta over [0, eta(XI_MAX)] (region S; region N gets as many
+        rows per unit eta over its own range).
+    n_p : int
+        Columns in p over [0, 1] in region S.
+    refine_n : int
+        Region N gets ``refine_n`` times the row density and ``refine_n (n_p - 1) + 1``
+        columns: on its non-separation side alpha turns on like ``exp(-C / sqrt(s))``
+        past the creep boundary, which needs the finer spacing.
+    tol, rtol, atol : float
+        Solver settings for the node values.
+    progress : callable or None
+        Called with a message string after each stage.
+
+    Returns
+    -------
+    AlphaTable
+    """
+    from scipy.interpolate import make_interp_spline
+    from scipy.optimize import brentq
+
+    say = progress or (lambda msg: None)
+    eta_max = float(eta_of_xi(XI_MAX))
+    eta = np.linspace(0.0, eta_max, n_eta)
+    xi = xi_of_eta(eta)
+    xi[0] = 0.0
+    b = np.full(n_eta, -np.inf)
+    search = xi >= XI_BOUNDARY_MIN
+    _, eps_b, status = separation_boundary(xi[search], rtol=rtol, atol=atol)
+    if np.any(status != 0):
+        raise RuntimeError(f"table build: boundary search failed at xi = {xi[search][status != 0]}")
+    b[search] = np.log(eps_b)
+    b_eff = soft_floor(b)
+    bs = make_interp_spline(eta, b_eff, k=DEGREE)
+    b_t, b_c = clamp_to_uniform(bs.t, bs.c, DEGREE, eta)
+    say(f"boundary: {search.sum()} rows searched")
+
+    p = np.linspace(0.0, 1.0, n_p)
+    u_s = b_eff[:, None] * (1.0 - p[None, :] ** 2)
+    L_s = _node_values(np.exp(u_s), xi[:, None], tol, rtol, atol)
+    say(f"region S: {L_s.size} nodes")
+
+    eta_n_min = brentq(lambda e: float(bs(e)) - U_MIN, 0.0, eta_max)
+    n_rows = max(DEGREE + 2, int(round(refine_n * (eta_max - eta_n_min) / (eta[1] - eta[0]))) + 1)
+    eta_n = np.linspace(eta_n_min, eta_max, n_rows)
+    p_n = np.linspace(0.0, 1.0, refine_n * (n_p - 1) + 1)
+    xi_n = xi_of_eta(eta_n)
+    b_n = bs(eta_n)
+    u_n = b_n[:, None] - p_n[None, :] ** 2 * (b_n[:, None] - U_MIN)
+    L_n = _node_values(np.exp(u_n), xi_n[:, None], tol, rtol, atol)
+    say(f"region N: {L_n.size} nodes")
+
+    s_tx, s_ty, s_c = _spline2d(eta, p, L_s)
+    n_tx, n_ty, n_c = _spline2d(eta_n, p_n, L_n)
+    meta = dict(
+        format_version=TABLE_FORMAT_VERSION,
+        eps_min=EPS_MIN,
+        xi_max=XI_MAX,
+        xi_scale=XI_SCALE,
+        degree=DEGREE,
+        n_eta=n_eta,
+        n_p=n_p,
+        n_eta_region_n=n_rows,
+        n_p_region_n=len(p_n),
+        tol=tol,
+        rtol=rtol,
+        atol=atol,
+    )
+    geom = np.array(
+        [
+            eta[0],
+            eta[1] - eta[0],
+            eta.size,
+            p[0],
+            p[1] - p[0],
+            p.size,
+            eta_n[0],
+            eta_n[1] - eta_n[0],
+            eta_n.size,
+            p_n[0],
+            p_n[1] - p_n[0],
+            p_n.size,
+        ]
+    )
+    return AlphaTable(b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, geom, meta)
+
+
+def save_table(table, path, **extra_meta):
+    """Write the table to ``path`` (.npz) atomically, with its metadata as JSON."""
+    meta = dict(table.meta, **extra_meta)
+    arrays = {name: getattr(table, name) for name in ARRAY_NAMES}
+
+    def write(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez_compressed(fh, **arrays, meta=json.dumps(meta))
+
+    return write_atomic(Path(path), write)
+
+
+def random_points(n, seed):
+    """``n`` random (eps, xi) in the table's domain: half log-uniform in xi (the ridge), half uniform."""
+    rng = np.random.default_rng(seed)
+    eps = np.exp(rng.uniform(U_MIN, 0.0, n))
+    xi = np.where(
+        rng.random(n) < 0.5, np.exp(rng.uniform(np.log(1e-9), np.log(XI_MAX), n)), rng.uniform(0.0, XI_MAX, n)
+    )
+    return eps, xi
+
+
+def check_table(path, *, n=2000, seed=0, shipped=DEFAULT_FILE):
+    """Accuracy of the table at ``path`` against ``solve_alpha``, and its distance to the shipped table.
+
+    Returns
+    -------
+    dict
+        ``max_rel_err``, ``median_rel_err``, ``worst`` (eps, xi), ``n``, and
+        ``max_rel_diff_shipped`` (NaN when no shipped table can be read).
+    """
+    eps, xi = random_points(n, seed)
+    ref = solve_alpha(eps, xi, tol=1e-13, guess="formula")
+    if not np.all(ref.ok):
+        raise RuntimeError(f"check_table: {int((~np.asarray(ref.ok)).sum())} reference solves failed")
+    got = alpha_tabulated(eps, xi, path=path)
+    rel = np.abs(got / ref.alpha - 1.0)
+    i = int(np.argmax(rel))
+    try:
+        diff = float(np.max(np.abs(alpha_tabulated(eps, xi, path=shipped) / got - 1.0)))
+    except (FileNotFoundError, ValueError):
+        diff = float("nan")
+    return dict(
+        n=n,
+        max_rel_err=float(rel.max()),
+        median_rel_err=float(np.median(rel)),
+        worst=(float(eps[i]), float(xi[i])),
+        max_rel_diff_shipped=diff,
+    )

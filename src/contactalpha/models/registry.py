@@ -1,0 +1,231 @@
+"""Registry of alpha(eps, xi) contact models, all of the form F = k d^{3/2} (1 + alpha d'/v0).
+
+Every model takes arrays ``eps`` (restitution) and ``xi`` (influence factor
+of the load) and returns alpha with their broadcast shape.  Models that ignore
+``xi`` say so in ``Model.uses_xi``; they are the classical ones, derived
+without external forces.  Use ``alpha(eps, xi, model=NAME)`` or ``MODELS``.
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.engine.exact import alpha_exact
+from contactalpha.validation import check_eps, check_xi
+
+from .shen import shen_published, shen_refit
+
+
+@dataclass(frozen=True)
+class Model:
+    """An alpha(eps, xi) model.
+
+    Attributes
+    ----------
+    name : registry key.
+    label : name for legends.
+    source : citation.
+    formula : the formula, as text.
+    uses_xi : False for models derived without an external load.
+    fn : callable ``fn(eps, xi) -> alpha`` on validated float arrays.
+    """
+
+    name: str
+    label: str
+    source: str
+    formula: str
+    uses_xi: bool
+    fn: Callable
+
+
+def hunt_crossley(eps, xi=0.0):
+    """Hunt & Crossley (1975), J. Appl. Mech. 42: alpha = 3 (1 - eps) / 2.  Ignores xi."""
+    return 1.5 * (1.0 - eps) + 0.0 * xi
+
+
+def lankarani_nikravesh(eps, xi=0.0):
+    """Lankarani & Nikravesh (1990), J. Mech. Des. 112: alpha = 3 (1 - eps^2) / 4.  Ignores xi."""
+    return 0.75 * (1.0 - eps**2) + 0.0 * xi
+
+
+def flores(eps, xi=0.0):
+    """Flores et al. (2011), Mech. Mach. Theory 46: alpha = 8 (1 - eps) / (5 eps).  Ignores xi."""
+    return 1.6 * (1.0 - eps) / eps + 0.0 * xi
+
+
+def hu_guo(eps, xi=0.0):
+    """Hu & Guo (2015), Mech. Mach. Theory 85; paper Eq. 25: alpha = 3 (1 - eps) / (2 eps).  Ignores xi."""
+    return 1.5 * (1.0 - eps) / eps + 0.0 * xi
+
+
+def gonthier(eps, xi=0.0):
+    """Gonthier et al. (2004), Multibody Syst. Dyn. 11: alpha = (1 - eps^2) / eps.  Ignores xi."""
+    return (1.0 - eps**2) / eps + 0.0 * xi
+
+
+def exact_unloaded(eps, xi=0.0):
+    """Exact at xi = 0 (Carvalho & Martins 2019): ln((1+alpha)/(1-alpha eps)) = alpha (1+eps).  Ignores xi."""
+    return alpha_exact(eps) + 0.0 * xi
+
+
+def shen_zero_load(eps, xi=0.0):
+    """Shen et al., Eq. 40, xi = 0 branch: alpha = 3 (1 - eps) / (2 eps^0.89).  Ignores xi."""
+    return 1.5 * (1.0 - eps) / eps**0.89 + 0.0 * xi
+
+
+def exact_tabulated(eps, xi):
+    """Exact alpha(eps, xi) from the shipped spline table (``table.py``): ~1e-7 relative, formula speed.
+
+    Domain 0.01 <= eps <= 1, 0 <= xi <= 0.99; outside it, use ``exact_solve``.
+    """
+    from contactalpha.engine.table import alpha_tabulated
+
+    try:
+        return alpha_tabulated(eps, xi)
+    except ValueError as exc:
+        raise ValueError(f"{exc} of the exact table; model='exact_solve' covers the rest") from None
+
+
+def exact_surface(eps, xi):
+    """Exact alpha(eps, xi): the root of Stronge's restitution, solved with the impact engine.
+
+    Slow (one Newton solve per point, ~0.1 ms); ``contactalpha.alpha(...,
+    model="exact")`` is the fast tabulated form of the same surface.
+    """
+    from contactalpha.engine.solver import solve_alpha
+
+    sol = solve_alpha(eps, xi)
+    if not np.all(sol.ok):
+        bad = np.asarray(sol.status)[~np.asarray(sol.ok)]
+        raise RuntimeError(
+            f"alpha solve failed at {np.size(bad)} point(s): {sorted(set(np.atleast_1d(bad)))}"
+        )
+    return sol.alpha
+
+
+_REGISTRY = [
+    Model("hunt_crossley", "Hunt–Crossley", "Hunt & Crossley 1975", "3(1−ε)/2", False, hunt_crossley),
+    Model(
+        "lankarani_nikravesh",
+        "Lankarani–Nikravesh",
+        "Lankarani & Nikravesh 1990",
+        "3(1−ε²)/4",
+        False,
+        lankarani_nikravesh,
+    ),
+    Model("flores", "Flores et al.", "Flores et al. 2011", "8(1−ε)/(5ε)", False, flores),
+    Model("hu_guo", "Hu–Guo", "Hu & Guo 2015 (paper Eq. 25)", "3(1−ε)/(2ε)", False, hu_guo),
+    Model("gonthier", "Gonthier et al.", "Gonthier et al. 2004", "(1−ε²)/ε", False, gonthier),
+    Model(
+        "shen_zero_load",
+        "Shen et al., ξ = 0 branch",
+        "Shen et al., Eq. 40",
+        "3(1−ε)/(2ε^0.89)",
+        False,
+        shen_zero_load,
+    ),
+    Model(
+        "exact_unloaded",
+        "exact, ξ = 0",
+        "Carvalho & Martins 2019",
+        "ln((1+α)/(1−αε)) = α(1+ε)",
+        False,
+        exact_unloaded,
+    ),
+    Model(
+        "exact_solve",
+        "exact (solved)",
+        "this package: root of Stronge's ε",
+        "ε(α, ξ) = ε",
+        True,
+        exact_surface,
+    ),
+]
+_REGISTRY.append(
+    Model(
+        "exact",
+        "exact",
+        "this package: spline table of the solved surface",
+        "table of ε(α, ξ) = ε, 0.01 ≤ ε ≤ 1, ξ ≤ 0.99",
+        True,
+        exact_tabulated,
+    )
+)
+_REGISTRY += [
+    Model("shen_published", "Shen et al., Eq. 40", "Shen et al., Eq. 40", "Eq. 40", True, shen_published),
+    Model("shen_refit", "Shen et al., refit", "Eq. 40 refit to this surface", "Eq. 40", True, shen_refit),
+]
+MODELS = {m.name: m for m in _REGISTRY}
+
+
+def register(model):
+    """Add or replace a model in the registry (used for the fitted Shen et al. models)."""
+    MODELS[model.name] = model
+
+
+def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip_tension=False):
+    """Hunt-Crossley contact force ``k delta^{3/2} (1 + alpha delta_dot / v_impact)`` (paper Eq. 41).
+
+    Parameters
+    ----------
+    delta : array_like
+        Penetration, m; no force where ``delta <= 0``.
+    delta_dot : array_like
+        Penetration rate, m/s (positive while compressing).
+    v_impact : float or array_like
+        Approach speed of this impact, m/s (> 0).
+    k : float or array_like
+        Hertz stiffness, N/m^1.5 (> 0).
+    eps, xi : float or array_like
+        Restitution coefficient and influence factor of this impact.
+    model : str
+        Name in ``MODELS`` that gives alpha.
+    clip_tension : bool
+        If True, negative (adhesive) forces late in restitution are set to 0.
+
+    Returns
+    -------
+    force : float or ndarray, N
+    """
+    from contactalpha.validation import check_positive
+
+    v0 = check_positive("v_impact", v_impact)
+    kk = check_positive("k", k)
+    a = alpha(eps, xi, model=model)
+    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
+    f = kk * d * np.sqrt(d) * (1.0 + a * np.asarray(delta_dot, dtype=float) / v0)
+    if clip_tension:
+        f = np.maximum(f, 0.0)
+    return f[()] if np.ndim(f) == 0 else f
+
+
+def alpha(eps, xi=0.0, model="exact"):
+    """Damping factor alpha from a named model.
+
+    Parameters
+    ----------
+    eps : array_like
+        Restitution coefficient; 0 < eps <= 1 for models with 1/eps terms.
+    xi : array_like
+        Influence factor of the load, 0 <= xi < 1; ignored by models whose
+        ``uses_xi`` is False.
+    model : str
+        A key of ``MODELS``.
+
+    Returns
+    -------
+    alpha : float or ndarray
+    """
+    if model not in MODELS:
+        raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
+    if model == "exact":
+        return exact_tabulated(eps, xi)  # validates in one jitted pass: keeps formula speed
+    e = check_eps(eps)
+    x = check_xi(xi)
+    if np.any(e == 0.0) and model not in ("exact_solve",):
+        raise ValueError(f"eps = 0.0 is outside the valid range (0.0, 1.0] of model {model!r}")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = MODELS[model].fn(e, x)
+    out = np.asarray(out, dtype=float)
+    return out[()] if out.ndim == 0 else out

@@ -1,0 +1,379 @@
+"""Shen et al.'s closed form for alpha(eps, xi) (Sect. 5, Eqs. 26 and 31-40) and its building blocks.
+
+Eq. 40 reaches us through OCR, and its first term is damaged (SCIENCE.md Sect. 8).
+The printed digits are ``e^{-(eps + 1 - xi^0.05)^2}``, ``0.1568 xi^0.9`` and a
+duplicated ``(1 - eps)^6``; Eq. 39's generic form of the term is
+``e^{-(eps + tau)^2 / sigma} (1 - eps)^a / beta``.  Each way of mapping the digits
+onto (tau, sigma, a, beta) is a *reading* (``READINGS``).  ``BEST_READING`` is the
+one that the per-xi fits of Eq. 39 support (``fit.fit_eq39_slices``; the evidence
+is in ``results/fit/eq40_readings.md``): ``0.1568 xi^0.9`` is the width sigma.
+Under that reading, beta is not printed at all.  It is named ``beta``, set to 1
+("as printed") in ``PUBLISHED`` and refit, never invented.
+
+The dissipation ratios of Eqs. 36-37 come from exact energy identities of the
+scaled equation ``x'' = A - (5/4) x^{3/2} (1 + alpha x')`` (SCIENCE.md Sect. 3).
+With ``D_c``, ``D_r`` the damping work of compression and restitution (unit
+``m_e v0^2``), ``x_m`` the maximum and ``x_e`` the end compression, and
+``lambda = x_e / x_m``:
+
+    D_c = 1/2 + A x_m - x_m^{5/2} / 2,
+    D_r = x_m^{5/2} / 2 - x_e^{5/2} / 2 - A (x_m - x_e) - v_e^2 / 2,
+    v_e^2 / 2 = eps^2 (1/2 + A x_m) - A (x_m - x_e),
+    s_a = D_c / ((5/4) alpha x_m^{5/2}),
+    eta_c = s_a / (0.851 S),   eta_r = D_r / ((5/4) alpha x_m^{5/2} 0.851 S (1 - lambda^{5/2})).
+
+With these, Eq. 38 holds exactly (``eq38``), since ``0.47 = 0.4 / 0.851``.
+"""
+
+import json
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib.resources import files
+
+import numpy as np
+from scipy.integrate import quad
+
+from contactalpha.engine.scaling import scaled_load
+from contactalpha.validation import check_eps, check_xi
+
+# Eq. 32/34: the published factor between s1 (Eq. 31) and sqrt(s2 / 2) (Eq. 33).
+S21_COEF = 0.851
+# Eq. 38: 0.4 / 0.851 rounded, as printed.
+ENERGY_COEF = 0.47
+# Eq. 40, xi = 0 branch: alpha = 3 (1 - eps) / (2 eps^0.89).
+ZERO_LOAD_EXP = 0.89
+# Eq. 26 at xi = 0.2 (the paper's Fig. 5).
+EQ26_PUBLISHED = {"tau": 0.01, "sigma": 0.011, "beta": 0.113}
+# Absolute tolerance of the s1 quadrature (Eq. 31); s1 is about 0.2.
+S1_QUAD_EPSABS = 1e-13
+
+# Refit constants shipped with the package, written by the workflow (rule fit_refit).
+REFIT_FILE = "shen_refit.json"
+
+# Every numeric constant of Eq. 40 (0 < xi < 1), as printed, with its role.
+PUBLISHED = {
+    "tau_one": 1.0,  # tau = tau_one - xi^tau_exp
+    "tau_exp": 0.05,
+    "width_coef": 0.1568,  # 0.1568 xi^0.9: sigma or beta, by reading
+    "width_exp": 0.9,
+    "a": 6.0,  # (1 - eps)^a
+    "beta": 1.0,  # beta of the sigma readings: not printed, so 1 "as printed"
+    "energy_coef": ENERGY_COEF,  # 0.47 = 0.4 / 0.851
+    "b_xi_exp": 1.3,  # eps^-(eps^(xi^1.3) + 0.1 xi - 0.97)
+    "b_xi_coef": 0.1,
+    "b_const": 0.97,
+    "eta_const": 0.86,  # eta = eps^(0.86 + 2.6 xi + xi^3.5 - 1.5 eps xi)
+    "eta_xi": 2.6,
+    "eta_xi_exp": 3.5,
+    "eta_eps_xi": 1.5,
+    "lam_xi_exp": 0.59,  # lambda = 1 - (eps / xi^0.59)^(1 + xi^0.3 [1 - eps (1 - xi)])
+    "lam_xi_pow": 0.3,
+}
+# Constants of the second term of Eq. 40 and of its S, eta and lambda (read cleanly).
+SECOND_TERM = [
+    "energy_coef",
+    "b_xi_exp",
+    "b_xi_coef",
+    "b_const",
+    "eta_const",
+    "eta_xi",
+    "eta_xi_exp",
+    "eta_eps_xi",
+    "lam_xi_exp",
+    "lam_xi_pow",
+]
+# Constants the printed text does not determine (refit, never invented).
+UNDETERMINED = {"beta": "beta of Eq. 39 is not printed in Eq. 40 under the sigma readings (OCR loss)"}
+
+# Readings of Eq. 40's damaged first term, as (role of 0.1568 xi^0.9, exponent a used?).
+READINGS = {
+    "sigma_a6": "e^{-(eps+tau)^2/(0.1568 xi^0.9)} (1-eps)^6 / beta, tau = 1 - xi^0.05, beta lost",
+    "sigma_a0": "e^{-(eps+tau)^2/(0.1568 xi^0.9)} / beta, tau = 1 - xi^0.05, beta lost, the (1-eps)^6 cancel",
+    "beta_a6": "e^{-(eps+tau)^2} (1-eps)^6 / (0.1568 xi^0.9), tau = 1 - xi^0.05, sigma = 1",
+    "beta_a0": "e^{-(eps+tau)^2} / (0.1568 xi^0.9), tau = 1 - xi^0.05, sigma = 1, the (1-eps)^6 cancel",
+    "none": "first term dropped: the second term of Eq. 40 alone",
+}
+# The reading the per-xi fits of Eq. 39 support (see the module docstring).
+BEST_READING = "sigma_a6"
+
+
+def _reading(reading):
+    if reading not in READINGS:
+        raise ValueError(f"reading = {reading!r} is not one of the valid readings {sorted(READINGS)}")
+    return reading
+
+
+def reading_constants(reading=BEST_READING):
+    """Names of the ``PUBLISHED`` constants that enter Eq. 40 under ``reading``."""
+    first = {
+        "sigma_a6": ["tau_one", "tau_exp", "width_coef", "width_exp", "a", "beta"],
+        "sigma_a0": ["tau_one", "tau_exp", "width_coef", "width_exp", "beta"],
+        "beta_a6": ["tau_one", "tau_exp", "width_coef", "width_exp", "a"],
+        "beta_a0": ["tau_one", "tau_exp", "width_coef", "width_exp"],
+        "none": [],
+    }[_reading(reading)]
+    return first + SECOND_TERM
+
+
+def contact_factor(xi):
+    """S = sqrt((7 - 4 xi) / (70 (1 - xi))) of Eqs. 34-40 (equals sqrt(s2 / 2), Eq. 33)."""
+    xi = np.asarray(xi, dtype=float)
+    return np.sqrt((7.0 - 4.0 * xi) / (70.0 * (1.0 - xi)))
+
+
+def _s1_scalar(xi):
+    r = xi / (1.0 - xi)
+    # sqrt(g) = sqrt(1 - x) sqrt(g / (1 - x)): the endpoint singularity goes to quad's weight.
+    slope = 2.5 + 1.5 * r  # -g'(1), the limit of g / (1 - x)
+
+    def smooth(x):
+        if x >= 1.0:
+            return slope
+        g = 1.0 - x**2.5 + r * (x - x**2.5)
+        return x**1.5 * np.sqrt(max(g / (1.0 - x), 0.0))
+
+    val, _ = quad(
+        smooth, 0.0, 1.0, weight="alg", wvar=(0.0, 0.5), epsabs=S1_QUAD_EPSABS, epsrel=S1_QUAD_EPSABS
+    )
+    return val
+
+
+def s1(xi):
+    """Compression damping integral of the undamped motion, Eq. 31, by adaptive quadrature.
+
+    Parameters
+    ----------
+    xi : float or array_like
+        Influence factor, 0 <= xi < 1.
+
+    Returns
+    -------
+    float or ndarray
+        ``int_0^1 x^{3/2} sqrt(1 - x^{5/2} + xi/(1-xi) (x - x^{5/2})) dx``.
+    """
+    xi = check_xi(xi)
+    out = np.vectorize(_s1_scalar, otypes=[float])(xi)
+    return out[()] if out.ndim == 0 else out
+
+
+def s21(xi, coef=S21_COEF):
+    """The paper's approximation of s1, Eq. 34: ``coef * S``."""
+    return coef * contact_factor(check_xi(xi))
+
+
+def lambda_eq40(eps, xi, c=PUBLISHED):
+    """End-to-maximum compression ratio of Eq. 40, clipped at 0 (0 at xi = 0)."""
+    eps, xi = np.asarray(eps, dtype=float), np.asarray(xi, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        power = 1.0 + xi ** c["lam_xi_pow"] * (1.0 - eps * (1.0 - xi))
+        lam = 1.0 - (eps / xi ** c["lam_xi_exp"]) ** power
+    return np.where(xi > 0, np.clip(np.nan_to_num(lam, nan=0.0, neginf=0.0), 0.0, None), 0.0)
+
+
+def eta_eq40(eps, xi, c=PUBLISHED):
+    """Eta of Eq. 40: ``eps^(0.86 + 2.6 xi + xi^3.5 - 1.5 eps xi)``."""
+    eps, xi = np.asarray(eps, dtype=float), np.asarray(xi, dtype=float)
+    return eps ** (c["eta_const"] + c["eta_xi"] * xi + xi ** c["eta_xi_exp"] - c["eta_eps_xi"] * eps * xi)
+
+
+def exponent_b(eps, xi, c=PUBLISHED):
+    """Exponent b of eps in Eq. 39's second term, as Eq. 40 sets it: ``-(eps^(xi^1.3) + 0.1 xi - 0.97)``."""
+    eps, xi = np.asarray(eps, dtype=float), np.asarray(xi, dtype=float)
+    return -(eps ** (xi ** c["b_xi_exp"]) + c["b_xi_coef"] * xi - c["b_const"])
+
+
+def eq26(eps, tau, sigma, beta):
+    """EXP of Eq. 26: ``exp(-(eps + tau)^2 / sigma) / beta``."""
+    return np.exp(-((np.asarray(eps, dtype=float) + tau) ** 2) / sigma) / beta
+
+
+def eq39(eps, xi, *, tau, sigma, beta, a, lam, b, eta_c, eta_r, energy_coef=ENERGY_COEF):
+    """The generic closed form, Eq. 39 (all arguments broadcast).
+
+    ``alpha = exp(-(eps+tau)^2/sigma) (1-eps)^a / beta
+    + energy_coef (1 - eps^2 - lam^{5/2}) eps^b / (S [eta_c eps^2 + eta_r (1 - lam^{5/2})])``.
+    """
+    eps = np.asarray(eps, dtype=float)
+    l25 = np.asarray(lam, dtype=float) ** 2.5
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        first = np.exp(-((eps + tau) ** 2) / sigma) * (1.0 - eps) ** a / beta
+        second = (
+            energy_coef
+            * (1.0 - eps**2 - l25)
+            * eps**b
+            / (contact_factor(xi) * (eta_c * eps**2 + eta_r * (1.0 - l25)))
+        )
+    return first + second
+
+
+def first_term_params(xi, c=PUBLISHED, reading=BEST_READING):
+    """(tau, sigma, beta, a) of Eq. 39's first term under a reading of Eq. 40."""
+    xi = np.asarray(xi, dtype=float)
+    tau = c["tau_one"] - xi ** c["tau_exp"]
+    width = c["width_coef"] * xi ** c["width_exp"]
+    if reading.startswith("sigma"):
+        return tau, width, c["beta"], c["a"] if reading == "sigma_a6" else 0.0
+    return tau, 1.0, width, c["a"] if reading == "beta_a6" else 0.0
+
+
+def eq40_terms(eps, xi, c=PUBLISHED, reading=BEST_READING):
+    """The two terms of Eq. 40 for 0 < xi < 1, without validation: ``(first, second)``."""
+    _reading(reading)
+    eps, xi = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
+    lam = lambda_eq40(eps, xi, c)
+    second = eq39(
+        eps,
+        xi,
+        tau=0.0,
+        sigma=1.0,
+        beta=np.inf,
+        a=0.0,
+        lam=lam,
+        b=exponent_b(eps, xi, c),
+        eta_c=1.0,
+        eta_r=eta_eq40(eps, xi, c),
+        energy_coef=c["energy_coef"],
+    )
+    if reading == "none":
+        return np.zeros_like(second), second
+    tau, sigma, beta, a = first_term_params(xi, c, reading)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        first = np.exp(-((eps + tau) ** 2) / sigma) * (1.0 - eps) ** a / beta
+    return first, second
+
+
+def zero_load(eps, exponent=ZERO_LOAD_EXP):
+    """Eq. 40 at xi = 0: ``3 (1 - eps) / (2 eps^exponent)``."""
+    eps = np.asarray(eps, dtype=float)
+    with np.errstate(divide="ignore"):
+        return 1.5 * (1.0 - eps) / eps**exponent
+
+
+def eq40(eps, xi, c=PUBLISHED, reading=BEST_READING, zero_load_exp=ZERO_LOAD_EXP):
+    """alpha(eps, xi) of Eq. 40, both branches.
+
+    Parameters
+    ----------
+    eps : array_like
+        Restitution coefficient, 0 < eps <= 1.
+    xi : array_like
+        Influence factor, 0 <= xi < 1; ``xi = 0`` takes the zero-load branch.
+    c : dict
+        Constants named as in ``PUBLISHED`` (default: as printed).
+    reading : str
+        A key of ``READINGS``: how the damaged first term is read.
+    zero_load_exp : float
+        Exponent of the xi = 0 branch (printed: 0.89).
+
+    Returns
+    -------
+    float or ndarray
+    """
+    eps = check_eps(eps)
+    xi = check_xi(xi)
+    if np.any(eps == 0.0):
+        raise ValueError("eps = 0.0 is outside the valid range (0.0, 1.0] of Eq. 40")
+    first, second = eq40_terms(eps, np.where(xi > 0, xi, 0.5), c, reading)
+    out = np.where(xi > 0, first + second, zero_load(eps, zero_load_exp))
+    return out[()] if out.ndim == 0 else out
+
+
+@dataclass(frozen=True)
+class Dissipation:
+    """Damping work and the paper's ratios, from the end state of computed impacts (arrays).
+
+    Attributes
+    ----------
+    d_c, d_r : damping work of compression and restitution (Eqs. 28-29), unit m_e v0^2.
+    s_a : damped counterpart of s1 (Eq. 30 with the actual motion).
+    eta_c, eta_r : the ratios of Eqs. 36 and 37 (NaN for eta_r where lambda = 1).
+    lam : x_end / x_max.
+    """
+
+    d_c: np.ndarray
+    d_r: np.ndarray
+    s_a: np.ndarray
+    eta_c: np.ndarray
+    eta_r: np.ndarray
+    lam: np.ndarray
+
+
+def dissipation(eps, xi, alpha, x_max, x_end):
+    """s_a, eta_c and eta_r implied by impacts that end at (x_max, x_end) with restitution eps.
+
+    Exact energy identities (module docstring); inputs broadcast, scaled as in
+    ``impact``.  Where ``alpha`` is 0 the ratios are NaN.
+    """
+    eps, xi, alpha, x_m, x_e = np.broadcast_arrays(
+        *(np.asarray(v, dtype=float) for v in (eps, xi, alpha, x_max, x_end))
+    )
+    A = scaled_load(np.clip(xi, 0.0, None))
+    d_c = 0.5 + A * x_m - 0.5 * x_m**2.5
+    half_ve2 = eps**2 * (0.5 + A * x_m) - A * (x_m - x_e)
+    d_r = 0.5 * x_m**2.5 - 0.5 * x_e**2.5 - A * (x_m - x_e) - half_ve2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = x_e / x_m
+        unit = 1.25 * alpha * x_m**2.5
+        s_a = d_c / unit
+        ref = S21_COEF * contact_factor(xi)
+        eta_c = s_a / ref
+        eta_r = d_r / (unit * ref * (1.0 - lam**2.5))
+    return Dissipation(d_c=d_c, d_r=d_r, s_a=s_a, eta_c=eta_c, eta_r=eta_r, lam=lam)
+
+
+def eq38(eps, xi, lam, eta_c, eta_r):
+    """Alpha of Eq. 38 from lambda, eta_c and eta_r (exact with the measured ratios)."""
+    l25 = np.asarray(lam, dtype=float) ** 2.5
+    eps = np.asarray(eps, dtype=float)
+    return (0.4 / S21_COEF) * (1 - eps**2 - l25) / (contact_factor(xi) * (eta_c * eps**2 + eta_r * (1 - l25)))
+
+
+def compression_work_path(path, alpha):
+    """Damping work of compression by trapezoidal quadrature along a recorded trajectory.
+
+    Parameters
+    ----------
+    path : ndarray, shape (n, 3)
+        ``(t, x, v)`` rows from ``impact.trajectory`` (scaled).
+    alpha : float
+        Damping factor of the run.
+
+    Returns
+    -------
+    float
+        ``int (5/4) alpha x^{3/2} v dx`` over the compression phase (v > 0),
+        as ``int (5/4) alpha x^{3/2} v^2 dt``.
+    """
+    t, x, v = path[:, 0], path[:, 1], path[:, 2]
+    stop = np.flatnonzero(v <= 0.0)
+    n = stop[0] + 1 if stop.size else len(t)
+    power = 1.25 * alpha * np.clip(x[:n], 0.0, None) ** 1.5 * np.clip(v[:n], 0.0, None) ** 2
+    return float(np.trapezoid(power, t[:n]))
+
+
+@lru_cache(maxsize=1)
+def load_refit():
+    """The refit constants shipped in ``contactalpha/data/shen_refit.json`` (a dict).
+
+    Raises
+    ------
+    FileNotFoundError
+        If the package was built without the file (run the workflow's ``fit_refit`` rule).
+    """
+    path = files("contactalpha") / "data" / REFIT_FILE
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"{path} is missing: run `snakemake -c2 fit_refit` to write the refit constants"
+        )
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def shen_published(eps, xi):
+    """Eq. 40 as published, read as ``BEST_READING`` (beta = 1 as printed); both branches."""
+    return eq40(eps, xi)
+
+
+def shen_refit(eps, xi):
+    """Eq. 40 with every constant refit to the computed surface (``load_refit``), both branches."""
+    d = load_refit()
+    return eq40(eps, xi, {**PUBLISHED, **d["constants"]}, d["reading"], d["zero_load_exp"])

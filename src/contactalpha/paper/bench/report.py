@@ -1,0 +1,524 @@
+"""Figures, tables and the README text of the speed-and-accuracy benchmarks (issue 7).
+
+Inputs are the tables written by the benchmark (``results/bench/*.csv`` and
+``scaling.json``); nothing here measures or computes a number that is not in
+them.  The README section between ``README_START`` and ``README_END`` is
+replaced by ``summary_markdown``'s text, so quoted numbers cannot drift.
+"""
+
+import json
+import os
+import platform
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from contactalpha.io import write_atomic, write_text_atomic
+from contactalpha.paper.bench import workprecision
+from contactalpha.plotting import new_figure, save_figure
+
+from .workprecision import CATEGORIES, METHODS, REGIMES, cost_to_reach
+
+README_START = "<!-- bench:start -->"
+README_END = "<!-- bench:end -->"
+# Accuracy levels (relative error of alpha) at which costs are compared.
+TARGETS = (1e-6, 1e-10)
+# Lowest error drawn on log axes: errors of 0 (the reference itself) sit here.
+ERROR_FLOOR = 1e-16
+# One colour and marker per method, in ``METHODS`` order.
+STYLE = dict(
+    zip(
+        METHODS,
+        [
+            ("k", "o"),
+            ("tab:purple", "*"),
+            ("tab:gray", "x"),
+            ("tab:blue", "s"),
+            ("tab:orange", "^"),
+            ("tab:green", "D"),
+            ("tab:red", "v"),
+        ],
+        strict=True,
+    )
+)
+# Colours of the failure categories, in ``CATEGORIES`` order.
+CATEGORY_COLOURS = ("#d9f0d3", "#fdb863", "#b2abd2", "#e66101", "#5e3c99", "#000000", "#969696")
+
+
+def machine_info():
+    """A one-line description of the machine the benchmark ran on."""
+    import numba
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return (
+        f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numba {numba.__version__}, {platform.system()}"
+    )
+
+
+def plot_work_precision(wp, references, paths):
+    """Error against cost, one curve per method; columns are the regimes.
+
+    Rows: time per alpha solve and RHS evaluations against the relative error
+    of alpha, and time against the error of the eps produced.  The dotted line
+    is the spread of the independent confirmations of the reference.
+    """
+    regimes = list(REGIMES)
+    fig, axes = new_figure(len(regimes), 3, aspect=0.8, sharey="row")
+    rows = (
+        ("err_alpha", "seconds", "time per α solve [s]"),
+        ("err_alpha", "nfev", "RHS evaluations"),
+        ("err_eps", "seconds", "time per α solve [s]"),
+    )
+    for c, regime in enumerate(regimes):
+        ref = references[references.regime == regime].iloc[0]
+        for r, (err, cost, label) in enumerate(rows):
+            ax = axes[r, c]
+            for method in METHODS:
+                d = wp[(wp.regime == regime) & (wp.method == method) & (wp.status == "ok")]
+                if d.empty:
+                    continue
+                d = d.sort_values("setting")
+                colour, marker = STYLE[method]
+                ax.loglog(
+                    np.maximum(d[err], ERROR_FLOOR),
+                    d[cost],
+                    marker=marker,
+                    color=colour,
+                    ms=3,
+                    lw=0.8,
+                    label=method,
+                )
+            if err == "err_alpha" and ref.spread > 0:
+                ax.axvline(ref.spread, color="k", ls=":", lw=0.7)
+            if r == 0:
+                ax.set_title(f"{regime}\nε={ref.eps:g}, ξ={ref.xi:g}")
+            if c == 0:
+                ax.set_ylabel(label)
+            ax.set_xlabel("rel. error of α" if err == "err_alpha" else "error of ε")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=4)
+    save_figure(fig, paths)
+
+
+def _grid_image(ax, d, title):
+    eps = np.sort(d.eps.unique())
+    xi = np.sort(d.xi.unique())
+    img = np.full((eps.size, xi.size), np.nan)
+    codes = {name: k for k, name in enumerate(CATEGORIES)}
+    for row in d.itertuples():
+        img[np.searchsorted(eps, row.eps), np.searchsorted(xi, row.xi)] = codes[row.category]
+    from matplotlib.colors import ListedColormap
+
+    ax.imshow(
+        img,
+        origin="lower",
+        cmap=ListedColormap(CATEGORY_COLOURS),
+        vmin=-0.5,
+        vmax=len(CATEGORIES) - 0.5,
+        aspect="auto",
+        interpolation="nearest",
+    )
+    ax.set_xticks(range(xi.size), [f"{x:g}" for x in xi], rotation=90, fontsize=5)
+    ax.set_yticks(range(eps.size), [f"{e:g}" for e in eps], fontsize=5)
+    ax.set_xlabel("ξ (grid index; values marked)")
+    ax.set_ylabel("ε")
+    ax.set_title(title, fontsize=8)
+
+
+def plot_failure_map(failures, paths):
+    """One panel per method: each grid point coloured by its failure category."""
+    methods = [m for m in METHODS if m in set(failures.method)]
+    ncols = 3
+    nrows = -(-len(methods) // ncols)
+    fig, axes = new_figure(ncols, nrows, aspect=0.4 * nrows)
+    axes = np.atleast_1d(axes).ravel()
+    for ax, method in zip(axes, methods, strict=False):
+        d = failures[failures.method == method]
+        _grid_image(ax, d, f"{method} ({_setting_label(method, d.setting.iloc[0])})")
+    for ax in axes[len(methods) :]:
+        ax.set_visible(False)
+    from matplotlib.patches import Patch
+
+    handles = [Patch(color=c, label=n) for c, n in zip(CATEGORY_COLOURS, CATEGORIES, strict=True)]
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(CATEGORIES), fontsize=6)
+    save_figure(fig, paths)
+
+
+def _setting_label(method, setting):
+    return f"h = {setting:g}" if method == "rk4" else f"rtol = {setting:g}"
+
+
+def plot_scaling(scaling, paths):
+    """Grid time against points, 1 against 2 threads, and impact cost against alpha (stiff regime)."""
+    fig, (a, b, c) = new_figure(3, 1, aspect=0.33)
+    g = scaling["grid"]
+    n = np.array([r["n"] for r in g])
+    t = np.array([r["seconds"] for r in g])
+    a.loglog(n, t, "ko")
+    p, k = scaling["grid_fit"]["exponent"], scaling["grid_fit"]["prefactor"]
+    a.loglog(n, k * n**p, "k-", lw=0.8, label=f"fit: t ∝ n^{p:.2f}")
+    a.set_xlabel("grid points")
+    a.set_ylabel("wall time [s]")
+    a.legend()
+    th = scaling["threads"]
+    b.bar([str(r["threads"]) for r in th], [r["seconds"] for r in th], color="0.6")
+    b.set_xlabel(f"numba threads ({th[0]['n']} points)")
+    b.set_ylabel("wall time [s]")
+    for label, rows in scaling["cost_vs_alpha"].items():
+        ok = [r for r in rows if r["status"] == "ok"]
+        fit = scaling["alpha_fits"].get(label)
+        text = f"{label}: p = {fit['exponent']:.2f}" if fit else label
+        c.loglog([r["alpha"] for r in ok], [r["nfev"] for r in ok], marker="o", ms=3, lw=0.8, label=text)
+    c.set_xlabel("α")
+    c.set_ylabel("RHS evaluations per impact")
+    c.legend(fontsize=6)
+    save_figure(fig, paths)
+
+
+def ratio_table(wp):
+    """Rows ``(regime, method, target, seconds, engine seconds, ratio)``: cost to reach each target."""
+    rows = []
+    records = wp.to_dict("records")
+    for regime in REGIMES:
+        sub = [r for r in records if r["regime"] == regime]
+        for target in TARGETS:
+            ours = cost_to_reach(sub, "engine", target)
+            for method in METHODS[1:]:
+                theirs = cost_to_reach(sub, method, target)
+                rows.append(
+                    {
+                        "regime": regime,
+                        "method": method,
+                        "target": target,
+                        "seconds": theirs,
+                        "engine_seconds": ours,
+                        "ratio": theirs / ours,
+                    }
+                )
+    return rows
+
+
+def _fmt_ratio(x):
+    if not np.isfinite(x):
+        return "not reached"
+    return f"{x:,.0f}×" if x >= 10 else f"{x:.2g}×"
+
+
+# What each curve is; static text, the numbers below it are generated.
+METHODS_NOTE = (
+    "Methods: *engine* is the adaptive DOP853 engine with Newton on its sensitivities "
+    '(`solve_alpha(..., guess="formula", exact_at_zero=False)`), started like every other method from '
+    "the exact unloaded α (from Hu & Guo's α on the ξ = 0 column, where that is the answer); "
+    "*engine-table* is `solve_alpha`'s default, started from the shipped exact table (often one "
+    "confirming impact); *rk4* is fixed-step classical RK4 with naive events "
+    "(`contactalpha.baselines.fixedstep`); *scipy-X* is `solve_ivp(method=X)` with events. "
+    "rk4 and SciPy find "
+    "α by bracketing and Brent's method. The root tolerance equals the integrator's rtol (atol = "
+    "rtol/100); rk4's Brent tolerance is 1e-14."
+)
+
+
+def failure_details(failures):
+    """One sentence per failure kind: which end states were confused, which statuses, worst error."""
+    out = []
+    wrong = failures[failures.category == "wrong end state"]
+    if len(wrong):
+        pairs = wrong.groupby(["state", "true_state"]).size().sort_values(ascending=False)
+        out.append(
+            "Wrong end states (reported → true at the same α): "
+            + ", ".join(f"{a} → {b} ×{n}" for (a, b), n in pairs.items())
+            + f"; the largest relative α error among them is {wrong.err_alpha.max():.1e}."
+        )
+    other = failures[failures.category.isin(["other", "missed event", "step limit", "no root bracketed"])]
+    if len(other):
+        statuses = other.status.str.split(":").str[0].value_counts()
+        out.append("Statuses of failed solves: " + ", ".join(f"{k} ×{n}" for k, n in statuses.items()) + ".")
+    errs = failures[failures.category == "error > 1e-6"]
+    if len(errs):
+        out.append(
+            "Errors above 1e-6 at (ε, ξ) = "
+            + ", ".join(f"({r.eps:g}, {r.xi:g}) {r.method} {r.err_alpha:.1e}" for r in errs.itertuples())
+            + "."
+        )
+    return " ".join(out)
+
+
+def summary_markdown(wp, references, counts, scaling, grids, failures=None):
+    """The README section: machine, headline ratios, references, failure counts, scaling."""
+    info = scaling["machine"]
+    lines = [
+        f"Measured on {info} (shared by other jobs while it ran; times are the best of "
+        "repeated batches, one thread, per α solve; the engine's per point of a 64-point call).",
+        "",
+        METHODS_NOTE,
+        "",
+    ]
+    ratios = ratio_table(wp)
+    lines += [
+        "**Cost of SciPy and fixed-step RK4 relative to the engine at equal accuracy** "
+        "(least time per α solve reaching a relative α error ≤ target; ratio = method / engine):",
+        "",
+    ]
+    methods = [m for m in METHODS[1:] if m in set(wp.method)]
+    lines += [
+        "| regime | target | engine | " + " | ".join(methods) + " |",
+        "|---|---|---|" + "---|" * len(methods),
+    ]
+    for regime in REGIMES:
+        for target in TARGETS:
+            sel = [
+                r
+                for r in ratios
+                if r["regime"] == regime and r["target"] == target and r["method"] in methods
+            ]
+            ours = sel[0]["engine_seconds"]
+            ours_txt = "not reached" if not np.isfinite(ours) else f"{ours * 1e3:.3g} ms"
+            cells = [_fmt_ratio(r["ratio"]) if np.isfinite(ours) else "–" for r in sel]
+            lines.append(f"| {regime} | {target:g} | {ours_txt} | " + " | ".join(cells) + " |")
+    lines += [
+        "",
+        "References: ξ = 0 from the exact relation; elsewhere the engine at rtol = 1e-13, "
+        "confirmed by SciPy DOP853 (rtol 1e-13) and fixed-step RK4 (h = 1e-4); relative deviation of "
+        "their α from it (DOP853, RK4): "
+        + ", ".join(
+            f"{r.regime} {abs(r.alpha_scipy / r.alpha - 1):.1e}, {abs(r.alpha_rk4 / r.alpha - 1):.1e}"
+            for r in references.itertuples()
+        )
+        + ". The dotted lines on the chart mark the larger of the two: errors below it are not resolved.",
+        "",
+    ]
+    lines += [
+        f"**Failures** over the (ε, ξ) grid ({grids}):",
+        "",
+        "| method | setting | " + " | ".join(CATEGORIES) + " |",
+        "|---|---|" + "---|" * len(CATEGORIES),
+    ]
+    for c in counts:
+        lines.append(
+            f"| {c['method']} | {_setting_label(c['method'], c['setting'])} | "
+            + " | ".join(str(c[k]) for k in CATEGORIES)
+            + " |"
+        )
+    if failures is not None:
+        lines += ["", failure_details(failures)]
+    g = scaling["grid_fit"]
+    th = {r["threads"]: r["seconds"] for r in scaling["threads"]}
+    fits = scaling["alpha_fits"]
+    ridge = scaling["ridge"]
+    lines += [
+        "",
+        f"**Scaling.** Grid time grows as n^{g['exponent']:.2f} from {scaling['grid'][0]['n']} to "
+        f"{scaling['grid'][-1]['n']} points ({scaling['grid'][-1]['seconds']:.1f} s for the largest). "
+        f"{scaling['threads'][0]['n']} points take {th[1]:.2f} s on 1 thread and {th[2]:.2f} s on 2 "
+        f"(speed-up {th[1] / th[2]:.2f}). Cost of one impact against α, "
+        "fitted exponent p in nfev ∝ α^p for α ≥ "
+        + f"{scaling['alpha_fit_min']:g}: "
+        + "; ".join(f"{k} p = {v['exponent']:.2f}" for k, v in fits.items())
+        + ". "
+        f"The ridge (ε < 0.1, 0 < ξ < 0.1) holds {100 * ridge['share_points']:.0f}% of the surface "
+        f"grid's points and takes {100 * ridge['share_nfev']:.0f}% of its RHS evaluations and "
+        f"{100 * ridge['share_seconds']:.0f}% of its time.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def fill_readme(readme, text):
+    """Replace the text between ``README_START`` and ``README_END`` in ``readme`` (atomically)."""
+    readme = Path(readme)
+    old = readme.read_text(encoding="utf-8")
+    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.S)
+    if not pattern.search(old):
+        raise ValueError(f"{readme} has no {README_START} ... {README_END} block; add the markers once")
+    new = pattern.sub(lambda _: f"{README_START}\n{text}{README_END}", old)
+    write_text_atomic(readme, new)
+    return new
+
+
+def write_json(path, obj):
+    """Write ``obj`` as indented JSON, atomically (NaN written as null)."""
+
+    def clean(x):
+        if isinstance(x, dict):
+            return {k: clean(v) for k, v in x.items()}
+        if isinstance(x, list | tuple):
+            return [clean(v) for v in x]
+        if isinstance(x, float | np.floating) and not np.isfinite(x):
+            return None
+        if isinstance(x, np.integer):
+            return int(x)
+        if isinstance(x, np.floating):
+            return float(x)
+        return x
+
+    write_text_atomic(path, json.dumps(clean(obj), indent=2))
+
+
+# --- stages: config section in, files out (called by the workflow and the benchmark) ---
+
+
+def _write_csv(rows, path):
+    write_atomic(path, lambda tmp: pd.DataFrame(rows).to_csv(tmp, index=False))
+
+
+def _read_csv(path):
+    return pd.read_csv(path, keep_default_na=True)
+
+
+def method_settings(cfg):
+    """Method name -> settings of the work-precision chart, from the ``bench`` config section."""
+    settings = {"engine": cfg["rtols"], "engine-table": cfg["rtols"], "rk4": cfg["rk4_steps"]}
+    settings.update({f"scipy-{m}": cfg["rtols"] for m in cfg["scipy_methods"]})
+    return settings
+
+
+def _checkpoint(path):
+    """Rows saved by an interrupted run of the same stage (a JSON-lines file), and an appender."""
+    path = Path(str(path) + ".partial")
+    done = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
+
+    def save(rows):
+        with open(path, "a", encoding="utf-8") as fh:
+            for row in rows:
+                fh.write(json.dumps({k: (None if _is_nan(v) else v) for k, v in row.items()}) + "\n")
+
+    return done, save, path
+
+
+def _is_nan(v):
+    return isinstance(v, float) and not np.isfinite(v)
+
+
+def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
+    """References of every regime, then error against cost of every method and setting.
+
+    Long: each (regime, method) block is appended to ``<table>.partial`` as it
+    finishes, and a rerun after an interruption (same settings) skips blocks
+    found there; the file is removed when the table is written.
+    """
+    refs = workprecision.reference_rows()
+    for r in refs:
+        log(f"reference {r['regime']}: alpha = {r['alpha']:.15g}, spread {r['spread']:.2e}")
+    _write_csv(refs, reference_csv)
+    rows, save, partial = _checkpoint(workprecision_csv)
+    done = {(r["regime"], r["method"]) for r in rows}
+    for ref in refs:
+        for method, values in method_settings(cfg).items():
+            if (ref["regime"], method) in done:
+                log(f"{ref['regime']} {method}: taken from {partial.name}")
+                continue
+            part = workprecision.work_precision(
+                ref["eps"], ref["xi"], ref["alpha"], {method: values}, max_nfev=cfg["scipy_max_nfev"]
+            )
+            part = [{"regime": ref["regime"], **r} for r in part]
+            save(part)
+            rows += part
+            log(
+                f"{ref['regime']} {method}: {sum(r['status'] == 'ok' for r in part)}/{len(part)} ok, "
+                f"{sum(r['seconds'] for r in part):.1f} s"
+            )
+    _write_csv(rows, workprecision_csv)
+    partial.unlink(missing_ok=True)
+
+
+def run_failures(cfg, failure_csv, counts_csv, log=print):
+    """Failure maps: engine and RK4 on the fine grid, the SciPy methods on the coarse one."""
+    f = cfg["failure"]
+    plan = [(m, f["rtol"], f["eps"], f["xi"]) for m in ("engine", "engine-table")]
+    plan += [("rk4", f["rk4_step"], f["eps"], f["xi"])]
+    plan += [(f"scipy-{m}", f["rtol"], f["eps_coarse"], f["xi_coarse"]) for m in cfg["scipy_methods"]]
+    rows, save, partial = _checkpoint(failure_csv)
+    counts = []
+    for method, setting, eps, xi in plan:
+        part = [r for r in rows if r["method"] == method]
+        if part:
+            log(f"failures {method}: taken from {partial.name}")
+        else:
+            part = workprecision.failure_rows(method, setting, eps, xi, max_nfev=cfg["scipy_max_nfev"])
+            save(part)
+            rows += part
+        n = workprecision.category_counts([workprecision.CATEGORIES.index(r["category"]) for r in part])
+        n_err = sum(1 for r in part if (r["err_alpha"] or 0.0) > workprecision.FAIL_ERROR)
+        counts.append(
+            {"method": method, "setting": setting, "points": len(part), **n, "any error > 1e-6": n_err}
+        )
+        log(f"failures {method}: {n}")
+    _write_csv(rows, failure_csv)
+    _write_csv(counts, counts_csv)
+    partial.unlink(missing_ok=True)
+
+
+def run_scaling(cfg, scaling_json, log=print):
+    """Scaling study (``workprecision.scaling_study``) plus the machine, as JSON."""
+    s = cfg["scaling"]
+    runs = {
+        f"engine ξ={s['stiff_xi']:g}": ("engine", 1e-12, s["stiff_xi"], s["alphas"]),
+        "engine ξ=0": ("engine", 1e-12, 0.0, s["alphas"]),
+    }
+    for m in s["scipy_methods"]:
+        runs[f"scipy-{m} ξ={s['stiff_xi']:g}"] = (
+            f"scipy-{m}",
+            s["scipy_rtol"],
+            s["stiff_xi"],
+            s["scipy_alphas"],
+        )
+    eps = np.round(np.arange(1, 100) * 0.01, 2)
+    xi = np.unique(np.concatenate([np.round(np.arange(0, 100) * 0.01, 2), np.geomspace(1e-5, 1e-2, 25)]))
+    out = workprecision.scaling_study(s["sizes"], s["thread_points"], runs, s["alpha_fit_min"], eps, xi)
+    out["machine"] = machine_info()
+    out["ridge_grid"] = f"{eps.size} x {xi.size} (the surface stage's default grid)"
+    log(f"scaling: grid exponent {out['grid_fit']['exponent']:.3f}, ridge {out['ridge']}")
+    write_json(scaling_json, out)
+
+
+def grid_description(cfg):
+    """Text naming the failure-map grids."""
+    f = cfg["failure"]
+    fine = f"{len(f['eps'])} × {len(f['xi'])} points for engine and rk4"
+    coarse = f"{len(f['eps_coarse'])} × {len(f['xi_coarse'])} for SciPy"
+    return (
+        f"{fine}, {coarse}; ε ∈ {{{', '.join(f'{e:g}' for e in f['eps_coarse'])}}}, "
+        f"ξ ∈ {{{', '.join(f'{x:g}' for x in f['xi_coarse'])}}} on the coarse grid; "
+        f"SciPy's step limit is {cfg['scipy_max_nfev']:,} RHS evaluations per impact"
+    )
+
+
+def run_summary(
+    cfg, reference_csv, workprecision_csv, counts_csv, scaling_json, summary_md, readme=None, failure_csv=None
+):
+    """Write the generated markdown and, if ``readme`` is given, put it between the README markers."""
+    wp = _read_csv(workprecision_csv)
+    refs = _read_csv(reference_csv)
+    counts = _read_csv(counts_csv).to_dict("records")
+    scaling = json.loads(Path(scaling_json).read_text())
+    failures = None if failure_csv is None else _read_csv(failure_csv)
+    text = summary_markdown(wp, refs, counts, scaling, grid_description(cfg), failures)
+    write_text_atomic(summary_md, text)
+    if readme is not None:
+        fill_readme(readme, text)
+    return text
+
+
+def run_figures(folder):
+    """All three benchmark figures (PNG and PDF) from the tables in ``folder``."""
+    folder = Path(folder)
+    refs = _read_csv(folder / "reference.csv")
+    plot_work_precision(
+        _read_csv(folder / "workprecision.csv"),
+        refs,
+        [folder / "workprecision.png", folder / "workprecision.pdf"],
+    )
+    plot_failure_map(
+        _read_csv(folder / "failure_map.csv"), [folder / "failure_map.png", folder / "failure_map.pdf"]
+    )
+    scaling = json.loads((folder / "scaling.json").read_text())
+    plot_scaling(scaling, [folder / "scaling.png", folder / "scaling.pdf"])

@@ -1,0 +1,221 @@
+"""What each contact model really delivers: post- versus pre-restitution (paper Fig. 9).
+
+Take a "pre-restitution" eps, compute alpha with a model, integrate Eq. 24 at
+the load xi with the impact engine, and measure Stronge's eps: the
+"post-restitution" coefficient.  A perfect model gives post = pre.  The
+checks of the paper's statements about Fig. 9 (end of Sect. 5) are written
+here as explicit, numeric criteria.
+"""
+
+import numpy as np
+import xarray as xr
+
+from contactalpha.engine.driver import impact
+from contactalpha.engine.kernel import NONSEPARATION
+from contactalpha.models import MODELS, alpha
+
+# Panels of the paper's Fig. 9.
+FIG9_XI = (0.0, 0.016, 0.227, 0.429, 0.665, 0.91)
+# The five models the paper compares, in its order.
+FIG9_MODELS = ("hunt_crossley", "lankarani_nikravesh", "flores", "hu_guo", "shen_published")
+# The classical models among them (derived without external forces).
+CLASSICAL = ("hunt_crossley", "lankarani_nikravesh", "flores", "hu_guo")
+# A deviation |post - pre| above this counts as "obvious" in the statement checks.
+OBVIOUS = 0.05
+# "Low" restitution in the statement checks.
+LOW_EPS = 0.3
+# "Close to unity" in the statement checks.
+HIGH_EPS = 0.9
+_STATE_NAMES = {0: "failed", 1: "separation", 2: "nonseparation", 3: "creep", 4: "no_restitution"}
+
+
+def post_vs_pre(models, xis, eps_pre, *, rtol=1e-12, atol=1e-14):
+    """Post-restitution eps for every (model, xi, eps_pre).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``model``, ``xi``, ``eps_pre``; variables ``alpha``, ``eps_post``,
+        ``state`` (int8 end-state code, legend in attrs) and ``status`` (str).
+    """
+    eps_pre = np.asarray(eps_pre, dtype=float)
+    shape = (len(models), len(xis), eps_pre.size)
+    a = np.full(shape, np.nan)
+    post = np.full(shape, np.nan)
+    state = np.zeros(shape, dtype=np.int8)
+    status = np.empty(shape, dtype=object)
+    codes = {v: k for k, v in _STATE_NAMES.items()}
+    for i, name in enumerate(models):
+        for j, xi in enumerate(xis):
+            a[i, j] = alpha(eps_pre, xi, model=name)
+            r = impact(a[i, j], xi, rtol=rtol, atol=atol)
+            post[i, j] = r.eps
+            state[i, j] = [codes[s] for s in np.atleast_1d(r.state)]
+            status[i, j] = np.atleast_1d(r.status)
+    return xr.Dataset(
+        {
+            "alpha": (
+                ("model", "xi", "eps_pre"),
+                a,
+                {"long_name": "damping factor from the model", "units": "1"},
+            ),
+            "eps_post": (
+                ("model", "xi", "eps_pre"),
+                post,
+                {"long_name": "Stronge restitution produced (post-restitution)", "units": "1"},
+            ),
+            "state": (
+                ("model", "xi", "eps_pre"),
+                state,
+                {"long_name": "end state", "legend": json_legend(), "units": "1"},
+            ),
+            "status": (("model", "xi", "eps_pre"), status.astype(str), {"long_name": "integrator status"}),
+        },
+        coords={"model": list(models), "xi": list(xis), "eps_pre": eps_pre},
+    )
+
+
+def json_legend():
+    """End-state legend as a JSON string, for dataset attributes."""
+    import json
+
+    return json.dumps(_STATE_NAMES)
+
+
+def max_deviation(ds):
+    """Largest ``|post - pre|`` per model and panel, and the pre-restitution eps where it occurs."""
+    dev = np.abs(ds.eps_post - ds.eps_pre)
+    worst = dev.fillna(-1.0).argmax("eps_pre")
+    return dev.max("eps_pre"), ds.eps_pre[worst]
+
+
+def deviation_table(ds):
+    """Markdown table of ``max |post - pre|`` (at which eps) per model (rows) and xi (columns)."""
+    dmax, where = max_deviation(ds)
+    xis = [float(x) for x in ds.xi.values]
+    lines = ["| model | " + " | ".join(f"ξ = {x:g}" for x in xis) + " |", "|---|" + "---|" * len(xis)]
+    for m in ds.model.values:
+        label = MODELS[str(m)].label if str(m) in MODELS else str(m)
+        cells = [
+            f"{float(dmax.sel(model=m, xi=x)):.3f} (ε={float(where.sel(model=m, xi=x)):.2f})" for x in xis
+        ]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _dev(ds, model, xi, eps_sel=None):
+    d = np.abs(ds.eps_post.sel(model=model, xi=xi) - ds.eps_pre)
+    if eps_sel is not None:
+        d = d.where(eps_sel(ds.eps_pre), drop=True)
+    return float(d.max())
+
+
+def fig9_statements(ds, *, new="shen_published", reference="exact"):
+    """The paper's conclusions about Fig. 9, each checked on ``ds`` (needs ``reference`` in ds.model).
+
+    Returns a list of dicts with keys ``claim``, ``criterion``, ``evidence`` and
+    ``holds``: "holds" when the criterion is met for every model and panel it
+    names, "partly" for some, "does not hold" for none.
+    """
+    out = []
+    classical = [m for m in CLASSICAL if m in ds.model.values]
+    small = [x for x in (0.0, 0.016) if x in ds.xi.values]
+    large = [x for x in ds.xi.values if x >= 0.2]
+    low = lambda e: e <= LOW_EPS  # noqa: E731
+    high = lambda e: e >= HIGH_EPS  # noqa: E731
+
+    ev = {(m, x): _dev(ds, m, x, low) for m in classical for x in small}
+    out.append(
+        dict(
+            claim="Fig. 9(a, b): classical models misdescribe dissipation at low restitution.",
+            criterion=f"every classical model has max |post − pre| > {OBVIOUS} over ε ≤ {LOW_EPS} "
+            "at ξ = 0 and 0.016",
+            evidence="; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev.items()),
+            holds=_verdict(v > OBVIOUS for v in ev.values()),
+        )
+    )
+    if new in ds.model.values:
+        ev_new = {x: _dev(ds, new, x) for x in small}
+        ev_best = {x: min(_dev(ds, m, x) for m in classical) for x in small}
+        out.append(
+            dict(
+                claim="For ξ small or zero the new model does better over the whole range of ε.",
+                criterion="new model's max |post − pre| over all ε is below every classical model's, "
+                "at ξ = 0 and 0.016",
+                evidence="; ".join(
+                    f"ξ={x:g}: new {ev_new[x]:.3f}, best classical {ev_best[x]:.3f}" for x in small
+                ),
+                holds=_verdict(ev_new[x] < ev_best[x] for x in small),
+            )
+        )
+    ev_s = {m: max(_dev(ds, m, x) for x in small) for m in classical}
+    ev_l = {m: max(_dev(ds, m, x) for x in large) for m in classical}
+    out.append(
+        dict(
+            claim="Fig. 9(c–f): the errors are great when the influence factor is large.",
+            criterion="each classical model's max |post − pre| over ξ ≥ 0.2 exceeds its max over "
+            f"ξ ≤ 0.016, and exceeds {OBVIOUS}",
+            evidence="; ".join(f"{MODELS[m].label}: {ev_s[m]:.3f} → {ev_l[m]:.3f}" for m in classical),
+            holds=_verdict(ev_l[m] > ev_s[m] and ev_l[m] > OBVIOUS for m in classical),
+        )
+    )
+    fixed = all(
+        not MODELS[m].uses_xi and np.allclose(ds.alpha.sel(model=m), ds.alpha.sel(model=m).isel(xi=0))
+        for m in classical
+    )
+    out.append(
+        dict(
+            claim="Classical models keep α fixed when ε is fixed and ξ varies.",
+            criterion="α of each classical model is identical across the panels",
+            evidence="α(ε) identical in every panel" if fixed else "α varies with ξ",
+            holds=_verdict([fixed]),
+        )
+    )
+    big = [x for x in (0.665, 0.91) if x in ds.xi.values]
+    ev_h = {(m, x): _dev(ds, m, x, high) for m in classical for x in big}
+    out.append(
+        dict(
+            claim="Fig. 9(e, f): fixed α misdescribes dissipation even for ε close to 1.",
+            criterion=f"every classical model has max |post − pre| > {OBVIOUS} over ε ≥ {HIGH_EPS} "
+            "at ξ = 0.665 and 0.91",
+            evidence="; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev_h.items()),
+            holds=_verdict(v > OBVIOUS for v in ev_h.values()),
+        )
+    )
+    if reference in ds.model.values:
+        ref_state = ds.state.sel(model=reference)
+        wrong = {m: int((ds.state.sel(model=m) != ref_state).sum()) for m in classical}
+        total = int(ref_state.size)
+        out.append(
+            dict(
+                claim="The incorrect dissipation may cause a wrong impact end state.",
+                criterion="some classical model ends in another state than the exact α does "
+                "at the same (ε, ξ)",
+                evidence="; ".join(f"{MODELS[m].label}: {wrong[m]} of {total}" for m in classical),
+                holds=_verdict([any(v > 0 for v in wrong.values())]),
+            )
+        )
+    return out
+
+
+def _verdict(flags):
+    flags = [bool(f) for f in flags]
+    if all(flags):
+        return "holds"
+    return "partly" if any(flags) else "does not hold"
+
+
+def statements_markdown(statements):
+    """Render ``fig9_statements`` as a markdown list."""
+    lines = []
+    for s in statements:
+        verdict = f"**{s['holds']}**"
+        lines.append(
+            f"- {s['claim']} — {verdict}\n  - criterion: {s['criterion']}\n  - our numbers: {s['evidence']}"
+        )
+    return "\n".join(lines)
+
+
+def nonseparation_mask(ds):
+    """True where the impact ended without separating: non-separation, creep or no restitution."""
+    return ds.state >= NONSEPARATION

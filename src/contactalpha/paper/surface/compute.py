@@ -1,0 +1,406 @@
+"""The alpha(eps, xi) surface (the paper's Fig. 4) as an xarray Dataset, computed in chunks.
+
+A surface is ``solve_alpha`` over a grid: dims ``epsilon`` and ``xi``.  Each
+point is solved from a guess that depends on its own ``(eps, xi)`` only
+(``solver.py``), so splitting the grid into chunks of ``xi`` columns, solving
+them in separate processes and merging them gives the same bits as one run.
+Chunk ``k`` of ``n`` holds the columns ``xi[k::n]``: every chunk then mixes
+cheap and expensive columns and the jobs cost about the same.
+
+The grid is built from the workflow's ``surface`` config section
+(``grid_from_config``); ``check_surface_config`` rejects what the JSON schema
+cannot (unsorted values, ranges that do not fit their step).
+"""
+
+import json
+import time
+
+import numpy as np
+import xarray as xr
+
+from contactalpha.engine.driver import ATOL, END_STATES, MAX_STEPS, RTOL, STATUS
+from contactalpha.engine.solver import EPS_TOL, solve_table
+from contactalpha.provenance import git_commit, history_line
+from contactalpha.validation import check_eps, check_xi
+from contactalpha.version import __version__
+
+# Grid values are rounded to this many significant digits, so that 0.01 * 37
+# is stored as the double nearest to 0.37 and overlapping ranges merge exactly.
+GRID_DIGITS = 12
+# How far (stop - start) / step may be from an integer and still count as one.
+STEP_FIT_RTOL = 1e-9
+# Points solved per call of the jitted kernel when progress is reported.
+BLOCK_POINTS = 400
+# Largest distance at which a requested xi (a section) counts as a grid value.
+XI_MATCH = 1e-9
+# Seconds between two progress log lines.
+PROGRESS_EVERY = 5.0
+SOLVER_NAME = "contactalpha.solve_alpha: Newton on ln eps vs ln alpha, DOP853 impacts, exact at xi = 0"
+
+# Column layout of solver.solve_table.
+_ALPHA, _EPS, _STATE, _STATUS, _IMPACTS, _STEPS, _XMAX, _XEND, _NFEV = range(9)
+
+# End-state name -> code, the inverse of impact.END_STATES.
+STATE_CODES = {name: code for code, name in END_STATES.items()}
+
+VARIABLES = {
+    "alpha": ("1", "hysteresis damping factor alpha"),
+    "state": ("1", "end state of the impact at alpha"),
+    "status": ("1", "solver status (0 = ok)"),
+    "eps_reached": ("1", "Stronge restitution coefficient reached at alpha"),
+    "lambda": ("1", "end compression over maximum compression x_end / x_max"),
+    "x_max": ("delta_star", "maximum compression, scaled by the unloaded undamped one"),
+    "x_end": ("delta_star", "compression at the end of the impact, scaled"),
+    "impacts": ("1", "impacts integrated by the root finder"),
+    "steps": ("1", "integrator steps, all impacts of the point"),
+    "nfev": ("1", "right-hand-side evaluations, all impacts of the point"),
+}
+
+
+def _legend(codes):
+    return "; ".join(f"{k}: {v}" for k, v in codes.items())
+
+
+def _round_grid(values):
+    return np.array([float(f"{v:.{GRID_DIGITS}g}") for v in np.asarray(values, dtype=float)])
+
+
+def _linear(spec, key):
+    start, stop, step = float(spec["start"]), float(spec["stop"]), float(spec["step"])
+    if not step > 0:
+        raise ValueError(f"{key}.step = {step!r} is outside the valid range (0, inf)")
+    if stop < start:
+        raise ValueError(f"{key}: stop = {stop!r} is below start = {start!r}; valid: stop >= start")
+    count = (stop - start) / step
+    if abs(count - round(count)) > STEP_FIT_RTOL * max(1.0, count):
+        raise ValueError(
+            f"{key}: stop - start = {stop - start!r} is not a multiple of step = {step!r}; "
+            "valid: stop = start + n * step for an integer n"
+        )
+    return _round_grid(start + step * np.arange(round(count) + 1))
+
+
+def _logarithmic(spec, key):
+    start, stop, num = float(spec["start"]), float(spec["stop"]), int(spec["num"])
+    if not 0 < start < stop:
+        raise ValueError(f"{key}: start = {start!r}, stop = {stop!r}; valid: 0 < start < stop")
+    return _round_grid(np.geomspace(start, stop, num))
+
+
+def _increasing(values, key):
+    """``values`` as a float array, or ``ValueError`` if not strictly increasing."""
+    arr = np.asarray(values, dtype=float)
+    bad = np.flatnonzero(np.diff(arr) <= 0)
+    if bad.size:
+        i = bad[0]
+        what = "repeats" if arr[i + 1] == arr[i] else "comes after"
+        raise ValueError(
+            f"{key} is not strictly increasing: {float(arr[i + 1])!r} {what} {float(arr[i])!r}; "
+            "valid: sorted values without duplicates"
+        )
+    return arr
+
+
+def _explicit(values, key):
+    return _round_grid(_increasing(values, key))
+
+
+def _axis(spec, key):
+    parts = [_explicit(spec.get("values") or [], f"{key}.values")]
+    if spec.get("range"):
+        parts.append(_linear(spec["range"], f"{key}.range"))
+    if spec.get("log_range"):
+        parts.append(_logarithmic(spec["log_range"], f"{key}.log_range"))
+    axis = np.unique(np.concatenate(parts))
+    if axis.size == 0:
+        raise ValueError(f"{key} is empty; valid: at least one value from range, log_range or values")
+    return axis
+
+
+def grid_from_config(section, key="surface"):
+    """The ``(eps, xi)`` grid of a ``surface`` config section.
+
+    Parameters
+    ----------
+    section : dict
+        With ``epsilon`` and ``xi`` entries, each holding ``range``
+        (``start, stop, step``), for ``xi`` also ``log_range`` (``start, stop,
+        num``), and ``values``.  An axis is the sorted union of its parts.
+    key : str
+        Name of the section, for error messages.
+
+    Returns
+    -------
+    eps, xi : ndarray
+        Strictly increasing; eps in (0, 1], xi in [0, 1).
+
+    Raises
+    ------
+    ValueError
+        Naming the config key at fault and the valid range.
+    """
+    eps = _axis(section["epsilon"], f"{key}.epsilon")
+    xi = _axis(section["xi"], f"{key}.xi")
+    if eps[0] <= 0.0 or eps[-1] > 1.0:
+        bad = eps[(eps <= 0.0) | (eps > 1.0)]
+        raise ValueError(f"{key}.epsilon has {float(bad[0])!r}, outside the valid range (0, 1]")
+    if xi[0] < 0.0 or xi[-1] >= 1.0:
+        bad = xi[(xi < 0.0) | (xi >= 1.0)]
+        raise ValueError(f"{key}.xi has {float(bad[0])!r}, outside the valid range [0, 1)")
+    return eps, xi
+
+
+def check_surface_config(section, key="surface"):
+    """Raise ``ValueError`` naming the key if the section's grid or figure settings are unusable."""
+    _, xi = grid_from_config(section, key)
+    section_xi = section.get("figures", {}).get("section_xi")
+    if section_xi is not None and not np.any(xi == _round_grid([section_xi])[0]):
+        raise ValueError(
+            f"{key}.figures.section_xi = {section_xi!r} is not on the xi grid; "
+            "valid: one of the xi values, e.g. add it to surface.xi.values"
+        )
+
+
+def chunk_columns(xi, chunk, chunks):
+    """The ``xi`` values of chunk ``chunk`` of ``chunks``: ``xi[chunk::chunks]``."""
+    if not 0 <= chunk < chunks:
+        raise ValueError(f"chunk = {chunk!r} is outside the valid range [0, {chunks - 1}]")
+    return np.asarray(xi)[chunk::chunks]
+
+
+def _solve_blocks(eps, xi, solver, progress):
+    """Solve the grid column block by column block; returns the (n_eps, n_xi, 9) table."""
+    table = np.empty((eps.size, xi.size, 9))
+    cols = max(1, BLOCK_POINTS // eps.size) if progress else xi.size
+    start = time.perf_counter()
+    for j in range(0, xi.size, cols):
+        e, x = np.meshgrid(eps, xi[j : j + cols], indexing="ij")
+        flat, _ = solve_table(e, x, **solver)
+        table[:, j : j + cols] = flat.reshape(e.shape + (9,))
+        if progress:
+            progress(eps.size * min(j + cols, xi.size), eps.size * xi.size, time.perf_counter() - start)
+    return table
+
+
+def compute_surface(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, progress=None):
+    """Damping factor alpha and the end state over the grid ``eps x xi`` (the paper's Fig. 4).
+
+    Parameters
+    ----------
+    eps : array_like, shape (m,)
+        Target restitution coefficients, strictly increasing, in (0, 1].
+    xi : array_like, shape (n,)
+        Influence factors, strictly increasing, in [0, 1).
+    tol, rtol, atol, max_steps
+        Solver settings, as in ``solve_alpha``.
+    progress : callable or bool, optional
+        ``progress(done_points, total_points, seconds)`` after each block of
+        about ``BLOCK_POINTS`` points; True shows a tqdm bar.  None: silent.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``epsilon`` (m) and ``xi`` (n); variables ``VARIABLES``, each with
+        ``units`` and ``long_name``; ``state`` and ``status`` are int8 codes
+        with a ``legend`` attribute.  Failed points have NaN ``alpha`` and a
+        nonzero ``status``.  Attributes record the solver, its settings, the
+        compute time and a ``history`` line.
+    """
+    eps = _increasing(check_eps(np.atleast_1d(eps)), "eps")
+    xi = _increasing(check_xi(np.atleast_1d(xi)), "xi")
+    solver = {"tol": float(tol), "rtol": float(rtol), "atol": float(atol), "max_steps": int(max_steps)}
+    if progress is True:
+        progress = _tqdm_progress()
+    started = time.time()
+    clock = time.perf_counter()
+    table = _solve_blocks(eps, xi, solver, progress)
+    seconds = time.perf_counter() - clock
+    ds = _to_dataset(eps, xi, table)
+    ds.attrs.update(
+        solver=SOLVER_NAME,
+        **solver,
+        contactalpha_version=__version__,
+        git_commit=git_commit(),
+        compute_seconds=seconds,
+        started=started,
+        finished=started + seconds,
+        history=history_line(f"compute_surface on {eps.size} x {xi.size} points in {seconds:.2f} s"),
+    )
+    return ds
+
+
+def compute_chunk(eps, xi, chunk, chunks, **settings):
+    """``compute_surface`` on the columns ``xi[chunk::chunks]``, tagged for ``merge_chunks``.
+
+    ``settings`` are passed on to ``compute_surface`` (solver settings, ``progress``).
+    """
+    ds = compute_surface(eps, chunk_columns(xi, chunk, chunks), **settings)
+    ds.attrs.update(chunk=int(chunk), chunks=int(chunks))
+    ds.attrs["history"] += f" [chunk {chunk} of {chunks}]"
+    return ds
+
+
+def _tqdm_progress():
+    from tqdm import tqdm
+
+    bar = tqdm(unit="pt", desc="alpha surface")
+
+    def update(done, total, _seconds):
+        bar.total = total
+        bar.update(done - bar.n)
+        if done >= total:
+            bar.close()
+
+    return update
+
+
+def _to_dataset(eps, xi, table):
+    status = table[..., _STATUS].astype(np.int8)
+    ok = status == 0
+    x_max, x_end = table[..., _XMAX], table[..., _XEND]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = np.where(ok & (x_max > 0), x_end / x_max, np.nan)
+    data = {
+        "alpha": np.where(ok, table[..., _ALPHA], np.nan),
+        "state": np.nan_to_num(table[..., _STATE], nan=0.0).astype(np.int8),
+        "status": status,
+        "eps_reached": table[..., _EPS],
+        "lambda": lam,
+        "x_max": x_max,
+        "x_end": x_end,
+        "impacts": table[..., _IMPACTS].astype(np.int32),
+        "steps": table[..., _STEPS].astype(np.int64),
+        "nfev": table[..., _NFEV].astype(np.int64),
+    }
+    ds = xr.Dataset(
+        {name: (("epsilon", "xi"), values) for name, values in data.items()},
+        coords={"epsilon": eps, "xi": xi},
+    )
+    for name, (units, long_name) in VARIABLES.items():
+        ds[name].attrs.update(units=units, long_name=long_name)
+    ds["state"].attrs["legend"] = _legend(END_STATES)
+    ds["status"].attrs["legend"] = _legend(STATUS)
+    ds["epsilon"].attrs.update(units="1", long_name="target restitution coefficient (Stronge)")
+    ds["xi"].attrs.update(units="1", long_name="influence factor of the external load")
+    return ds
+
+
+def paper_eq26(eps, tau, sigma, beta):
+    """The paper's Eq. 26, ``EXP = exp(-(eps + tau)^2 / sigma) / beta`` (region I at one xi)."""
+    eps = np.asarray(eps, dtype=float)
+    return np.exp(-((eps + tau) ** 2) / sigma) / beta
+
+
+def paper_eq25(eps):
+    """The paper's Eq. 25 (Hu & Guo's alpha, its alpha_initial): ``3 (1 - eps) / (2 eps)``."""
+    eps = np.asarray(eps, dtype=float)
+    return 1.5 * (1.0 - eps) / eps
+
+
+def section_regions(state):
+    """Regions I, II, III of the paper's Fig. 5 along a section, from the end states.
+
+    The paper draws the regions without giving their limits.  Here they are the
+    end-state bands that a section at fixed xi crosses as eps grows: I where
+    the impact ends in creep or without restitution (heavy damping, the Eq. 26
+    part of Eq. 39), II where it ends in non-separation, III where the bodies
+    separate (the Eq. 25 part, derived for separating impacts).
+
+    Parameters
+    ----------
+    state : array_like of int
+        End-state codes (``impact.END_STATES``).
+
+    Returns
+    -------
+    ndarray of int
+        1, 2 or 3 per point; 0 where the point failed.
+    """
+    state = np.asarray(state)
+    regions = np.zeros(state.shape, dtype=int)
+    regions[np.isin(state, (STATE_CODES["creep"], STATE_CODES["no_restitution"]))] = 1
+    regions[state == STATE_CODES["nonseparation"]] = 2
+    regions[state == STATE_CODES["separation"]] = 3
+    return regions
+
+
+def merge_chunks(paths, config=None):
+    """Merge chunk files of one surface into the full Dataset, columns sorted by ``xi``.
+
+    Parameters
+    ----------
+    paths : sequence of path-like
+        Every chunk ``0 .. n-1`` of one run (attrs ``chunk``, ``chunks``), any order.
+    config : dict, optional
+        Configuration stored as JSON in the ``config`` attribute.
+
+    Returns
+    -------
+    xarray.Dataset
+        Bit-identical data to a single ``compute_surface`` call over the grid;
+        ``compute_seconds`` is the sum over chunks, ``wall_seconds`` the span
+        from the first chunk's start to the last one's end.
+
+    Raises
+    ------
+    ValueError
+        If chunks are missing or repeated, or were computed with other settings.
+    """
+    from contactalpha.io import load_surface
+
+    parts = [load_surface(p) for p in paths]
+    if not parts:
+        raise ValueError("paths is empty; valid: the files of chunks 0 .. n-1")
+    chunks = int(parts[0].attrs["chunks"])
+    found = sorted(int(p.attrs["chunk"]) for p in parts)
+    if found != list(range(chunks)) or any(int(p.attrs["chunks"]) != chunks for p in parts):
+        raise ValueError(
+            f"chunks = {found} do not make up one run of {chunks}; valid: each of 0 .. {chunks - 1}"
+        )
+    for key in ("tol", "rtol", "atol", "max_steps", "solver"):
+        values = {p.attrs[key] for p in parts}
+        if len(values) > 1:
+            raise ValueError(f"chunks disagree on {key} = {sorted(values)}; valid: one value")
+    merged = xr.concat(parts, dim="xi", combine_attrs="override").sortby("xi")
+    merged.attrs.clear()
+    if not np.all(np.diff(merged.xi.values) > 0):
+        raise ValueError("chunks share xi values; valid: disjoint slices of one grid")
+    first = parts[0].attrs
+    compute = float(sum(p.attrs["compute_seconds"] for p in parts))
+    started = min(p.attrs["started"] for p in parts)
+    finished = max(p.attrs["finished"] for p in parts)
+    ordered = sorted(parts, key=lambda p: p.attrs["chunk"])
+    history = [line for p in ordered for line in p.attrs["history"].splitlines()]
+    history.append(history_line(f"merge_chunks of {chunks} chunks"))
+    merged.attrs.update(
+        {key: first[key] for key in ("solver", "tol", "rtol", "atol", "max_steps", "contactalpha_version")},
+        git_commit=git_commit(),
+        config=json.dumps(config if config is not None else {}, sort_keys=True),
+        chunks=chunks,
+        compute_seconds=compute,
+        wall_seconds=finished - started,
+        started=started,
+        finished=finished,
+        history="\n".join(history),
+    )
+    return merged
+
+
+def log_progress(logger, label, every=PROGRESS_EVERY):
+    """A ``progress`` callback for ``compute_surface`` that logs points, points/s and time left.
+
+    Logs at most once per ``every`` seconds, and always at the end.
+    """
+    last = [-np.inf]
+
+    def report(done, total, seconds):
+        if done < total and seconds - last[0] < every:
+            return
+        last[0] = seconds
+        rate = done / seconds if seconds > 0 else float("inf")
+        left = (total - done) / rate if rate > 0 else float("inf")
+        logger.info(
+            f"{label}: {done}/{total} points, {rate:.0f} points/s, {seconds:.1f} s, ~{left:.0f} s left"
+        )
+
+    return report

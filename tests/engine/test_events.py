@@ -1,0 +1,103 @@
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from contactalpha.engine.events import (
+    OK,
+    equilibrium,
+    linear_turn,
+    locate,
+    trapped_above,
+    trapped_below,
+)
+from contactalpha.engine.rk import N_STAGES, N_STATE, rhs
+from contactalpha.engine.scaling import scaled_load
+
+
+def _linear_turn_numeric(u0, v0, k, c):
+    def ev(t, y):
+        return y[1]
+
+    ev.terminal = True
+    sol = solve_ivp(
+        lambda t, y: [y[1], -k * y[0] - c * y[1]], (0, 25.0), [u0, v0], events=ev, rtol=1e-12, atol=1e-16
+    )
+    if sol.t_events[0].size == 0:
+        return False, 0.0
+    return True, sol.y_events[0][0][0]
+
+
+@pytest.mark.parametrize(
+    "u0, v0, k, c",
+    [
+        (0.3, -0.2, 1.0, 0.5),  # under-damped
+        (-0.1, -0.4, 2.0, 0.1),  # under-damped, below equilibrium
+        (0.2, -2.0, 1.0, 3.0),  # over-damped, fast enough to overshoot
+        (0.2, -0.1, 1.0, 3.0),  # over-damped creep
+        (0.2, -0.5, 1.0, 2.0),  # critical, overshoots
+        (0.2, -0.1, 1.0, 2.0),  # critical, creeps
+        (-0.2, 0.05, 1.0, 3.0),  # compression creeping up: never turns
+    ],
+)
+def test_linear_turn_matches_numerical_solution(u0, v0, k, c):
+    turns, u = linear_turn(u0, v0, k, c)
+    turns_ref, u_ref = _linear_turn_numeric(u0, v0, k, c)
+    assert turns == turns_ref
+    assert u == pytest.approx(u_ref, abs=1e-9)
+
+
+def _never_turns(x, v, A, alpha, t_end=200.0):
+    def f(t, y):
+        return [y[1], A - 1.25 * max(y[0], 0) ** 1.5 * (1 + alpha * y[1])]
+
+    sol = solve_ivp(f, (0, t_end), [x, v], method="Radau", rtol=1e-10, atol=1e-13, max_step=0.5)
+    vs = sol.y[1]
+    return np.all(vs <= 1e-12) if v < 0 else np.all(vs >= -1e-12)
+
+
+def test_trapped_above_is_a_proof_of_creep():
+    A = float(scaled_load(0.2))
+    xeq = equilibrium(A)
+    x, v, alpha = xeq * 1.2, -0.001, 50.0
+    assert trapped_above(x, v, A, alpha)
+    assert _never_turns(x, v, A, alpha)
+    # too fast towards equilibrium: not trapped, and indeed it overshoots
+    assert not trapped_above(x, -2.0, A, 50.0)
+    assert not _never_turns(x, -2.0, A, 50.0)
+    # light damping: never trapped
+    assert not trapped_above(x, -1e-3, A, 0.5)
+
+
+def test_trapped_below_is_a_proof_of_no_restitution():
+    A = float(scaled_load(0.2))
+    xeq = equilibrium(A)
+    x, v, alpha = xeq * 0.9, 0.001, 500.0
+    assert trapped_below(x, v, A, alpha)
+    assert _never_turns(x, v, A, alpha)
+    assert not trapped_below(x, 5.0, A, 500.0)
+    assert not _never_turns(x, 5.0, A, 500.0)  # and indeed it overshoots and turns
+    assert not trapped_below(xeq * 1.1, 0.001, A, 500.0)
+
+
+def test_locate_places_maximum_compression_to_roundoff():
+    # Start near the turning point and locate v = 0 with v as independent variable.
+    A, alpha = 0.3, 0.7
+    y = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+
+    def f(t, s):
+        return [s[1], A - 1.25 * max(s[0], 0) ** 1.5 * (1 + alpha * s[1])]
+
+    ev = lambda t, s: s[1]  # noqa: E731
+    ev.terminal = True
+    ref = solve_ivp(f, (0, 10), [0.0, 1.0], events=ev, rtol=1e-13, atol=1e-15, method="DOP853")
+    tm, xm = ref.t_events[0][0], ref.y_events[0][0][0]
+    near = solve_ivp(f, (0, 0.9 * tm), [0.0, 1.0], rtol=1e-13, atol=1e-15, method="DOP853")
+    y[0], y[1], y[2] = near.t[-1], near.y[0, -1], near.y[1, -1]
+    K = np.empty((N_STAGES + 1, N_STATE))
+    st, steps, _ = locate(y, 2, A, alpha, 1e-12, 1e-14, 1000, K, np.empty(6), np.empty(6))
+    assert st == OK and steps >= 1
+    assert y[2] == 0.0
+    assert y[1] == pytest.approx(xm, abs=1e-12)
+    assert y[0] == pytest.approx(tm, abs=1e-11)
+    rhs(y, A, alpha, 0, K[0])
+    assert K[0, 2] < 0  # decelerating: a true maximum

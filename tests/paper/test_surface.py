@@ -1,0 +1,289 @@
+import copy
+import logging
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import contactalpha
+from contactalpha.engine.driver import END_STATES
+from contactalpha.io import load_surface, write_dataset_atomic, write_text_atomic
+from contactalpha.paper.surface.compute import (
+    STATE_CODES,
+    VARIABLES,
+    check_surface_config,
+    chunk_columns,
+    compute_chunk,
+    compute_surface,
+    grid_from_config,
+    log_progress,
+    merge_chunks,
+    paper_eq25,
+    paper_eq26,
+    section_regions,
+)
+from contactalpha.paper.surface.report import surface_summary
+from contactalpha.plotting import new_figure, save_figure
+
+ROOT = Path(__file__).resolve().parents[2]
+# A small grid that crosses every end state and the log-spaced ridge near xi = 0.
+EPS = np.array([0.01, 0.05, 0.2, 0.5, 0.9])
+XI = np.array([0.0, 1e-4, 1e-3, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.99])
+
+
+@pytest.fixture(scope="module")
+def surface():
+    return compute_surface(EPS, XI)
+
+
+@pytest.fixture
+def default_section():
+    return yaml.safe_load((ROOT / "config.yaml").read_text())["surface"]
+
+
+def bits(a):
+    """Float arrays as integers, so NaNs and signed zeros compare too."""
+    a = np.asarray(a)
+    return a.view(np.int64) if a.dtype == np.float64 else a
+
+
+# --- grid from config -------------------------------------------------------------------
+
+
+def test_default_grid_is_the_paper_grid_plus_log_refinement(default_section):
+    eps, xi = grid_from_config(default_section)
+    assert eps.size == 99 and eps[0] == 0.01 and eps[-1] == 0.99
+    assert eps[36] == 0.37  # rounded to the double nearest the decimal, not 0.01 + 36 * 0.01
+    assert np.all(np.diff(eps) > 0) and np.all(np.diff(xi) > 0)
+    log = default_section["xi"]["log_range"]
+    expected_small = 1 + log["num"] - 1  # xi = 0 and the log points below 0.01
+    assert np.sum(xi < 0.01) == expected_small
+    assert xi[0] == 0.0 and xi[1] == pytest.approx(1e-5) and xi[-1] == 0.99
+    assert 0.2 in xi and 0.01 in xi
+    assert xi.size == 100 + log["num"] - 1  # 0.01 is in both ranges, merged once
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        (lambda s: s["xi"].update(values=[0.3, 0.2]), "surface.xi.values"),
+        (lambda s: s["epsilon"].update(values=[0.5, 0.5]), "surface.epsilon.values"),
+        (lambda s: s["epsilon"]["range"].update(step=0.03), "surface.epsilon.range"),
+        (lambda s: s["xi"]["range"].update(start=0.5, stop=0.2), "surface.xi.range"),
+        (lambda s: s["xi"]["log_range"].update(start=0.1, stop=0.01), "surface.xi.log_range"),
+        (lambda s: s["epsilon"].update(range=None), "surface.epsilon is empty"),
+        (lambda s: s["epsilon"].update(values=[0.0, 0.5]), "surface.epsilon has 0.0"),
+        (lambda s: s["xi"].update(values=[0.5, 1.0]), "surface.xi has 1.0"),
+        (lambda s: s["figures"].update(section_xi=0.205), "surface.figures.section_xi"),
+    ],
+)
+def test_bad_grid_names_the_key(default_section, edit, key):
+    section = copy.deepcopy(default_section)
+    edit(section)
+    with pytest.raises(ValueError, match="valid") as err:
+        check_surface_config(section)
+    assert key in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("surface_section", "path"),
+    [
+        ({"epsilon": {"range": {"start": 0.0, "stop": 0.5, "step": 0.1}}}, "['epsilon']['range']['start']"),
+        ({"xi": {"values": [0.2, 1.0]}}, "['xi']['values'][1]"),
+        ({"xi": {"values": [0.2, 0.2]}}, "['xi']['values']"),
+        ({"solver": {"rtol": -1e-10}}, "['solver']['rtol']"),
+        ({"solver": {"tol": 0.0}}, "['solver']['tol']"),
+        ({"chunk": 3}, "'chunk' was unexpected"),
+    ],
+)
+def test_schema_rejects_bad_config_naming_the_key(surface_section, path):
+    from snakemake.exceptions import WorkflowError
+    from snakemake.utils import validate
+
+    with pytest.raises(WorkflowError) as err:
+        validate({"surface": surface_section}, str(ROOT / "workflow/schemas/config.schema.yaml"))
+    assert path in str(err.value)
+
+
+def test_schema_fills_defaults_equal_to_config_yaml(default_section):
+    from snakemake.utils import validate
+
+    config = {}
+    validate(config, str(ROOT / "workflow/schemas/config.schema.yaml"))
+    assert config["surface"] == default_section
+
+
+def test_chunks_are_strided_slices_that_cover_the_grid():
+    xi = np.arange(10.0) / 10
+    parts = [chunk_columns(xi, k, 3) for k in range(3)]
+    np.testing.assert_array_equal(parts[1], [0.1, 0.4, 0.7])
+    np.testing.assert_array_equal(np.sort(np.concatenate(parts)), xi)
+    with pytest.raises(ValueError, match=r"chunk = 3 is outside the valid range \[0, 2\]"):
+        chunk_columns(xi, 3, 3)
+
+
+# --- the surface ------------------------------------------------------------------------
+
+
+def test_surface_matches_solve_alpha_point_by_point(surface):
+    e, x = np.meshgrid(EPS, XI, indexing="ij")
+    sol = contactalpha.solve_alpha(e, x)
+    assert np.array_equal(bits(surface.alpha.values), bits(sol.alpha))
+    assert np.array_equal(surface.x_max.values, sol.x_max)
+    assert np.array_equal(surface.steps.values, sol.steps)
+    names = np.vectorize(lambda c: END_STATES[c])(surface.state.values)
+    np.testing.assert_array_equal(names, sol.state)
+    assert np.all(surface.status.values == 0)
+    np.testing.assert_allclose(surface.eps_reached.values, e, atol=1e-11)
+
+
+def test_surface_layout_units_and_codes(surface):
+    assert surface.alpha.dims == ("epsilon", "xi")
+    assert set(VARIABLES) <= set(surface.data_vars)
+    for name in VARIABLES:
+        assert surface[name].attrs["units"] and surface[name].attrs["long_name"]
+    assert surface.state.dtype == np.int8 and surface.status.dtype == np.int8
+    assert "3: creep" in surface.state.attrs["legend"] and "0: ok" in surface.status.attrs["legend"]
+    lam = surface.x_end / surface.x_max
+    np.testing.assert_array_equal(surface["lambda"].values, lam.values)
+    # The grid crosses all three end states that the paper's domain holds.
+    found = set(np.unique(surface.state.values))
+    assert {STATE_CODES["separation"], STATE_CODES["nonseparation"], STATE_CODES["creep"]} <= found
+    # xi = 0 separates always and matches the exact relation.
+    np.testing.assert_allclose(surface.alpha.sel(xi=0.0), contactalpha.alpha_exact(EPS), rtol=1e-12)
+    for key in ("solver", "tol", "rtol", "atol", "max_steps", "git_commit", "history", "compute_seconds"):
+        assert key in surface.attrs
+
+
+def test_compute_surface_keeps_the_grid_and_rejects_bad_ones():
+    eps = [0.123456789012345678, 0.5]
+    ds = compute_surface(eps, [0.3])
+    assert ds.epsilon.values[0] == eps[0]  # only config grids are rounded, not the caller's values
+    with pytest.raises(ValueError, match=r"xi is not strictly increasing: 0.1 comes after 0.3"):
+        compute_surface([0.5], [0.3, 0.1])
+    with pytest.raises(ValueError, match=r"eps = -0.1 is outside the valid range"):
+        compute_surface([-0.1], [0.3])
+
+
+def test_failed_points_are_flagged_not_numbers():
+    ds = compute_surface([0.05, 0.5], [0.0, 0.3], max_steps=5)
+    loaded = ds.sel(xi=0.3)
+    assert np.all(loaded.status.values != 0)
+    assert np.all(np.isnan(loaded.alpha.values)) and np.all(np.isnan(loaded["lambda"].values))
+    # xi = 0 is exact, needs no steps, and is not affected by the step budget.
+    assert np.all(ds.status.sel(xi=0.0).values == 0)
+    text = surface_summary(ds.assign_attrs(wall_seconds=0.0), [ds.assign_attrs(chunk=0)])
+    assert "2 of 4 points failed" in text and "step limit exceeded" in text
+
+
+def test_one_chunk_equals_seven_chunks_bit_for_bit(surface, tmp_path):
+    paths = []
+    for k in range(7):
+        path = tmp_path / f"chunk_{k}.h5"
+        write_dataset_atomic(compute_chunk(EPS, XI, k, 7), path)
+        paths.append(path)
+    merged = merge_chunks(paths[::-1], config={"surface": {"chunks": 7}})
+    np.testing.assert_array_equal(merged.xi.values, XI)
+    for name in surface.data_vars:
+        assert merged[name].dtype == surface[name].dtype, name
+        assert np.array_equal(bits(merged[name].values), bits(surface[name].values)), name
+        assert merged[name].attrs == surface[name].attrs
+    assert merged.attrs["chunks"] == 7
+    assert merged.attrs["compute_seconds"] > 0
+    assert len(merged.attrs["history"].splitlines()) == 8
+    assert '"chunks": 7' in merged.attrs["config"]
+
+
+def test_merge_rejects_incomplete_or_mixed_chunks(tmp_path):
+    paths = []
+    for k, tol in ((0, 1e-12), (1, 1e-12), (2, 1e-10)):
+        paths.append(tmp_path / f"c{k}.h5")
+        write_dataset_atomic(compute_chunk([0.5], XI[:6], k, 3, tol=tol), paths[-1])
+    with pytest.raises(ValueError, match="do not make up one run of 3"):
+        merge_chunks(paths[:2])
+    with pytest.raises(ValueError, match="do not make up one run of 3"):
+        merge_chunks([paths[0], paths[0], paths[1]])
+    with pytest.raises(ValueError, match="chunks disagree on tol"):
+        merge_chunks(paths)
+
+
+def test_progress_reports_every_block_and_the_end(caplog):
+    calls = []
+    compute_surface([0.3, 0.6], XI, progress=lambda d, t, s: calls.append((d, t, s)))
+    done = [c[0] for c in calls]
+    assert done == sorted(done) and done[-1] == calls[-1][1] == 2 * XI.size
+    logger = logging.getLogger("test_progress")
+    with caplog.at_level(logging.INFO, logger="test_progress"):
+        report = log_progress(logger, "chunk 1/1", every=1e9)
+        report(1, 10, 0.5)  # the first block is logged
+        report(5, 10, 1.0)  # throttled
+        report(10, 10, 2.0)  # the end is always logged
+    assert len(caplog.records) == 2
+    assert "chunk 1/1: 10/10 points, 5 points/s" in caplog.records[1].getMessage()
+
+
+# --- files ------------------------------------------------------------------------------
+
+
+def test_round_trip_keeps_data_and_attributes(surface, tmp_path):
+    path = write_dataset_atomic(surface, tmp_path / "surface.h5")
+    back = contactalpha.load_surface(path)
+    assert back.attrs == surface.attrs
+    for name in list(surface.data_vars) + list(surface.coords):
+        assert back[name].dtype == surface[name].dtype, name
+        assert np.array_equal(bits(back[name].values), bits(surface[name].values)), name
+        assert back[name].attrs == surface[name].attrs, name
+    assert list(tmp_path.iterdir()) == [path]
+
+
+def test_interrupted_write_leaves_the_old_file_and_no_temporary(surface, tmp_path):
+    path = write_text_atomic(tmp_path / "surface.h5", "old")
+    bad = surface.assign_attrs(unwritable={"a dict": "is no netCDF attribute"})
+    with pytest.raises(TypeError):
+        write_dataset_atomic(bad, path)
+    assert path.read_text() == "old"
+    assert list(tmp_path.iterdir()) == [path]
+
+
+def test_load_surface_rejects_other_files(surface, tmp_path):
+    path = write_dataset_atomic(surface[["steps"]], tmp_path / "other.h5")
+    with pytest.raises(ValueError, match="is not an alpha surface"):
+        load_surface(path)
+
+
+# --- Fig. 5 helpers, summary and figures ------------------------------------------------
+
+
+def test_paper_equations_and_regions():
+    np.testing.assert_allclose(paper_eq25([0.5, 0.2]), [1.5, 6.0])
+    np.testing.assert_allclose(paper_eq26(0.1, tau=0.01, sigma=0.011, beta=0.113), np.exp(-1.1) / 0.113)
+    states = [STATE_CODES[n] for n in ("creep", "no_restitution", "nonseparation", "separation", "failed")]
+    np.testing.assert_array_equal(section_regions(states), [1, 1, 2, 3, 0])
+
+
+def test_summary_counts_and_largest_alpha(surface):
+    ds = surface.assign_attrs(wall_seconds=1.0)
+    text = surface_summary(
+        ds, [ds.assign_attrs(chunk=0)], section_xi=0.2, eq26=dict(tau=0.01, sigma=0.011, beta=0.113)
+    )
+    for code, name in END_STATES.items():
+        if code:
+            count = int(np.sum(surface.state.values == code))
+            assert f"| {name} | {count} |" in text
+    top = float(surface.alpha.max())
+    assert f"alpha = {top:.6g} at eps = 0.01" in text
+    assert "0 of 70 points failed" in text
+    assert "| epsilon | 5 | 0.01 | 0.9 |" in text
+    assert "## Section xi = 0.2" in text
+
+
+def test_save_figure_writes_by_suffix_and_rejects_none(tmp_path):
+    # The three surface figures are drawn and checked in the workflow test.
+    fig, ax = new_figure(width=2.0)
+    ax.plot([0, 1], [0, 1])
+    written = save_figure(fig, [tmp_path / "f.png", tmp_path / "f.pdf"])
+    assert written[0].read_bytes()[:4] == b"\x89PNG" and written[1].read_bytes()[:4] == b"%PDF"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png"]
+    with pytest.raises(ValueError, match="has no suffix"):
+        save_figure(new_figure()[0], tmp_path / "nosuffix")

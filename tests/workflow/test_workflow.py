@@ -1,0 +1,118 @@
+"""End to end: the whole Snakemake workflow on workflow/test-config.yaml, in a temporary directory."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import contactalpha
+from contactalpha.engine.driver import END_STATES
+from contactalpha.paper.surface.compute import grid_from_config
+
+ROOT = Path(__file__).resolve().parents[2]
+TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
+SURFACE_FIGURES = ["fig4_alpha_surface", "fig5_alpha_section", "end_states"]
+
+
+def snakemake(workdir, *args, configfile=TEST_CONFIG):
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir)]
+    cmd += ["--configfile", str(configfile), "--cores", "2", *args]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return done.stdout + done.stderr
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """Run chunk 0 alone (a run killed midway), leave a stale temporary file, then the rest."""
+    work = tmp_path_factory.mktemp("workflow")
+    snakemake(work, "results/surface/chunks/chunk_0.h5")
+    chunk0 = work / "results/surface/chunks/chunk_0.h5"
+    first_mtime = chunk0.stat().st_mtime_ns
+    stale = work / "results" / ".surface.h5.interrupted.tmp"
+    stale.write_bytes(b"\x89HDF half written")
+    log = snakemake(work)
+    return {"work": work, "log": log, "chunk0_resumed": chunk0.stat().st_mtime_ns == first_mtime}
+
+
+def test_rerun_resumes_and_then_has_nothing_to_do(run):
+    assert run["chunk0_resumed"], "chunk 0 was computed again"
+    assert "rule surface_chunk" in run["log"] and "chunk=1" in run["log"]
+    assert "chunk=0" not in run["log"]
+    again = snakemake(run["work"], "--dry-run")
+    assert "Nothing to be done" in again
+
+
+def test_a_figure_setting_reruns_only_what_uses_it(run):
+    config = yaml.safe_load(TEST_CONFIG.read_text())
+    config["surface"]["figures"]["section_xi"] = 0.4
+    edited = run["work"] / "edited-config.yaml"
+    edited.write_text(yaml.safe_dump(config, sort_keys=False))  # Snakemake compares params in key order
+    plan = snakemake(run["work"], "--dry-run", configfile=edited)
+    assert "rule fig5_alpha_section" in plan and "rule surface_summary" in plan
+    for rule in ("surface_chunk", "surface_merge", "fig4_alpha_surface", "end_states_map"):
+        assert f"rule {rule}:" not in plan, rule
+
+
+def test_outputs_exist_and_are_complete(run):
+    results = run["work"] / "results"
+    for name in SURFACE_FIGURES:
+        assert (results / "figures" / f"{name}.png").read_bytes()[:4] == b"\x89PNG"
+        assert (results / "figures" / f"{name}.pdf").read_bytes()[:4] == b"%PDF"
+    summary = (results / "summary.md").read_text()
+    assert "12 points" in summary and "0 of 12 points failed" in summary
+    assert "## Section xi = 0.2" in summary
+    logs = (run["work"] / "logs" / "surface" / "chunk_1.log").read_text()
+    assert "points/s" in logs
+
+
+def test_surface_file_contents_match_the_library(run):
+    config = yaml.safe_load(TEST_CONFIG.read_text())["surface"]
+    eps, xi = grid_from_config(config)
+    ds = contactalpha.load_surface(run["work"] / "results" / "surface.h5")
+    assert ds.alpha.shape == (3, 4)
+    np.testing.assert_array_equal(ds.epsilon.values, eps)
+    np.testing.assert_array_equal(ds.xi.values, xi)
+    assert np.all(ds.status.values == 0)
+    for e, x in [(0.2, 0.0), (0.5, 0.001), (0.8, 0.2), (0.2, 0.4)]:
+        sol = contactalpha.solve_alpha(e, x)
+        point = ds.sel(epsilon=e, xi=x)
+        assert float(point.alpha) == float(sol.alpha)  # same code path: the same bits
+        assert END_STATES[int(point.state)] == sol.state
+    attrs = ds.attrs
+    assert json.loads(attrs["config"])["surface"]["epsilon"] == config["epsilon"]
+    assert attrs["contactalpha_version"] == contactalpha.__version__
+    assert attrs["chunks"] == 2 and attrs["rtol"] == 1e-12 and attrs["compute_seconds"] > 0
+    assert len(attrs["history"].splitlines()) == 3  # two chunks and the merge
+
+
+def test_bad_config_fails_before_any_job(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("surface:\n  xi:\n    values: [0.3, 0.2]\n")
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path)]
+    cmd += ["--configfile", str(bad), "-c1"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0
+    assert "surface.xi.values is not strictly increasing: 0.2 comes after 0.3" in done.stdout + done.stderr
+    assert not (tmp_path / "results").exists()
+
+
+def test_lint_is_clean():
+    cmd = [sys.executable, "-m", "snakemake", "--lint", "-s", str(ROOT / "Snakefile")]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=ROOT)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "Lints for" not in done.stdout + done.stderr
+
+
+def test_slurm_profile_is_accepted(tmp_path):
+    # No cluster here: a dry run checks that the profile and the executor plugin load and plan the jobs.
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path)]
+    cmd += ["--profile", str(ROOT / "workflow/profiles/slurm"), "--configfile", str(TEST_CONFIG), "-n"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    out = done.stdout + done.stderr
+    assert "Using profile" in out and "surface_chunk" in out
