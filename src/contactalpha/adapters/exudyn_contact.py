@@ -1,0 +1,220 @@
+"""A sphere dropped on the ground inside Exudyn, through ``ObjectContactSphereSphere``.
+
+The scene: a mass point (the ball, mass ``m``, radius ``R``) and a fixed ground sphere of radius
+``GROUND_RADIUS`` whose top is the plane ``y = 0``; the ball moves on the vertical through the
+ground sphere's centre, where the connector's gap is exactly ``y - R`` whatever the ground
+radius (Exudyn's force takes no radius: ``contactStiffness`` is k itself).  The load is a
+``LoadForceVector`` of ``m g + F`` downward.  The contact uses ``contactStiffnessExponent`` 1.5,
+``contactDamping`` 0 and an ``impactModel`` with a ``restitutionCoefficient`` (conversions in
+``contactalpha.scene.engine_conventions``).
+
+Exudyn's impact models divide by the impact speed that the connector records in its data node
+on the step where the gap turns from positive to non-positive (``PostNewtonStep``); both the
+explicit and the implicit solvers run that step.  A gap that *starts* at 0 is never seen to
+turn, and then no speed is recorded and the impact model adds no damping at all: the data node
+here starts with a positive gap.  The recorded speed is the one at the end of the first contact
+step, slightly above the true approach speed (gravity and the load act during that step); this
+bias of the engine shows in the round trips at the 1e-7 .. 1e-5 level.
+
+Solvers: ``"dopri5"``, Exudyn's error-controlled Dormand-Prince 5(4) at tight tolerances, and
+``"generalized_alpha"``, its default implicit solver (spectral radius 1, fixed steps).
+
+Importing this module does not need Exudyn; the functions that run it raise ``ImportError``
+(with the install hint) when it is missing.
+"""
+
+import math
+import time
+
+import numpy as np
+from scipy.optimize import brentq
+
+from contactalpha.adapters.measure import measure_impact
+from contactalpha.adapters.opensim_hc import STATIC_BRACKET, Samples
+from contactalpha.engine.scaling import length_scale, time_scale
+from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS
+from contactalpha.validation import check_positive, check_range
+
+INSTALL_HINT = 'Exudyn is an optional engine: pip install -e ".[engines]" (PyPI package "exudyn")'
+# Radius of the fixed ground sphere, m; along the line of centres it does not enter the gap.
+GROUND_RADIUS = 1.0
+SOLVERS = ("dopri5", "generalized_alpha")
+# Relative tolerance of DOPRI5; the absolute one is this times delta* (m) per coordinate.
+TOLERANCE = 1e-10
+# Steps (generalized-alpha) or the largest step (DOPRI5) per scaled time unit t*.
+STEPS_PER_TSTAR = 400
+# Window of one measured impact, in t*.
+WINDOW_TSTAR = 40.0
+
+
+def _exudyn():
+    try:
+        import exudyn
+        import exudyn.itemInterface
+    except ImportError as err:  # pragma: no cover - depends on the machine
+        raise ImportError(INSTALL_HINT) from err
+    return exudyn
+
+
+def version():
+    """Exudyn's version string; raises ImportError when it is not installed."""
+    return _exudyn().__version__
+
+
+def build_drop(mass, radius, stiffness, restitution, impact_model, gravity, force):
+    """Exudyn system of the drop (see the module docstring), ball at touchdown, at rest.
+
+    Returns
+    -------
+    (SystemContainer, mbs, handles) ; ``handles`` holds the node numbers ``ball`` and ``data`` and
+    the object number ``contact``.
+    """
+    exu = _exudyn()
+    ii = exu.itemInterface
+    m = float(check_positive("mass", mass))
+    r = float(check_positive("radius", radius))
+    k = float(check_positive("stiffness", stiffness))
+    e = float(check_range("restitution", restitution, 0.0, 1.0, lo_open=True))
+    if impact_model not in EXUDYN_IMPACT_MODELS:
+        raise ValueError(
+            f"impact_model = {impact_model!r} is outside the valid choices {EXUDYN_IMPACT_MODELS}"
+        )
+    g = float(check_range("gravity", gravity, 0.0, np.inf, hi_open=True))
+    f = float(check_range("force", force, 0.0, np.inf, hi_open=True))
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.AddObject(ii.ObjectGround(referencePosition=[0.0, -GROUND_RADIUS, 0.0]))
+    m_ground = mbs.AddMarker(ii.MarkerBodyPosition(bodyNumber=ground))
+    ball = mbs.AddNode(ii.NodePoint(referenceCoordinates=[0.0, r, 0.0]))
+    mbs.AddObject(ii.MassPoint(physicsMass=m, nodeNumber=ball))
+    m_ball = mbs.AddMarker(ii.MarkerNodePosition(nodeNumber=ball))
+    mbs.AddLoad(ii.LoadForceVector(markerNumber=m_ball, loadVector=[0.0, -(m * g + f), 0.0]))
+    # Data: gap, tangential speed, recorded impact speed, plastic overlap; a positive gap to start.
+    data = mbs.AddNode(
+        ii.NodeGenericData(initialCoordinates=[1e-300, 0.0, 0.0, 0.0], numberOfDataCoordinates=4)
+    )
+    contact = mbs.AddObject(
+        ii.ObjectContactSphereSphere(
+            markerNumbers=[m_ground, m_ball],
+            nodeNumber=data,
+            spheresRadii=[GROUND_RADIUS, r],
+            contactStiffness=k,
+            contactDamping=0.0,
+            contactStiffnessExponent=1.5,
+            restitutionCoefficient=e,
+            impactModel=int(impact_model),
+            minimumImpactVelocity=0.0,
+        )
+    )
+    return sc, mbs, {"ball": ball, "data": data, "contact": contact}
+
+
+def static_penetration(mass, radius, stiffness, gravity, force):
+    """Deformation (m) at which Exudyn's contact force carries ``m g + F``, found by root search.
+
+    The connector's ``Force`` output at rest (ball and data coordinates set in the current
+    configuration) is balanced against the load by Brent's method; the prediction is ``(m a / k)^(2/3)``.
+    """
+    exu = _exudyn()
+    sc, mbs, h = build_drop(mass, radius, stiffness, 1.0, 2, gravity, force)
+    mbs.Assemble()
+    load = mass * gravity + force
+    predicted = (load / stiffness) ** (2.0 / 3.0)
+
+    def imbalance(delta):
+        mbs.systemData.SetODE2Coordinates([0.0, -delta, 0.0], exu.ConfigurationType.Current)
+        mbs.systemData.SetODE2Coordinates_t([0.0, 0.0, 0.0], exu.ConfigurationType.Current)
+        # The connector's outputs read the contact state from its data node (gap first).
+        mbs.systemData.SetDataCoordinates([-delta, 0.0, 0.0, 0.0], exu.ConfigurationType.Current)
+        # ``Force`` is the connector's term on the left-hand side of the equations of motion of
+        # marker 1 (the ball): minus the force acting on it.
+        return -mbs.GetObjectOutput(h["contact"], exu.OutputVariableType.Force)[1] - load
+
+    lo, hi = (predicted * s for s in STATIC_BRACKET)
+    return brentq(imbalance, lo, hi, xtol=1e-16 * predicted, rtol=1e-15)
+
+
+def drop_impact(
+    mass,
+    radius,
+    stiffness,
+    approach_speed,
+    restitution,
+    gravity,
+    force,
+    *,
+    impact_model=2,
+    solver="dopri5",
+    tolerance=TOLERANCE,
+    steps_per_tstar=STEPS_PER_TSTAR,
+    window=WINDOW_TSTAR,
+):
+    """One impact in Exudyn: the ball starts at touchdown at ``approach_speed``.
+
+    Returns
+    -------
+    (MeasuredImpact, Samples)
+
+    Parameters
+    ----------
+    restitution : float
+        Exudyn's ``restitutionCoefficient`` (use ``exudyn_restitution_input(alpha)`` for our alpha).
+    impact_model : {1, 2}
+    solver : {"dopri5", "generalized_alpha"}
+        See the module docstring.
+    tolerance : float
+        Relative tolerance of DOPRI5 (its absolute tolerance is ``tolerance * delta*``).
+    steps_per_tstar : int
+        Largest step (DOPRI5) or fixed step (generalized-alpha) is ``t* / steps_per_tstar``; states
+        are stored at every step.
+    window : float
+        Length of the run in scaled time units t*.
+    """
+    if solver not in SOLVERS:
+        raise ValueError(f"solver = {solver!r} is outside the valid choices {SOLVERS}")
+    exu = _exudyn()
+    ii = exu.itemInterface
+    v = float(check_positive("approach_speed", approach_speed))
+    sc, mbs, h = build_drop(mass, radius, stiffness, restitution, impact_model, gravity, force)
+    mbs.SetNodeParameter(h["ball"], "initialVelocities", [0.0, -v, 0.0])
+    sensors = [
+        mbs.AddSensor(
+            ii.SensorNode(
+                nodeNumber=h["ball"], storeInternal=True, writeToFile=False, outputVariableType=kind
+            )
+        )
+        for kind in (exu.OutputVariableType.Position, exu.OutputVariableType.Velocity)
+    ]
+    mbs.Assemble()
+    ds, ts = float(length_scale(mass, stiffness, v)), float(time_scale(mass, stiffness, v))
+    n = int(math.ceil(window * steps_per_tstar))
+    settings = exu.SimulationSettings()
+    ti = settings.timeIntegration
+    ti.endTime = window * ts
+    ti.numberOfSteps = n
+    ti.verboseMode = 0
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = 0.5 * ts / steps_per_tstar
+    if solver == "dopri5":
+        kind = exu.DynamicSolverType.DOPRI5
+        ti.automaticStepSize = True
+        ti.relativeTolerance = float(tolerance)
+        ti.absoluteTolerance = float(tolerance) * ds
+    else:
+        kind = exu.DynamicSolverType.GeneralizedAlpha
+        ti.generalizedAlpha.spectralRadius = 1.0
+    start = time.perf_counter()
+    ok = mbs.SolveDynamic(settings, solverType=kind)
+    seconds = time.perf_counter() - start
+    if not ok:
+        raise RuntimeError(f"Exudyn's {solver} solver failed")
+    pos, vel = (mbs.GetSensorStoredData(s) for s in sensors)
+    t, d, dd = pos[:, 0], radius - pos[:, 2], -vel[:, 2]
+    result = measure_impact(t, d, dd, gravity + force / mass, v)
+    after = t > result.t_end
+    extra = {
+        "separated_later": bool(not result.separated and np.any(d[after] <= 0.0)),
+        "min_delta_after_end": float(d[after].min()) if after.any() else np.nan,
+        "recorded_impact_speed": float(mbs.GetNodeOutput(h["data"], exu.OutputVariableType.Coordinates)[2]),
+    }
+    return result, Samples(t, d, dd, seconds, extra)
