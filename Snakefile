@@ -20,6 +20,7 @@ include: "workflow/rules/fit.smk"
 include: "workflow/rules/models.smk"
 include: "workflow/rules/ball.smk"
 include: "workflow/rules/bench.smk"
+include: "workflow/rules/engines.smk"
 
 
 rule all:

@@ -332,14 +332,14 @@ def summary_markdown(wp, references, counts, scaling, grids, failures=None):
     return "\n".join(lines) + "\n"
 
 
-def fill_readme(readme, text):
-    """Replace the text between ``README_START`` and ``README_END`` in ``readme`` (atomically)."""
+def fill_readme(readme, text, start=README_START, end=README_END):
+    """Replace the text between the markers ``start`` and ``end`` in ``readme`` (atomically)."""
     readme = Path(readme)
     old = readme.read_text(encoding="utf-8")
-    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.S)
+    pattern = re.compile(re.escape(start) + ".*?" + re.escape(end), re.S)
     if not pattern.search(old):
-        raise ValueError(f"{readme} has no {README_START} ... {README_END} block; add the markers once")
-    new = pattern.sub(lambda _: f"{README_START}\n{text}{README_END}", old)
+        raise ValueError(f"{readme} has no {start} ... {end} block; add the markers once")
+    new = pattern.sub(lambda _: f"{start}\n{text}{end}", old)
     write_text_atomic(readme, new)
     return new
 

@@ -1,0 +1,1 @@
+"""Stages beyond the paper: one subfolder per stage."""

@@ -1,0 +1,114 @@
+# Stage "engines" (issue 11, part 3): our alpha inside real multibody engines, OpenSim (Simbody)
+# and Exudyn. An explicit target, NOT in ALL_TARGETS (it needs the optional engines:
+# pip install -e ".[engines]"):
+#   snakemake -c2 engines
+# Round trips over the (eps, F) grid, static penetration checks and case A of Sect. 6 in OpenSim
+# go to results/engines/; the figure to results/figures/; the README's "Real engines" block is
+# filled from results/engines/summary.md.
+
+ENGINES = config["engines"]
+ENGINES_DIR = "results/engines"
+ENGINE_NAMES = ["opensim", "exudyn"]
+
+
+rule engines:
+    input:
+        f"{ENGINES_DIR}/summary.md",
+        f"{ENGINES_DIR}/readme.filled",
+        expand("results/figures/engines_roundtrip.{ext}", ext=["png", "pdf"]),
+
+
+rule engines_roundtrip:
+    output:
+        f"{ENGINES_DIR}/roundtrip_{{engine}}.nc",
+    params:
+        scene=config["ball"]["scene"],
+        grid=ENGINES["grid"],
+        settings=lambda w: ENGINES[w.engine],
+    wildcard_constraints:
+        engine="|".join(ENGINE_NAMES),
+    log:
+        "logs/engines/roundtrip_{engine}.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_roundtrip.py"
+
+
+rule engines_static:
+    output:
+        f"{ENGINES_DIR}/static.nc",
+    params:
+        scene=config["ball"]["scene"],
+        forces=ENGINES["grid"]["forces"],
+    log:
+        "logs/engines/static.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_static.py"
+
+
+rule engines_case_a:
+    output:
+        f"{ENGINES_DIR}/case_A_opensim.nc",
+    params:
+        scene=config["ball"]["scene"],
+        cases=config["ball"]["cases"],
+        model=ENGINES["case_a_model"],
+        settings=ENGINES["opensim"],
+    log:
+        "logs/engines/case_A_opensim.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_case_a.py"
+
+
+rule engines_summary:
+    input:
+        roundtrips=expand(f"{ENGINES_DIR}/roundtrip_{{engine}}.nc", engine=ENGINE_NAMES),
+        static=f"{ENGINES_DIR}/static.nc",
+        case_a=f"{ENGINES_DIR}/case_A_opensim.nc",
+    output:
+        f"{ENGINES_DIR}/summary.md",
+    params:
+        eps_tol=ENGINES["eps_tol"],
+    log:
+        "logs/engines/summary.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_summary.py"
+
+
+rule engines_readme:
+    input:
+        f"{ENGINES_DIR}/summary.md",
+    output:
+        touch(f"{ENGINES_DIR}/readme.filled"),
+    params:
+        readme="README.md",
+    log:
+        "logs/engines/readme.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_readme.py"
+
+
+rule engines_fig_roundtrip:
+    input:
+        expand(f"{ENGINES_DIR}/roundtrip_{{engine}}.nc", engine=ENGINE_NAMES),
+    output:
+        png="results/figures/engines_roundtrip.png",
+        pdf="results/figures/engines_roundtrip.pdf",
+    log:
+        "logs/engines/fig_roundtrip.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_fig_roundtrip.py"

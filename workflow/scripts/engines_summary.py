@@ -1,0 +1,18 @@
+"""The engines' markdown summary: round-trip table, errors, static checks, case A.
+
+Settings (snakemake.params): eps_tol (the issue's 1e-3 target).
+Inputs: roundtrips (roundtrip_*.nc), static (static.nc), case_a (case_A_opensim.nc).
+Outputs: summary.md, written atomically.
+"""
+
+from contactalpha.io import load_dataset, script_logger, write_text_atomic
+from contactalpha.studies.engines.report import summary_markdown
+
+sm = snakemake  # noqa: F821  (injected by Snakemake)
+log = script_logger("engines_summary", sm.log[0])
+roundtrips = [load_dataset(path) for path in sm.input.roundtrips]
+text = summary_markdown(
+    roundtrips, load_dataset(sm.input.static), load_dataset(sm.input.case_a), sm.params.eps_tol
+)
+write_text_atomic(sm.output[0], text)
+log.info(f"wrote {sm.output[0]}")
