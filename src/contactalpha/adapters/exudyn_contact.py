@@ -86,7 +86,7 @@ def build_drop(mass, radius, stiffness, restitution, impact_model, gravity, forc
     ground = mbs.AddObject(ii.ObjectGround(referencePosition=[0.0, -GROUND_RADIUS, 0.0]))
     m_ground = mbs.AddMarker(ii.MarkerBodyPosition(bodyNumber=ground))
     ball = mbs.AddNode(ii.NodePoint(referenceCoordinates=[0.0, r, 0.0]))
-    mbs.AddObject(ii.MassPoint(physicsMass=m, nodeNumber=ball))
+    mbs.AddObject(ii.MassPoint(mass=m, nodeNumber=ball))
     m_ball = mbs.AddMarker(ii.MarkerNodePosition(nodeNumber=ball))
     mbs.AddLoad(ii.LoadForceVector(markerNumber=m_ball, loadVector=[0.0, -(m * g + f), 0.0]))
     # Data: gap, tangential speed, recorded impact speed, plastic overlap; a positive gap to start.
@@ -151,10 +151,6 @@ def drop_impact(
 ):
     """One impact in Exudyn: the ball starts at touchdown at ``approach_speed``.
 
-    Returns
-    -------
-    (MeasuredImpact, Samples)
-
     Parameters
     ----------
     restitution : float
@@ -169,6 +165,14 @@ def drop_impact(
         are stored at every step.
     window : float
         Length of the run in scaled time units t*.
+
+    Returns
+    -------
+    (MeasuredImpact, Samples)
+        ``Samples.extra`` holds ``separated_later`` (the ball left the ground after a
+        non-separating end: it must not), ``min_delta_after_end`` and
+        ``last_recorded_impact_speed`` (the connector's data at the end of the run: the speed of
+        the last touchdown in the window).
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver = {solver!r} is outside the valid choices {SOLVERS}")
@@ -215,6 +219,8 @@ def drop_impact(
     extra = {
         "separated_later": bool(not result.separated and np.any(d[after] <= 0.0)),
         "min_delta_after_end": float(d[after].min()) if after.any() else np.nan,
-        "recorded_impact_speed": float(mbs.GetNodeOutput(h["data"], exu.OutputVariableType.Coordinates)[2]),
+        "last_recorded_impact_speed": float(
+            mbs.GetNodeOutput(h["data"], exu.OutputVariableType.Coordinates)[2]
+        ),
     }
     return result, Samples(t, d, dd, seconds, extra)

@@ -50,9 +50,12 @@ def roundtrip_figure(datasets):
                 y = r["eps_measured"].values
                 err = np.maximum(np.abs(y - eps), ERROR_FLOOR)
                 for mask in (sep, ~sep):
-                    face = color if (mask is sep or marker in "x+") else "none"
                     label = RUN_HEADS[str(run)] if mask is sep else None
-                    style = dict(marker=marker, s=size, facecolors=face, edgecolors=color, lw=0.9)
+                    if marker in "x+":  # line markers have no face: colour them whole
+                        style = dict(marker=marker, s=size, color=color, lw=0.9)
+                    else:
+                        face = color if mask is sep else "none"
+                        style = dict(marker=marker, s=size, facecolors=face, edgecolors=color, lw=0.9)
                     top.scatter(eps[mask], y[mask], label=label, **style)
                     bottom.scatter(eps[mask], err[mask], **style)
         top.set_title(f"F = {force:g} N, ξ = {float(first['xi'].isel(force=k).mean()):.3f}")

@@ -1,0 +1,107 @@
+"""The engines stage: a tiny grid in both engines, its verdicts, tables, figure and provenance.
+
+Needs the optional engines (skipped with the reason without them, except under CI=true).
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENE = {"mass": 0.5, "radius": 0.08, "stiffness": 1.4e8, "approach_speed": 0.5, "gravity": 9.81}
+SETTINGS = {
+    "opensim": {"accuracy": 1e-8, "per_tstar": 100, "window": 12.0},
+    "exudyn": {"tolerance": 1e-9, "steps_per_tstar": 200, "window": 12.0},
+}
+
+
+@pytest.fixture(scope="module")
+def study(opensim, exudyn, tmp_path_factory):
+    from contactalpha.io import load_dataset, write_dataset_atomic
+    from contactalpha.studies.engines import compute
+
+    scene = compute.scene_from_config(SCENE)
+    work = tmp_path_factory.mktemp("engines")
+    out = {}
+    for engine in compute.ENGINES:
+        ds = compute.round_trip(engine, scene, [0.5], [5.1, 495.0], SETTINGS[engine], {"test": True})
+        write_dataset_atomic(ds, work / f"{engine}.nc")
+        out[engine] = load_dataset(work / f"{engine}.nc")
+    out["static"] = compute.static_checks(scene, [5.1])
+    out["static"].attrs["engine_versions"] = "{}"
+    return out
+
+
+def test_exact_alpha_meets_both_requirements_in_both_engines(study):
+    from contactalpha.studies.engines.compute import verdicts
+
+    for engine in ("opensim", "exudyn"):
+        checks = verdicts(study[engine], 1e-3)
+        assert checks, engine
+        for run, c in checks.items():
+            assert c["separating_ok"] and c["nonseparating_ok"], (run, c)
+            assert c["max_eps_error"] < 1e-5, (run, c)
+            # eps = 0.5 separates at F = 5.1 N and does not at F = 495 N (xi = 0.8).
+            assert c["separating_points"] == 1 and c["nonseparating_points"] == 1
+
+
+def test_builtin_mappings_miss_the_target_and_the_engines_agree_with_the_package(study):
+    os_hc = study["opensim"].sel(run="opensim_hunt_crossley")
+    ex_m1 = study["exudyn"].sel(run="exudyn_model1")
+    # Both are Hunt-Crossley's alpha = 3(1 - eps)/2: the two engines must deliver the same eps.
+    np.testing.assert_allclose(os_hc["eps_measured"], ex_m1["eps_measured"], atol=1e-4)
+    assert float(os_hc["eps_measured"].sel(force=5.1, epsilon=0.5)) - 0.5 > 0.1
+    for name in ("opensim", "exudyn"):
+        ds = study[name]
+        np.testing.assert_allclose(ds["eps_measured"], ds["eps_package"], atol=2e-5)
+
+
+def test_results_carry_provenance_through_a_write_and_read(study):
+    ds = study["opensim"]
+    for key in ("package_version", "git_commit", "config", "history", "engine_versions", "settings"):
+        assert ds.attrs[key], key
+    assert "opensim" in ds.attrs["engine_versions"]
+    assert ds["eps_measured"].attrs["long_name"]
+
+
+def test_summary_tables_hold_every_grid_point_and_the_verdicts(study):
+    from contactalpha.studies.engines.report import error_summary, roundtrip_table, static_table
+
+    rounds = [study["opensim"], study["exudyn"]]
+    table = roundtrip_table(rounds)
+    assert len(table.strip().splitlines()) == 2 + 2  # head, rule, one row per (F, eps)
+    assert "0.5000 ns" in table  # F = 495 N does not separate
+    summary = error_summary(rounds, 1e-3)
+    assert summary.count("Target ≤ 0.001: met") == 3 and "NOT met" not in summary
+    assert "| 5.1 |" in static_table(study["static"])
+
+
+def test_figure_draws_every_run(study):
+    from contactalpha.studies.engines.figures import roundtrip_figure
+
+    fig = roundtrip_figure([study["opensim"], study["exudyn"]])
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert len(labels) == 6
+
+
+def test_engines_config_defaults_have_one_owner():
+    from snakemake.utils import validate
+
+    from contactalpha.adapters import exudyn_contact, opensim_hc
+
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())["engines"]
+    filled = {}
+    validate(filled, str(ROOT / "workflow/schemas/config.schema.yaml"))
+    assert filled["engines"] == config
+    assert config["opensim"] == {
+        "accuracy": opensim_hc.ACCURACY,
+        "per_tstar": opensim_hc.SAMPLES_PER_TSTAR,
+        "window": opensim_hc.WINDOW_TSTAR,
+    }
+    assert config["exudyn"] == {
+        "tolerance": exudyn_contact.TOLERANCE,
+        "steps_per_tstar": exudyn_contact.STEPS_PER_TSTAR,
+        "window": exudyn_contact.WINDOW_TSTAR,
+    }
