@@ -5,10 +5,13 @@ Skipped with the reason when Exudyn is missing, except under CI=true (tests/conf
 
 import pytest
 
-from contactalpha import impact, influence_factor, solve_alpha
+from contactalpha import impact
+from contactalpha.scene.ball import Scene
 from contactalpha.scene.engine_conventions import exudyn_alpha, exudyn_restitution_input
+from contactalpha.studies.engines.compute import exact_alpha
 
-M, R, K, V, G = 0.5, 0.08, 1.4e8, 0.5, 9.81
+BALL = Scene()  # the paper's ball
+M, R, K, V, G = BALL.mass, BALL.radius, BALL.stiffness, BALL.approach_speed, BALL.gravity
 FAST = {"tolerance": 1e-9, "steps_per_tstar": 200, "window": 12.0}
 
 
@@ -19,11 +22,6 @@ def ex(exudyn):
     return exudyn_contact
 
 
-def _exact(eps, force):
-    xi = influence_factor(M, K, V, G + force / M)
-    return xi, float(solve_alpha(eps, xi).alpha)
-
-
 @pytest.mark.parametrize("force", [0.1, 495.0])
 def test_static_penetration_confirms_the_stiffness(ex, force):
     delta = ex.static_penetration(M, R, K, G, force)
@@ -32,7 +30,7 @@ def test_static_penetration_confirms_the_stiffness(ex, force):
 
 @pytest.mark.parametrize("solver", ["dopri5", "generalized_alpha"])
 def test_separating_impact_delivers_the_target_eps(ex, solver):
-    xi, alpha = _exact(0.5, 60.0)
+    xi, alpha, _ = exact_alpha(BALL, 0.5, 60.0)
     res, samples = ex.drop_impact(M, R, K, V, exudyn_restitution_input(alpha), G, 60.0, solver=solver, **FAST)
     assert res.state == "separation"
     assert abs(res.eps - 0.5) <= 1e-5
@@ -40,14 +38,16 @@ def test_separating_impact_delivers_the_target_eps(ex, solver):
 
 
 def test_connector_records_the_impact_speed_itself_a_hair_above_the_true_one(ex):
-    xi, alpha = _exact(0.5, 0.1)  # a long flight after the impact: no second touchdown in the window
+    xi, alpha, _ = exact_alpha(
+        BALL, 0.5, 0.1
+    )  # a long flight after the impact: no second touchdown in the window
     _, samples = ex.drop_impact(M, R, K, V, exudyn_restitution_input(alpha), G, 0.1, **FAST)
     recorded = samples.extra["last_recorded_impact_speed"]
     assert V < recorded < V * (1 + 1e-5)
 
 
 def test_impact_predicted_nonseparating_does_not_separate(ex):
-    xi, alpha = _exact(0.5, 495.0)
+    xi, alpha, _ = exact_alpha(BALL, 0.5, 495.0)
     assert impact(alpha, xi).state == "nonseparation"
     res, samples = ex.drop_impact(M, R, K, V, exudyn_restitution_input(alpha), G, 495.0, **FAST)
     assert res.state != "separation" and not samples.extra["separated_later"]
@@ -56,7 +56,7 @@ def test_impact_predicted_nonseparating_does_not_separate(ex):
 
 @pytest.mark.parametrize("model", [1, 2])
 def test_builtin_restitution_delivers_what_the_package_predicts_for_its_alpha(ex, model):
-    xi, _ = _exact(0.3, 0.1)
+    xi, _, _ = exact_alpha(BALL, 0.3, 0.1)
     res, _ = ex.drop_impact(M, R, K, V, 0.3, G, 0.1, impact_model=model, **FAST)
     assert res.eps == pytest.approx(float(impact(exudyn_alpha(0.3, model), xi).eps), abs=1e-5)
     assert abs(res.eps - 0.3) > (0.2 if model == 1 else 0.005)

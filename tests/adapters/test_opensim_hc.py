@@ -8,11 +8,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from contactalpha import impact, influence_factor, solve_alpha
+from contactalpha import impact
 from contactalpha.scene.ball import Scene, simulate
 from contactalpha.scene.engine_conventions import opensim_dissipation, opensim_stiffness
+from contactalpha.studies.engines.compute import exact_alpha
 
-M, R, K, V, G = 0.5, 0.08, 1.4e8, 0.5, 9.81
+BALL = Scene()  # the paper's ball
+M, R, K, V, G = BALL.mass, BALL.radius, BALL.stiffness, BALL.approach_speed, BALL.gravity
 # Coarse but ample for the checks below: each impact takes ~0.1 s.
 FAST = {"accuracy": 1e-8, "per_tstar": 100, "window": 12.0}
 
@@ -22,11 +24,6 @@ def oh(opensim):
     from contactalpha.adapters import opensim_hc
 
     return opensim_hc
-
-
-def _exact(eps, force):
-    xi = influence_factor(M, K, V, G + force / M)
-    return xi, float(solve_alpha(eps, xi).alpha)
 
 
 @pytest.mark.parametrize("force", [0.1, 495.0])
@@ -44,7 +41,7 @@ def test_engine_reads_the_parameters_we_set(oh):
 
 
 def test_separating_impact_delivers_the_target_eps_and_the_package_e_n(oh):
-    xi, alpha = _exact(0.5, 60.0)
+    xi, alpha, _ = exact_alpha(BALL, 0.5, 60.0)
     res, samples = oh.drop_impact(M, R, K, V, opensim_dissipation(alpha, V), G, 60.0, **FAST)
     assert res.state == "separation"
     assert abs(res.eps - 0.5) <= 1e-6
@@ -53,7 +50,7 @@ def test_separating_impact_delivers_the_target_eps_and_the_package_e_n(oh):
 
 
 def test_impact_predicted_nonseparating_does_not_separate(oh):
-    xi, alpha = _exact(0.3, 60.0)
+    xi, alpha, _ = exact_alpha(BALL, 0.3, 60.0)
     assert impact(alpha, xi).state == "nonseparation"
     res, samples = oh.drop_impact(M, R, K, V, opensim_dissipation(alpha, V), G, 60.0, **FAST)
     assert res.state != "separation" and not samples.extra["separated_later"]
@@ -62,7 +59,7 @@ def test_impact_predicted_nonseparating_does_not_separate(oh):
 
 
 def test_hunt_crossley_reading_misses_the_target_as_the_package_predicts(oh):
-    xi, _ = _exact(0.5, 5.1)
+    xi, _, _ = exact_alpha(BALL, 0.5, 5.1)
     alpha_hc = 1.5 * (1 - 0.5)
     res, _ = oh.drop_impact(M, R, K, V, (1 - 0.5) / V, G, 5.1, **FAST)
     assert res.eps == pytest.approx(float(impact(alpha_hc, xi).eps), abs=1e-6)
