@@ -58,6 +58,30 @@ def test_a_figure_setting_reruns_only_what_uses_it(run):
         assert f"rule {rule}:" not in plan, rule
 
 
+def test_an_engine_edit_reruns_the_surface_and_the_table(run, tmp_path):
+    """The code version (hash of the sources a rule runs) is a parameter of the rules that use the engine."""
+    import os
+    import shutil
+
+    copy = tmp_path / "src" / "contactalpha"
+    shutil.copytree(Path(contactalpha.__file__).parent, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    env = {**os.environ, "PYTHONPATH": str(tmp_path / "src")}
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(run["work"])]
+    cmd += ["--configfile", str(TEST_CONFIG), "--cores", "2", "--dry-run"]
+
+    def plan():
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+        assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+        return done.stdout + done.stderr
+
+    assert "Nothing to be done" in plan()  # the same sources elsewhere: the same code version
+    rk = copy / "engine" / "rk.py"
+    rk.write_text(rk.read_text().replace("HERTZ = 1.25\n", "HERTZ = 1.3\n"))
+    edited = plan()
+    assert "rule surface_chunk:" in edited and "rule table:" in edited
+    assert "Params have changed" in edited
+
+
 def test_outputs_exist_and_are_complete(run):
     results = run["work"] / "results"
     for name in SURFACE_FIGURES:

@@ -1,6 +1,8 @@
 # Stage "models": the exact-alpha table shipped with the package (built here, checked against
 # the shipped copy and against the solver), and Fig. 9 (post- versus pre-restitution).
 
+from contactalpha.provenance import source_hash
+
 ALL_TARGETS += [
     "results/models/alpha_table.npz",
     "results/models/table_check.md",
@@ -20,6 +22,8 @@ rule table:
         "results/models/alpha_table.npz",
     params:
         table=config["models"]["table"],
+        # Hash of the package sources the build runs: editing the engine rebuilds the table.
+        code_version=source_hash("contactalpha.engine.table_build"),
     log:
         "logs/models/table.log",
     threads: 2

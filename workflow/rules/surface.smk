@@ -2,6 +2,8 @@
 # results/surface.h5; Fig. 4 (the surface), Fig. 5 (the xi = 0.2 section), the end-state map
 # and results/summary.md.
 
+from contactalpha.provenance import source_hash
+
 SURFACE_CHUNKS = range(config["surface"]["chunks"])
 SURFACE_FIGURES = ["fig4_alpha_surface", "fig5_alpha_section", "end_states"]
 
@@ -33,6 +35,8 @@ rule surface_chunk:
         xi=config["surface"]["xi"],
         solver=config["surface"]["solver"],
         chunks=config["surface"]["chunks"],
+        # Hash of the package sources the solver runs: editing the engine reruns the surface.
+        code_version=source_hash("contactalpha.paper.surface.compute"),
     log:
         "logs/surface/chunk_{chunk}.log",
     threads: 1

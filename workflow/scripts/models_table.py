@@ -1,6 +1,7 @@
 """Build the exact-alpha spline table (contactalpha.engine.table_build.build_table).
 
-Settings (snakemake.params.table): n_eta, n_p, refine_n, tol, rtol, atol.
+Settings (snakemake.params.table): n_eta, n_p, refine_n, tol, rtol, atol.  snakemake.params.code_version
+(source hash) only makes an engine edit rebuild the table.
 Inputs: none (the table is computed from the impact engine).
 Outputs: results/models/alpha_table.npz, written atomically, with its grid, tolerances,
 package version, git commit and build time in its metadata.

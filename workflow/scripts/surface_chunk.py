@@ -1,7 +1,8 @@
 """Solve one chunk of the alpha(eps, xi) surface: the columns xi[chunk::chunks].
 
 Settings (snakemake.params): epsilon, xi (grid specs of config section surface), solver (tol,
-rtol, atol, max_steps), chunks (number of chunks).  Wildcard: chunk.
+rtol, atol, max_steps), chunks (number of chunks), code_version (source hash; only makes an
+engine edit rerun the rule).  Wildcard: chunk.
 Inputs: none.
 Outputs: the chunk as netCDF4/HDF5 (attrs chunk, chunks, compute_seconds), written atomically.
 Log: progress lines with points/s.
