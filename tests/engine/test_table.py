@@ -61,6 +61,29 @@ def test_jitted_scalar_form_matches_vectorised_form():
     np.testing.assert_array_equal(loop(eps, xi), ca.alpha_tabulated(eps, xi))
 
 
+# Outside the table's domain, and NaN: before the fix the jitted form extrapolated
+# (3.4e-5, 110.30, 0.0 for the first three; the true alphas are 2.2e-3, 109.68, none).
+OFF_DOMAIN = [(0.5, 0.999999), (0.001, 0.2), (1.5, 0.2), (0.5, -1e-9), (np.nan, 0.2), (0.5, np.nan)]
+
+
+@pytest.mark.parametrize("eps, xi", OFF_DOMAIN)
+def test_jitted_form_is_nan_outside_its_domain_and_the_python_form_raises(eps, xi):
+    f = ca.jit_alpha_tabulated()
+    assert np.isnan(f(eps, xi))
+    name = "eps" if not (EPS_MIN <= eps <= 1.0) else "xi"
+    with pytest.raises(ValueError, match=f"{name} = .* outside the valid range"):
+        ca.alpha(eps, xi, model="exact")
+    with pytest.raises(ValueError, match=f"{name} = .* outside the valid range"):
+        ca.alpha_tabulated(eps, xi)
+
+
+def test_jitted_form_is_finite_on_the_edges_of_its_domain():
+    f = ca.jit_alpha_tabulated()
+    for eps, xi in [(EPS_MIN, 0.0), (EPS_MIN, XI_MAX), (1.0, XI_MAX), (1.0, 0.0)]:
+        assert f(eps, xi) == ca.alpha_tabulated(eps, xi)
+    assert f(1.0, 0.3) == 0.0 and f(EPS_MIN, XI_MAX) > 0.0
+
+
 def test_eta_coordinate_round_trips():
     xi = np.array([0.0, 1e-12, 1e-6, 0.01, 0.5, XI_MAX])
     np.testing.assert_allclose(xi_of_eta(eta_of_xi(xi)), xi, rtol=1e-12, atol=1e-24)

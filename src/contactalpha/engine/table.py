@@ -78,11 +78,14 @@ G_S_ETA, G_S_P, G_N_ETA, G_N_P = 0, 3, 6, 9
 
 @njit(cache=True, error_model="numpy")
 def alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
-    """Scalar, numba-callable alpha(eps, xi) from the table arrays (no range checks).
+    """Scalar, numba-callable alpha(eps, xi) from the table arrays.
 
-    Valid for ``EPS_MIN <= eps <= 1`` and ``0 <= xi <= XI_MAX``.
+    Defined on ``EPS_MIN <= eps <= 1`` and ``0 <= xi <= XI_MAX``; NaN outside
+    that domain and for NaN input, never an extrapolated number.
     """
-    if eps >= 1.0:
+    if not (EPS_MIN <= eps <= 1.0 and 0.0 <= xi <= XI_MAX):
+        return np.nan
+    if eps == 1.0:
         return 0.0
     u = np.log(eps)
     eta = eta_of_xi(xi)
@@ -185,8 +188,11 @@ def alpha_tabulated(eps, xi, *, path=DEFAULT_FILE):
 def jit_alpha_tabulated(path=DEFAULT_FILE):
     """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
 
-    The table arrays are frozen into the compiled function as constants.  No
-    range checks inside: keep ``EPS_MIN <= eps <= 1`` and ``0 <= xi <= XI_MAX``.
+    The table arrays are frozen into the compiled function as constants.  Outside
+    the table's domain ``EPS_MIN <= eps <= 1``, ``0 <= xi <= XI_MAX``, and for NaN
+    input, ``f`` returns NaN (a jitted loop cannot raise a useful error);
+    ``alpha_tabulated`` and ``alpha(..., model="exact")`` raise ``ValueError``
+    naming the value and the range for the same inputs.
     """
     b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g = table_arrays(path)
 
