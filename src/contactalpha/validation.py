@@ -1,6 +1,11 @@
 """Input checks shared by the public API: every message names the value and the valid range."""
 
+import reprlib
+
 import numpy as np
+
+# Upper limit on a step budget: far beyond any run, far below int64 overflow in the kernels.
+MAX_STEPS_LIMIT = 1e15
 
 
 def _describe(bad):
@@ -10,20 +15,50 @@ def _describe(bad):
     return shown + more
 
 
+def as_real(name, value, valid="real numbers"):
+    """Return ``value`` as a float array; complex input and non-numbers (None) raise ``ValueError``.
+
+    numpy would cut a complex array to its real part with only a warning.
+    """
+    arr = np.asarray(value)
+    if arr.dtype == object and any(v is None for v in arr.ravel()):
+        raise ValueError(f"{name} = {reprlib.repr(value)} is not a number; valid: {valid}")
+    if arr.dtype.kind == "c":
+        shown = ", ".join(repr(complex(c)) for c in np.atleast_1d(arr).ravel()[:3])
+        raise ValueError(f"{name} = {shown} is complex; valid: {valid}")
+    try:
+        return arr.astype(float, copy=False)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {reprlib.repr(value)} is not a number; valid: {valid}") from None
+
+
 def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     """Return ``value`` as a float array, or raise ``ValueError`` naming the bad entries.
 
-    NaN and infinities are always rejected.
+    NaN, infinities, complex numbers and non-numbers are always rejected.
     """
-    arr = np.asarray(value, dtype=float)
+    left = "(" if lo_open else "["
+    right = ")" if hi_open else "]"
+    arr = as_real(name, value, f"real numbers in {left}{lo}, {hi}{right}")
     ok = np.isfinite(arr)
     ok &= (arr > lo) if lo_open else (arr >= lo)
     ok &= (arr < hi) if hi_open else (arr <= hi)
     if not np.all(ok):
-        left = "(" if lo_open else "["
-        right = ")" if hi_open else "]"
         raise ValueError(f"{name} = {_describe(arr[~ok])} is outside the valid range {left}{lo}, {hi}{right}")
     return arr
+
+
+def check_count(name, value, lo, hi):
+    """Return ``value`` as an int, or raise unless it is one whole number in [lo, hi]."""
+    arr = check_range(name, value, lo, hi)
+    if arr.ndim != 0 or arr != np.floor(arr):
+        raise ValueError(f"{name} = {reprlib.repr(value)} is not one whole number in [{lo:g}, {hi:g}]")
+    return int(arr)
+
+
+def check_max_steps(max_steps):
+    """Step budget of an integration: a whole number in [1, MAX_STEPS_LIMIT]."""
+    return check_count("max_steps", max_steps, 1, MAX_STEPS_LIMIT)
 
 
 def check_positive(name, value):

@@ -124,11 +124,32 @@ def test_step_limit_is_reported_not_hidden():
         (dict(alpha=1.0, xi=-0.1), "xi = -0.1"),
         (dict(alpha=1.0, xi=np.inf), "xi = inf"),
         (dict(alpha=1.0, xi=0.2, rtol=-1e-3), "rtol = -0.001"),
+        (dict(alpha=np.array([1.0 + 0j]), xi=0.2), r"alpha = \(1\+0j\) is complex; valid: real numbers"),
+        (dict(alpha=1.0, xi=np.array([0.2 + 1e-9j])), "xi = .* is complex"),
+        (dict(alpha=None, xi=0.2), "alpha = None is not a number"),
+        (dict(alpha=1.0, xi=0.2, max_steps=-5), r"max_steps = -5.0 is outside the valid range \[1, "),
+        (dict(alpha=1.0, xi=0.2, max_steps=1e30), "max_steps = 1e\\+30 is outside"),
+        (dict(alpha=1.0, xi=0.2, max_steps=np.nan), "max_steps = nan is outside"),
+        (dict(alpha=1.0, xi=0.2, max_steps=2.5), "max_steps = 2.5 is not one whole number"),
     ],
 )
 def test_bad_input_names_the_value_and_range(kwargs, match):
     with pytest.raises(ValueError, match=match):
         ca.impact(**kwargs)
+
+
+@pytest.mark.parametrize("max_steps", [-5, 0, 1e30, np.nan, None])
+def test_every_entry_point_validates_the_step_budget(max_steps):
+    from contactalpha.baselines.fixedstep import impact_rk4
+    from contactalpha.engine.boundary import separation_boundary
+
+    for call in (
+        lambda: ca.solve_alpha(0.5, 0.2, max_steps=max_steps),
+        lambda: separation_boundary(0.2, max_steps=max_steps),
+        lambda: impact_rk4(1.0, 0.2, max_steps=max_steps),
+    ):
+        with pytest.raises(ValueError, match="max_steps = "):
+            call()
 
 
 def test_physical_scales_reject_non_positive_inputs():
@@ -138,6 +159,8 @@ def test_physical_scales_reject_non_positive_inputs():
         ca.load_for(0.2, 1.0, 0.0, 1.0)
     with pytest.raises(ValueError, match="v0 = nan"):
         ca.length_scale(1.0, 1e8, np.nan)
+    with pytest.raises(ValueError, match="a = .* is complex"):
+        ca.influence_factor(1.0, 1e8, 1.0, np.array([10.0 + 0j]))
 
 
 def test_public_names_resolve_to_functions_after_submodule_imports():

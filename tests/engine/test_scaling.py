@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -31,3 +33,25 @@ def test_scaled_load_matches_eq_10_and_11():
 
 def test_time_scale_is_length_over_speed():
     assert ca.time_scale(1.0, 1e8, 2.0) == pytest.approx(ca.length_scale(1.0, 1e8, 2.0) / 2.0)
+
+
+@pytest.mark.parametrize("a, v0", [(1e30, 1.0), (1e250, 1.0), (9.81, 1e-30), (9.81, 1e-200), (1e300, 1e200)])
+def test_a_load_whose_xi_rounds_to_one_is_an_error_naming_the_users_arguments(a, v0):
+    # Before: 1.0 (outside [0, 1)), NaN with a RuntimeWarning, or an error naming the internal A.
+    expected = re.escape(f"a = {a!r} m/s^2 at v0 = {v0!r} m/s") + ".* xi rounds to 1.0"
+    with pytest.raises(ValueError, match=expected):
+        ca.influence_factor(5.0, 5.4e9, v0, a)
+
+
+def test_influence_factor_is_stable_at_extreme_speeds_and_loads():
+    # xi = 2A (1 + O(A)) for a small load; A = a delta_star / v0^2 formed in logs where the product
+    # under- or overflows (v0^2 = inf at v0 = 1e200; delta_star = 0 at v0 = 1e-200).
+    for m_e, k, v0, a in [(5.0, 5.4e9, 1e200, 9.81), (5.0, 5.4e9, 1.0, 1e-300), (1e-200, 1e100, 1.0, 1.0)]:
+        log_A = np.log(a) + 0.4 * np.log(1.25 * m_e / k) - 1.2 * np.log(v0)
+        assert ca.influence_factor(m_e, k, v0, a) == pytest.approx(2.0 * np.exp(log_A), rel=1e-12)
+    # Close to 1, 1 - xi = x_m^(-5/2) with x_m^(3/2) ~ 2A: still below 1, and right.
+    xi = ca.influence_factor(5.0, 5.4e9, 1.0, 1e12)
+    assert 1.0 - 1e-14 < xi < 1.0
+    assert ca.load_for(xi, 5.0, 5.4e9, 1.0) == pytest.approx(1e12, rel=0.05)
+    with np.errstate(all="raise"):  # no overflow or invalid operation anywhere
+        assert ca.influence_factor(5.0, 5.4e9, 1e-150, 1e-280) < 1.0

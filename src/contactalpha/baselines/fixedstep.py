@@ -29,7 +29,7 @@ from contactalpha.engine.driver import END_STATES, ImpactResult
 from contactalpha.engine.events import equilibrium
 from contactalpha.engine.rk import contact_acceleration as acceleration
 from contactalpha.engine.scaling import scaled_load
-from contactalpha.validation import check_alpha, check_range, check_xi
+from contactalpha.validation import check_alpha, check_count, check_range, check_xi
 
 # Status codes: shared meaning with ``impact.STATUS``, plus a missed event.
 OK = 0
@@ -247,7 +247,7 @@ def impact_rk4(alpha, xi, *, h=STEP, max_steps=MAX_STEP_COUNT, rest_tol=REST_TOL
     xi = float(check_xi(xi))
     h = float(check_range("h", h, 0.0, 1.0, lo_open=True))
     rest_tol = float(check_range("rest_tol", rest_tol, 0.0, 1e-3, lo_open=True))
-    max_steps = int(check_range("max_steps", max_steps, 1, 1e10))
+    max_steps = check_count("max_steps", max_steps, 1, 1e10)
     out = rk4_impact_kernel(alpha, float(scaled_load(xi)), h, max_steps, rest_tol)
     status = int(out[2])
     return ImpactResult(

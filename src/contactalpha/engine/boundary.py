@@ -83,12 +83,13 @@ def separation_boundary(xi, *, rtol=1e-12, atol=1e-14, max_steps=2_000_000):
         NaN where the search failed (see the status codes of ``impact.STATUS``).
     status : ndarray of int
     """
-    from contactalpha.validation import check_range
+    from contactalpha.validation import check_max_steps, check_range, check_tolerances
 
     from .scaling import scaled_load
 
     xi = check_range("xi", xi, 0.0, 1.0, lo_open=True, hi_open=True)
     A = np.ascontiguousarray(np.atleast_1d(scaled_load(xi)).ravel())
-    out = boundary_many(A, float(rtol), float(atol), int(max_steps))
+    rtol, atol = check_tolerances(rtol, atol)
+    out = boundary_many(A, rtol, atol, check_max_steps(max_steps))
     shape = np.shape(xi)
     return out[:, 0].reshape(shape), out[:, 1].reshape(shape), out[:, 2].astype(int).reshape(shape)

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from contactalpha.validation import check_alpha, check_tolerances, check_xi
+from contactalpha.validation import check_alpha, check_max_steps, check_tolerances, check_xi
 
 from .codes import END_STATES, STATUS
 from .kernel import N_OUT, impact_kernel
@@ -133,12 +133,13 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha = check_alpha(alpha)
     xi = check_xi(xi)
     rtol, atol = check_tolerances(rtol, atol)
+    max_steps = check_max_steps(max_steps)
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
     run = impact_many if alpha.size >= PARALLEL_MIN else impact_serial
     table = run(
-        np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, int(max_steps)
+        np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, max_steps
     )
     return _as_result(table, shape)
 

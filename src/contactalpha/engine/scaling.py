@@ -30,9 +30,13 @@ def scaled_load(xi):
     return 0.5 * xi * (1.0 - xi) ** -0.6
 
 
-def influence_from_scaled_load(A):
-    """Invert ``A(xi)`` (monotone increasing) for ``A >= 0``."""
-    A = check_range("A", A, 0.0, np.inf, hi_open=True)
+# Scaled load beyond which xi rounds to 1 for certain (1 - xi ~ (2A)^(-5/3) < 1e-50); capping A
+# there also keeps x_m^(5/2) in the Newton iteration far from overflow (near A ~ 1e185).
+A_ROUNDS_TO_ONE = 1e30
+
+
+def _xi_of_load(A):
+    """Eq. 10 for finite ``0 <= A <= A_ROUNDS_TO_ONE`` (may round to 1.0 near the top)."""
     # x_m of the undamped loaded contact solves (x_m^{5/2} - 1)/2 = A x_m
     # (Eq. 8 scaled); then xi = A x_m / (1/2 + A x_m) (Eq. 10).
     # (1 + 2A)^(2/3) bounds the root from above; Newton on a convex function
@@ -45,8 +49,34 @@ def influence_from_scaled_load(A):
     return A * xm / (0.5 + A * xm)
 
 
+def _first_rounding_to_one(value, xi):
+    """The first entry of ``value`` where ``xi`` rounded to 1.0, or None."""
+    bad = np.atleast_1d(xi >= 1.0)
+    return float(np.atleast_1d(np.broadcast_to(value, np.shape(xi)))[bad][0]) if bad.any() else None
+
+
+def _xi_rounds_to_one(what):
+    return ValueError(
+        f"{what} gives an influence factor within 1.1e-16 of 1: xi rounds to 1.0, outside the valid "
+        "range [0.0, 1.0); the load is too large for the approach speed"
+    )
+
+
+def influence_from_scaled_load(A):
+    """Invert ``A(xi)`` (monotone increasing) for ``A >= 0``; raise where ``xi`` rounds to 1."""
+    A = check_range("A", A, 0.0, np.inf, hi_open=True)
+    xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
+    if np.any(xi >= 1.0):
+        raise _xi_rounds_to_one(f"A = {_first_rounding_to_one(A, xi)!r}")
+    return xi
+
+
 def influence_factor(m_e, k, v0, a):
     """Influence factor ``xi`` of a constant relative acceleration ``a`` (Eq. 10).
+
+    The scaled load ``A = a delta_star / v0^2`` is also formed from logarithms, which
+    take over where the direct product under- or overflows (extreme speeds); a load
+    so large that ``xi`` rounds to 1 raises a ``ValueError`` naming ``a`` and ``v0``.
 
     Parameters
     ----------
@@ -65,8 +95,20 @@ def influence_factor(m_e, k, v0, a):
         In [0, 1).
     """
     a = check_range("a", a, 0.0, np.inf, hi_open=True)
-    A = a * length_scale(m_e, k, v0) / np.asarray(v0, dtype=float) ** 2
-    return _scalar_or_array(influence_from_scaled_load(A))
+    m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
+    with np.errstate(all="ignore"):
+        A = a * length_scale(m_e, k, v0) / v0**2
+        # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
+        log_A = np.log(a) + 0.4 * (np.log(1.25) + np.log(m_e) - np.log(k)) - 1.2 * np.log(v0)
+        # The direct product where it neither under- nor overflowed (bit-identical to before).
+        direct = np.isfinite(A) & (np.abs(np.log(A) - log_A) <= 1e-9 * np.maximum(1.0, abs(log_A)))
+        direct |= a == 0.0
+        A = np.where(direct, A, np.exp(np.minimum(log_A, np.log(A_ROUNDS_TO_ONE))))
+    xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
+    if np.any(xi >= 1.0):
+        a1, v1, m1, k1 = (_first_rounding_to_one(v, xi) for v in (a, v0, m_e, k))
+        raise _xi_rounds_to_one(f"a = {a1!r} m/s^2 at v0 = {v1!r} m/s (m_e = {m1!r} kg, k = {k1!r} N/m^1.5)")
+    return _scalar_or_array(xi)
 
 
 def load_for(xi, m_e, k, v0):

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from contactalpha.validation import check_eps, check_range, check_tolerances, check_xi
+from contactalpha.validation import check_eps, check_max_steps, check_range, check_tolerances, check_xi
 
 from .codes import END_STATES, NO_BRACKET, NOT_CONVERGED, STATUS
 from .driver import ATOL, MAX_STEPS, PARALLEL_MIN, RTOL
@@ -261,6 +261,7 @@ def solve_table(
     eps = check_eps(eps)
     xi = check_xi(xi)
     rtol, atol = check_tolerances(rtol, atol)
+    max_steps = check_max_steps(max_steps)
     tol = float(check_range("tol", tol, 0.0, 1e-3, lo_open=True))
     eps, xi = np.broadcast_arrays(eps, xi)
     if exact_at_zero and np.any((eps == 0.0) & (xi == 0.0)):
@@ -280,7 +281,7 @@ def solve_table(
         tol,
         rtol,
         atol,
-        int(max_steps),
+        max_steps,
         bool(exact_at_zero),
         use_table,
         tb,

@@ -170,9 +170,9 @@ def alpha_tabulated(eps, xi, *, path=DEFAULT_FILE):
     xi : array_like
         Influence factor, ``0 <= xi <= XI_MAX``.
     """
-    from contactalpha.validation import check_range
+    from contactalpha.validation import as_real, check_range
 
-    e, x = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
+    e, x = np.broadcast_arrays(as_real("eps", eps), as_real("xi", xi))
     e_flat = np.ascontiguousarray(e).ravel()
     x_flat = np.ascontiguousarray(x).ravel()
     # One jitted pass finds bad input; check_range then words the error.

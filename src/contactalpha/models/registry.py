@@ -188,13 +188,16 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
     -------
     force : float or ndarray, N
     """
-    from contactalpha.validation import check_positive
+    from contactalpha.validation import check_positive, check_range
 
     v0 = check_positive("v_impact", v_impact)
     kk = check_positive("k", k)
+    # Any finite real penetration and rate: no force where delta <= 0.
+    delta = check_range("delta", delta, -np.inf, np.inf, lo_open=True, hi_open=True)
+    delta_dot = check_range("delta_dot", delta_dot, -np.inf, np.inf, lo_open=True, hi_open=True)
     a = alpha(eps, xi, model=model)
-    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
-    f = kk * d * np.sqrt(d) * (1.0 + a * np.asarray(delta_dot, dtype=float) / v0)
+    d = np.maximum(delta, 0.0)
+    f = kk * d * np.sqrt(d) * (1.0 + a * delta_dot / v0)
     if clip_tension:
         f = np.maximum(f, 0.0)
     return f[()] if np.ndim(f) == 0 else f
