@@ -46,6 +46,48 @@ def test_linear_turn_matches_numerical_solution(u0, v0, k, c):
     assert u == pytest.approx(u_ref, abs=1e-9)
 
 
+@pytest.mark.parametrize(
+    "u0, k, c",
+    [
+        (0.2, 1.0, 0.5),  # under-damped: turns half a period later
+        (-0.1, 2.0, 0.1),  # under-damped, below equilibrium
+        (0.2, 1.0, 3.0),  # over-damped: creeps, never turns
+        (0.2, 1.0, 2.0),  # critical: creeps
+        (1e-10, 0.83, 12.4),  # the restitution phase just past the onset at xi = 0.2
+    ],
+)
+def test_linear_turn_from_rest(u0, k, c):
+    # From rest the general formulas are 0/0; before the fix rounding decided, and an impact
+    # just below the onset ended as "nonseparation" with eps = 0 instead of creeping.
+    turns, u = linear_turn(u0, 0.0, k, c)
+
+    def ev(t, y):
+        return y[1]
+
+    ev.terminal, ev.direction = True, 1 if u0 > 0 else -1  # u' returns to zero (not the start)
+    sol = solve_ivp(
+        lambda t, y: [y[1], -k * y[0] - c * y[1]], (0, 60.0), [u0, 0.0], events=ev, rtol=1e-12, atol=1e-22
+    )
+    assert turns == (sol.t_events[0].size > 0)
+    assert u == pytest.approx(sol.y_events[0][0][0] if turns else 0.0, rel=1e-8)
+    if turns:
+        assert u == pytest.approx(-u0 * np.exp(-0.5 * c * np.pi / np.sqrt(k - 0.25 * c * c)), rel=1e-14)
+
+
+def test_impacts_just_below_the_onset_creep_at_every_tolerance():
+    from contactalpha.baselines.reference import impact_scipy
+    from contactalpha.engine.driver import impact
+
+    alpha = 109.69139664524563 * (1 - 1e-7)  # the onset at xi = 0.2 (solve_alpha(0.0, 0.2)), less 1e-7
+    ref = impact_scipy(alpha, 0.2, rtol=1e-13, atol=1e-16, t_max=1e3)
+    for rtol in (1e-11, 1e-12, 1e-13, 1e-14):
+        r = impact(alpha, 0.2, rtol=rtol, atol=rtol * 1e-2)
+        assert r.state == "creep" and r.x_end == equilibrium(float(scaled_load(0.2)))
+        # eps was 0.0 ("nonseparation") at 1e-11 and 1e-13.  Near the onset eps is ill-conditioned
+        # (d ln eps / d ln alpha ~ -5e6 here), so it agrees to ~1e6 rtol, not to rtol.
+        assert r.eps == pytest.approx(ref.eps, rel=3e-5), rtol
+
+
 def _never_turns(x, v, A, alpha, t_end=200.0):
     def f(t, y):
         return [y[1], A - 1.25 * max(y[0], 0) ** 1.5 * (1 + alpha * y[1])]

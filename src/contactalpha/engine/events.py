@@ -102,14 +102,20 @@ def in_linear_zone(x, v, A, alpha):
 
 @njit(cache=True, error_model="numpy")
 def linear_turn(u0, v0, k, c):
-    """First turning point of ``u'' + c u' + k u = 0`` from ``(u0, v0)``, ``v0 != 0``.
+    """First turning point of ``u'' + c u' + k u = 0`` from ``(u0, v0)``.
 
     Returns ``(turns, u_turn)``: whether ``u'`` returns to zero at some
     ``t > 0``, and ``u`` there (0 when it never turns: the approach to
-    equilibrium is monotone).
+    equilibrium is monotone).  From rest (``v0 = 0``) only an underdamped
+    motion turns again, half a period later; the general formulas below are
+    0/0 there, and rounding would decide.
     """
     sigma = 0.5 * c
     gap = c * c - 4.0 * k
+    if v0 == 0.0:
+        if gap >= -CRITICAL_GAP * 4.0 * k:
+            return False, 0.0
+        return True, -u0 * np.exp(-sigma * np.pi / np.sqrt(-0.25 * gap))
     if abs(gap) <= CRITICAL_GAP * 4.0 * k:
         # u = (a + b t) exp(-sigma t), u' = 0 at t = v0 / (sigma b).
         b = v0 + sigma * u0

@@ -210,7 +210,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 x_m = xeq + u_turn
                 dxm = y[3]
                 t_m = np.nan
-                turns, u_turn = linear_turn(u_turn, -1e-300, kl, cl)
+                turns, u_turn = linear_turn(u_turn, 0.0, kl, cl)
             if turns:
                 state = NONSEPARATION
                 x_e = xeq + u_turn
