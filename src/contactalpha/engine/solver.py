@@ -44,8 +44,24 @@ ONSET_RTOL = 1e-11
 MAX_ITER = 60
 # Growth factor while no upper bracket is known yet.
 EXPAND = 8.0
-# Upper limit on alpha: beyond it the explicit integrator's step budget runs out.
-ALPHA_MAX = 1e9
+# Guard on alpha: no root of the domain eps >= 1e-6 lies beyond it (the largest, ~1e12, sit just
+# below the onset at xi ~ 1e-7).  A proposal beyond it is tried at ALPHA_MAX once; only if eps
+# is still above the target there is "no root bracketed" reported.
+ALPHA_MAX = 1e15
+# Beyond this |d ln eps / d ln alpha| the point is close to the onset, where eps^2 is nearly
+# linear in alpha (eps ~ sqrt(onset - alpha)): Newton then works on eps^2, not on ln eps.
+STEEP = 4.0
+# alpha counts as found when a Newton step or the bracket shrinks below this (relative, a few
+# ulp): a double alpha cannot resolve eps to EPS_TOL next to the onset.
+ALPHA_RESOLVED = 4e-16
+# Below this target, next to the onset, the energy identity's own resolution ends the iteration
+# when it is coarser than tol: eps^2 = A (x_m - x_e) / (1/2 + A x_m) is known to
+# A (rtol x_m + atol) / (1/2 + A x_m) at best, while eps^2 itself is ~ onset - alpha.
+SMALL_EPS = 0.01
+# Next to the onset the alpha-sensitivity from the linearised end (events.linear_turn) is only
+# approximate: where the secant of the last two eps^2 differs from it by more than this
+# (relative), Newton takes the secant's slope.
+SECANT_SWITCH = 0.2
 # Number of fields returned per point by ``solve_kernel``.
 N_SOLVE_OUT = 9
 
@@ -72,6 +88,12 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
     out = np.full(N_SOLVE_OUT, np.nan)
     lo = 0.0
     hi = np.inf
+    # eps^2 and its alpha-derivative at lo (the Newton fallback next to the onset).
+    lo_e2 = 1.0
+    lo_de2 = np.nan
+    # The previous iterate with eps > 0, for the secant.
+    prev_alpha = np.nan
+    prev_e2 = np.nan
     alpha = alpha0
     best = np.full(11, np.nan)
     impacts = 0
@@ -108,22 +130,52 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
             if abs(eps - eps_t) <= tol:
                 status = 0
                 break
+            has_slope = eps > 0.0 and res[1] < 0.0 and alpha > 0.0 and res[2] != NO_RESTITUTION
             if eps > eps_t:
                 lo = alpha
+                lo_e2 = e2
+                lo_de2 = res[1] if has_slope else np.nan
             else:
                 hi = alpha
             new = np.inf
-            if eps > 0.0 and res[1] < 0.0 and alpha > 0.0:
-                # Newton on ln eps versus ln alpha.
+            near_onset = res[2] == NO_RESTITUTION
+            if has_slope:
                 slope = alpha * res[1] / (2.0 * e2)
-                new = alpha * np.exp(-(np.log(eps) - np.log(eps_t)) / slope)
+                near_onset = slope < -STEEP
+                if near_onset:
+                    # Newton on eps^2, which is linear in alpha at the onset.
+                    de2 = res[1]
+                    if prev_alpha != alpha and np.isfinite(prev_alpha):
+                        secant = (e2 - prev_e2) / (alpha - prev_alpha)
+                        if secant < 0.0 and abs(secant - de2) > SECANT_SWITCH * abs(secant):
+                            de2 = secant
+                    new = alpha - (e2 - eps_t * eps_t) / de2
+                    if eps_t < SMALL_EPS:
+                        wc = 0.5 + A * res[4]
+                        if abs(e2 - eps_t * eps_t) <= A * (rtol * res[4] + atol) / wc:
+                            status = 0  # eps^2 meets the target to its own resolution
+                            break
+                else:
+                    # Newton on ln eps versus ln alpha.
+                    new = alpha * np.exp(-(np.log(eps) - np.log(eps_t)) / slope)
+                if abs(new - alpha) <= ALPHA_RESOLVED * alpha:
+                    status = 0  # the root is this alpha to a few ulp
+                    break
+                prev_alpha = alpha
+                prev_e2 = e2
+            if near_onset and not (lo < new < hi) and lo_de2 < 0.0:
+                new = lo - (lo_e2 - eps_t * eps_t) / lo_de2
         if not (lo < new < hi) or not np.isfinite(new):
             new = _bisect(lo, hi)
         if new > ALPHA_MAX:
-            status = NO_BRACKET
+            if lo >= ALPHA_MAX:
+                status = NO_BRACKET  # eps(ALPHA_MAX) is still above the target
+                break
+            new = ALPHA_MAX
+        if new == alpha or (np.isfinite(hi) and hi - lo <= ALPHA_RESOLVED * hi):
+            # The bracket cannot shrink further: alpha is the root to double precision.
+            status = 0 if not onset else status
             break
-        if new == alpha or (np.isfinite(hi) and hi - lo <= 4e-16 * hi):
-            break  # the bracket cannot shrink further: status stays NOT_CONVERGED
         alpha = new
     out[0] = alpha
     out[1] = np.sqrt(max(best[0], 0.0)) if best[3] == 0 else np.nan
