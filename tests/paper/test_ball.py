@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from contactalpha.baselines.reference import impact_physical
+from contactalpha.engine.codes import NONSEPARATION, SEPARATION
 from contactalpha.engine.exact import restitution_exact
-from contactalpha.engine.kernel import NONSEPARATION, SEPARATION
 from contactalpha.engine.scaling import length_scale, time_scale
 from contactalpha.paper.ball.report import cases_markdown, statements, statements_markdown
 from contactalpha.paper.ball.study import first_collision, resolve_model, run_dataset

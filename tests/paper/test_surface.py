@@ -7,10 +7,9 @@ import pytest
 import yaml
 
 import contactalpha
-from contactalpha.engine.driver import END_STATES
+from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.io import load_surface, write_dataset_atomic, write_text_atomic
 from contactalpha.paper.surface.compute import (
-    STATE_CODES,
     VARIABLES,
     check_surface_config,
     chunk_columns,

@@ -3,7 +3,7 @@ import pytest
 
 import contactalpha as ca
 from contactalpha.baselines.reference import alpha_bracketed, impact_scipy_limited
-from contactalpha.engine.driver import STATUS
+from contactalpha.engine.codes import OUT_EPS2, OUT_STATUS, STATUS
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.paper.bench import workprecision as wp
 
@@ -32,8 +32,8 @@ def test_engine_overflowing_damping_is_a_non_finite_state():
 def test_engine_step_size_underflow_below_the_public_tolerance_floor():
     # The public API refuses rtol < 1e-15; the kernel itself must still report.
     out, _ = impact_kernel(0.5, float(ca.scaled_load(0.2)), 1e-18, 1e-300, 2_000_000, NO_RECORD)
-    assert STATUS[int(out[3])] == "step size underflow"
-    assert np.isnan(out[0])
+    assert STATUS[int(out[OUT_STATUS])] == "step size underflow"
+    assert np.isnan(out[OUT_EPS2])
 
 
 def test_engine_event_location_failure():
@@ -41,8 +41,8 @@ def test_engine_event_location_failure():
     out, _ = impact_kernel(
         0.07989064346494258, 0.0, 7.617111975300427e-17, 3.80276171523534e-67, 2_000_000, NO_RECORD
     )
-    assert STATUS[int(out[3])] == "event location failed"
-    assert np.isnan(out[0])
+    assert STATUS[int(out[OUT_STATUS])] == "event location failed"
+    assert np.isnan(out[OUT_EPS2])
 
 
 def test_engine_root_tolerance_not_reached_when_the_integrator_is_too_loose():

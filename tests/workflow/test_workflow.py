@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 import contactalpha
-from contactalpha.engine.driver import END_STATES
+from contactalpha.engine.codes import END_STATES
 from contactalpha.paper.surface.compute import grid_from_config
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -14,7 +14,20 @@ the boundary on a grid line instead of interpolating across it.
 import numpy as np
 from numba import njit, prange
 
-from .kernel import SEPARATION, impact_kernel
+from .codes import (
+    BND_ALPHA,
+    BND_EPS,
+    BND_STATUS,
+    N_BND_OUT,
+    N_REC,
+    NO_BRACKET,
+    OK,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_X_MAX,
+    SEPARATION,
+)
+from .kernel import impact_kernel
 
 # Bisection stops when the bracket is this narrow, relative.
 BOUNDARY_RTOL = 1e-14
@@ -25,47 +38,47 @@ ALPHA_SEARCH_MAX = 1e8
 @njit(cache=True, error_model="numpy")
 def boundary_kernel(A, rtol, atol, max_steps):
     """Return ``(alpha_b, eps_b, status)`` for scaled load ``A > 0`` by bisection on the end state."""
-    rec = np.empty((0, 3))
+    rec = np.empty((0, N_REC))
     lo = 0.0  # separates
     hi = 1.0
     while True:
         res, _ = impact_kernel(hi, A, rtol, atol, max_steps, rec)
-        if res[3] != 0:
-            return np.nan, np.nan, int(res[3])
-        if res[2] != SEPARATION:
+        if res[OUT_STATUS] != OK:
+            return np.nan, np.nan, int(res[OUT_STATUS])
+        if res[OUT_STATE] != SEPARATION:
             break
         lo = hi
         hi *= 4.0
         if hi > ALPHA_SEARCH_MAX:
-            return np.nan, np.nan, 5
+            return np.nan, np.nan, NO_BRACKET
     x_m = np.nan
     while hi - lo > BOUNDARY_RTOL * hi:
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
         res, _ = impact_kernel(mid, A, rtol, atol, max_steps, rec)
-        if res[3] != 0:
-            return np.nan, np.nan, int(res[3])
-        if res[2] == SEPARATION:
+        if res[OUT_STATUS] != OK:
+            return np.nan, np.nan, int(res[OUT_STATUS])
+        if res[OUT_STATE] == SEPARATION:
             lo = mid
-            x_m = res[4]
+            x_m = res[OUT_X_MAX]
         else:
             hi = mid
     if not np.isfinite(x_m):
         res, _ = impact_kernel(lo, A, rtol, atol, max_steps, rec)
-        x_m = res[4]
-    return lo, np.sqrt(A * x_m / (0.5 + A * x_m)), 0
+        x_m = res[OUT_X_MAX]
+    return lo, np.sqrt(A * x_m / (0.5 + A * x_m)), OK
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def boundary_many(A, rtol, atol, max_steps):
-    """``boundary_kernel`` over an array of loads; returns shape (n, 3)."""
-    out = np.empty((A.size, 3))
+    """``boundary_kernel`` over an array of loads; returns shape (n, N_BND_OUT)."""
+    out = np.empty((A.size, N_BND_OUT))
     for i in prange(A.size):
         a, e, s = boundary_kernel(A[i], rtol, atol, max_steps)
-        out[i, 0] = a
-        out[i, 1] = e
-        out[i, 2] = s
+        out[i, BND_ALPHA] = a
+        out[i, BND_EPS] = e
+        out[i, BND_STATUS] = s
     return out
 
 
@@ -80,7 +93,7 @@ def separation_boundary(xi, *, rtol=1e-12, atol=1e-14, max_steps=2_000_000):
     Returns
     -------
     alpha_b, eps_b : ndarray
-        NaN where the search failed (see the status codes of ``impact.STATUS``).
+        NaN where the search failed (see the status codes of ``codes.STATUS``).
     status : ndarray of int
     """
     from contactalpha.validation import check_max_steps, check_range, check_tolerances
@@ -92,4 +105,8 @@ def separation_boundary(xi, *, rtol=1e-12, atol=1e-14, max_steps=2_000_000):
     rtol, atol = check_tolerances(rtol, atol)
     out = boundary_many(A, rtol, atol, check_max_steps(max_steps))
     shape = np.shape(xi)
-    return out[:, 0].reshape(shape), out[:, 1].reshape(shape), out[:, 2].astype(int).reshape(shape)
+    return (
+        out[:, BND_ALPHA].reshape(shape),
+        out[:, BND_EPS].reshape(shape),
+        out[:, BND_STATUS].astype(int).reshape(shape),
+    )

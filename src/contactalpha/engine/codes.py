@@ -37,3 +37,41 @@ STATUS = {
     NO_BRACKET: "no root bracketed",
     NOT_CONVERGED: "root tolerance not reached",
 }
+
+# Slots of the row returned by ``kernel.impact_kernel`` (one impact).
+OUT_EPS2 = 0  # Stronge's eps^2
+OUT_DEPS2 = 1  # d eps^2 / d alpha
+OUT_STATE = 2  # end state code
+OUT_STATUS = 3  # status code
+OUT_X_MAX = 4  # maximum compression (scaled)
+OUT_X_END = 5  # compression at the end
+OUT_V_END = 6  # velocity at the end
+OUT_T_MAX = 7  # time of maximum compression
+OUT_T_END = 8  # time of the end
+OUT_STEPS = 9  # attempted steps, events included
+OUT_NFEV = 10  # right-hand-side evaluations
+N_OUT = 11
+
+# Slots of the row returned by ``solver.solve_kernel`` / ``solver.solve_point`` (one alpha).
+SOL_ALPHA = 0  # damping factor found
+SOL_EPS = 1  # eps that alpha produces
+SOL_STATE = 2  # end state code of the impact at alpha
+SOL_STATUS = 3  # status code of the root-finder
+SOL_IMPACTS = 4  # impacts integrated
+SOL_STEPS = 5  # integrator steps, all impacts
+SOL_X_MAX = 6  # maximum compression at alpha
+SOL_X_END = 7  # end compression at alpha
+SOL_NFEV = 8  # right-hand-side evaluations, all impacts
+N_SOLVE_OUT = 9
+
+# Slots of the row returned by ``boundary.boundary_kernel`` (one load).
+BND_ALPHA = 0  # alpha on the separation boundary
+BND_EPS = 1  # eps on the boundary
+BND_STATUS = 2  # status code of the search
+N_BND_OUT = 3
+
+# Columns of the trajectory record filled by ``impact_kernel``: scaled t, x, v.
+REC_T = 0
+REC_X = 1
+REC_V = 2
+N_REC = 3

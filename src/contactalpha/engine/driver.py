@@ -7,8 +7,24 @@ from numba import njit, prange
 
 from contactalpha.validation import check_alpha, check_max_steps, check_tolerances, check_xi
 
-from .codes import END_STATES, STATUS
-from .kernel import N_OUT, impact_kernel
+from .codes import (
+    END_STATES,
+    N_OUT,
+    N_REC,
+    OUT_DEPS2,
+    OUT_EPS2,
+    OUT_NFEV,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_STEPS,
+    OUT_T_END,
+    OUT_T_MAX,
+    OUT_V_END,
+    OUT_X_END,
+    OUT_X_MAX,
+    STATUS,
+)
+from .kernel import impact_kernel
 from .scaling import scaled_load
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
@@ -17,8 +33,6 @@ RTOL = 1e-12
 ATOL = 1e-14
 # Step budget of one impact; the stiff ridge (alpha ~ 1e4) needs ~1e5.
 MAX_STEPS = 2_000_000
-
-_EMPTY_RECORD = np.empty((0, 3))
 
 
 @dataclass(frozen=True)
@@ -62,13 +76,13 @@ PARALLEL_MIN = 32
 
 @njit(cache=True, error_model="numpy")
 def _impact_row(alpha, A, rtol, atol, max_steps, out, i):
-    res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, np.empty((0, 3)))
+    res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, np.empty((0, N_REC)))
     out[i] = res
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def impact_many(alpha, A, rtol, atol, max_steps):
-    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A`` in parallel; returns shape (n, 11)."""
+    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A`` in parallel; returns shape (n, N_OUT)."""
     out = np.empty((alpha.size, N_OUT))
     for i in prange(alpha.size):
         _impact_row(alpha, A, rtol, atol, max_steps, out, i)
@@ -85,12 +99,12 @@ def impact_serial(alpha, A, rtol, atol, max_steps):
 
 
 def _as_result(table, shape):
-    eps2 = table[:, 0]
+    eps2 = table[:, OUT_EPS2]
     eps = np.sqrt(np.maximum(eps2, 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        deps = np.where(eps > 0, table[:, 1] / (2 * eps), np.nan)
-    codes = table[:, 2].astype(int)
-    status = table[:, 3].astype(int)
+        deps = np.where(eps > 0, table[:, OUT_DEPS2] / (2 * eps), np.nan)
+    codes = table[:, OUT_STATE].astype(int)
+    status = table[:, OUT_STATUS].astype(int)
 
     def shaped(a):
         a = a.reshape(shape)
@@ -99,13 +113,13 @@ def _as_result(table, shape):
     return ImpactResult(
         eps=shaped(eps),
         state=shaped(np.array([END_STATES[c] for c in codes], dtype=object)),
-        x_max=shaped(table[:, 4]),
-        x_end=shaped(table[:, 5]),
-        v_end=shaped(table[:, 6]),
-        t_max=shaped(table[:, 7]),
-        t_end=shaped(table[:, 8]),
-        steps=shaped(table[:, 9].astype(np.int64)),
-        nfev=shaped(table[:, 10].astype(np.int64)),
+        x_max=shaped(table[:, OUT_X_MAX]),
+        x_end=shaped(table[:, OUT_X_END]),
+        v_end=shaped(table[:, OUT_V_END]),
+        t_max=shaped(table[:, OUT_T_MAX]),
+        t_end=shaped(table[:, OUT_T_END]),
+        steps=shaped(table[:, OUT_STEPS].astype(np.int64)),
+        nfev=shaped(table[:, OUT_NFEV].astype(np.int64)),
         status=shaped(np.array([STATUS[s] for s in status], dtype=object)),
         deps_dalpha=shaped(deps),
     )
@@ -138,9 +152,7 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     shape = alpha.shape
     A = scaled_load(xi)
     run = impact_many if alpha.size >= PARALLEL_MIN else impact_serial
-    table = run(
-        np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, max_steps
-    )
+    table = run(np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, max_steps)
     return _as_result(table, shape)
 
 
@@ -167,6 +179,6 @@ def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100
     alpha = float(check_alpha(alpha))
     A = float(scaled_load(xi))
     rtol, atol = check_tolerances(rtol, atol)
-    rec = np.empty((int(max_rows), 3))
+    rec = np.empty((int(max_rows), N_REC))
     out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, float(max_step))
     return rec[:n].copy(), _as_result(out[None, :], ())

@@ -16,10 +16,25 @@ from .codes import (
     CREEP,
     EVENT_FAILED,
     FAILED,
+    N_OUT,
     NO_RESTITUTION,
     NON_FINITE,
     NONSEPARATION,
     OK,
+    OUT_DEPS2,
+    OUT_EPS2,
+    OUT_NFEV,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_STEPS,
+    OUT_T_END,
+    OUT_T_MAX,
+    OUT_V_END,
+    OUT_X_END,
+    OUT_X_MAX,
+    REC_T,
+    REC_V,
+    REC_X,
     SEPARATION,
     STEP_LIMIT,
     STEP_UNDERFLOW,
@@ -48,8 +63,6 @@ from .rk import (
 # First trial step in scaled time.  Small, because x^{3/2} is not smooth at
 # t = 0 and the embedded error estimate is unreliable across that point.
 FIRST_STEP = 1e-4
-# Number of result fields returned by ``impact_kernel``.
-N_OUT = 11
 
 
 @njit(cache=True, error_model="numpy")
@@ -87,9 +100,9 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
 
     Returns
     -------
-    out : ndarray, shape (11,)
-        ``eps2, deps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev``
-        followed by the number of recorded rows in ``record`` (returned separately).
+    out : ndarray, shape (N_OUT,)
+        ``eps2, deps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev`` in the
+        slots ``codes.OUT_*``; the number of recorded rows is returned separately.
     n_rec : int
     """
     K = np.empty((N_STAGES + 1, N_STATE))
@@ -99,9 +112,9 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     y[2] = 1.0
     n_rec = 0
     if record.shape[0] > 0:
-        record[0, 0] = 0.0
-        record[0, 1] = 0.0
-        record[0, 2] = 1.0
+        record[0, REC_T] = 0.0
+        record[0, REC_X] = 0.0
+        record[0, REC_V] = 1.0
         n_rec = 1
     xeq = equilibrium(A) if A > 0.0 else np.inf
     state = FAILED
@@ -163,9 +176,9 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 status = EVENT_FAILED if st == STEP_UNDERFLOW else st
                 break
             if record.shape[0] > n_rec:
-                record[n_rec, 0] = y[0]
-                record[n_rec, 1] = y[1]
-                record[n_rec, 2] = y[2]
+                record[n_rec, REC_T] = y[0]
+                record[n_rec, REC_X] = y[1]
+                record[n_rec, REC_V] = y[2]
                 n_rec += 1
             if compressing:
                 compressing = False
@@ -195,9 +208,9 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
         for i in range(N_STATE):
             K[0, i] = K[N_STAGES, i]
         if record.shape[0] > n_rec:
-            record[n_rec, 0] = y[0]
-            record[n_rec, 1] = y[1]
-            record[n_rec, 2] = y[2]
+            record[n_rec, REC_T] = y[0]
+            record[n_rec, REC_X] = y[1]
+            record[n_rec, REC_V] = y[2]
             n_rec += 1
         # The two end states reached only as t -> inf: their limits are set after the loop.
         if in_linear_zone(y[1], y[2], A, alpha):
@@ -239,19 +252,19 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     out = np.full(N_OUT, np.nan)
     if state != FAILED:
         if state == NO_RESTITUTION:
-            out[0] = 0.0
-            out[1] = 0.0
+            out[OUT_EPS2] = 0.0
+            out[OUT_DEPS2] = 0.0
         else:
             e2, de2 = stronge(A, x_m, x_e, v_e, dxm, dxe, dve)
-            out[0] = e2
-            out[1] = de2
-    out[2] = state
-    out[3] = status
-    out[4] = x_m
-    out[5] = x_e
-    out[6] = v_e
-    out[7] = t_m
-    out[8] = t_e
-    out[9] = steps
-    out[10] = nfev
+            out[OUT_EPS2] = e2
+            out[OUT_DEPS2] = de2
+    out[OUT_STATE] = state
+    out[OUT_STATUS] = status
+    out[OUT_X_MAX] = x_m
+    out[OUT_X_END] = x_e
+    out[OUT_V_END] = v_e
+    out[OUT_T_MAX] = t_m
+    out[OUT_T_END] = t_e
+    out[OUT_STEPS] = steps
+    out[OUT_NFEV] = nfev
     return out, n_rec

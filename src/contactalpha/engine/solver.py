@@ -29,10 +29,39 @@ from numba import njit, prange
 
 from contactalpha.validation import check_eps, check_max_steps, check_range, check_tolerances, check_xi
 
-from .codes import END_STATES, NO_BRACKET, NOT_CONVERGED, STATUS
+from .codes import (
+    END_STATES,
+    FAILED,
+    N_OUT,
+    N_REC,
+    N_SOLVE_OUT,
+    NO_BRACKET,
+    NO_RESTITUTION,
+    NOT_CONVERGED,
+    OK,
+    OUT_DEPS2,
+    OUT_EPS2,
+    OUT_NFEV,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_STEPS,
+    OUT_X_END,
+    OUT_X_MAX,
+    SEPARATION,
+    SOL_ALPHA,
+    SOL_EPS,
+    SOL_IMPACTS,
+    SOL_NFEV,
+    SOL_STATE,
+    SOL_STATUS,
+    SOL_STEPS,
+    SOL_X_END,
+    SOL_X_MAX,
+    STATUS,
+)
 from .driver import ATOL, MAX_STEPS, PARALLEL_MIN, RTOL
 from .exact import alpha_exact_scalar, max_compression_exact
-from .kernel import NO_RESTITUTION, impact_kernel
+from .kernel import impact_kernel
 from .scaling import scaled_load
 from .table import EPS_MIN, XI_MAX, alpha_from_table
 
@@ -62,8 +91,6 @@ SMALL_EPS = 0.01
 # approximate: where the secant of the last two eps^2 differs from it by more than this
 # (relative), Newton takes the secant's slope.
 SECANT_SWITCH = 0.2
-# Number of fields returned per point by ``solve_kernel``.
-N_SOLVE_OUT = 9
 
 
 @njit(cache=True, error_model="numpy")
@@ -82,8 +109,9 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
 
     Returns
     -------
-    out : ndarray, shape (9,)
-        ``alpha, eps_reached, state, status, impacts, steps, x_m, x_e, nfev``.
+    out : ndarray, shape (N_SOLVE_OUT,)
+        ``alpha, eps_reached, state, status, impacts, steps, x_m, x_e, nfev`` in the
+        slots ``codes.SOL_*``.
     """
     out = np.full(N_SOLVE_OUT, np.nan)
     lo = 0.0
@@ -95,71 +123,74 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
     prev_alpha = np.nan
     prev_e2 = np.nan
     alpha = alpha0
-    best = np.full(11, np.nan)
+    best = np.full(N_OUT, np.nan)
     impacts = 0
     steps = 0
     nfev = 0
     status = NOT_CONVERGED
     onset = eps_t == 0.0
     for _ in range(MAX_ITER):
-        res, _ = impact_kernel(alpha, A, rtol, atol, max_steps, np.empty((0, 3)))
+        res, _ = impact_kernel(alpha, A, rtol, atol, max_steps, np.empty((0, N_REC)))
         impacts += 1
-        steps += int(res[9])
-        nfev += int(res[10])
-        if res[3] != 0:
-            status = int(res[3])
+        steps += int(res[OUT_STEPS])
+        nfev += int(res[OUT_NFEV])
+        if res[OUT_STATUS] != OK:
+            status = int(res[OUT_STATUS])
             best = res
             break
-        e2 = res[0]
+        e2 = res[OUT_EPS2]
         eps = np.sqrt(max(e2, 0.0))
         if onset:
-            if res[2] == NO_RESTITUTION:
+            if res[OUT_STATE] == NO_RESTITUTION:
                 hi = alpha
                 best = res
             else:
                 lo = alpha
             if np.isfinite(hi) and hi - lo <= ONSET_RTOL * hi:
-                status = 0
+                status = OK
                 alpha = hi
                 break
-            new = alpha - e2 / res[1] if (res[2] != NO_RESTITUTION and res[1] < 0.0) else np.inf
+            rising = res[OUT_STATE] != NO_RESTITUTION and res[OUT_DEPS2] < 0.0
+            new = alpha - e2 / res[OUT_DEPS2] if rising else np.inf
             # Aim a hair past the Newton estimate, so the bracket closes from above too.
             new *= 1.0 + 0.5 * ONSET_RTOL
         else:
             best = res
             if abs(eps - eps_t) <= tol:
-                status = 0
+                status = OK
                 break
-            has_slope = eps > 0.0 and res[1] < 0.0 and alpha > 0.0 and res[2] != NO_RESTITUTION
+            de2_here = res[OUT_DEPS2]
+            has_slope = eps > 0.0 and de2_here < 0.0 and alpha > 0.0 and res[OUT_STATE] != NO_RESTITUTION
             if eps > eps_t:
                 lo = alpha
                 lo_e2 = e2
-                lo_de2 = res[1] if has_slope else np.nan
+                lo_de2 = de2_here if has_slope else np.nan
             else:
                 hi = alpha
             new = np.inf
-            near_onset = res[2] == NO_RESTITUTION
+            near_onset = res[OUT_STATE] == NO_RESTITUTION
             if has_slope:
-                slope = alpha * res[1] / (2.0 * e2)
+                slope = alpha * de2_here / (2.0 * e2)
                 near_onset = slope < -STEEP
                 if near_onset:
                     # Newton on eps^2, which is linear in alpha at the onset.
-                    de2 = res[1]
+                    de2 = de2_here
                     if prev_alpha != alpha and np.isfinite(prev_alpha):
                         secant = (e2 - prev_e2) / (alpha - prev_alpha)
                         if secant < 0.0 and abs(secant - de2) > SECANT_SWITCH * abs(secant):
                             de2 = secant
                     new = alpha - (e2 - eps_t * eps_t) / de2
                     if eps_t < SMALL_EPS:
-                        wc = 0.5 + A * res[4]
-                        if abs(e2 - eps_t * eps_t) <= A * (rtol * res[4] + atol) / wc:
-                            status = 0  # eps^2 meets the target to its own resolution
+                        x_m = res[OUT_X_MAX]
+                        wc = 0.5 + A * x_m
+                        if abs(e2 - eps_t * eps_t) <= A * (rtol * x_m + atol) / wc:
+                            status = OK  # eps^2 meets the target to its own resolution
                             break
                 else:
                     # Newton on ln eps versus ln alpha.
                     new = alpha * np.exp(-(np.log(eps) - np.log(eps_t)) / slope)
                 if abs(new - alpha) <= ALPHA_RESOLVED * alpha:
-                    status = 0  # the root is this alpha to a few ulp
+                    status = OK  # the root is this alpha to a few ulp
                     break
                 prev_alpha = alpha
                 prev_e2 = e2
@@ -174,18 +205,18 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
             new = ALPHA_MAX
         if new == alpha or (np.isfinite(hi) and hi - lo <= ALPHA_RESOLVED * hi):
             # The bracket cannot shrink further: alpha is the root to double precision.
-            status = 0 if not onset else status
+            status = OK if not onset else status
             break
         alpha = new
-    out[0] = alpha
-    out[1] = np.sqrt(max(best[0], 0.0)) if best[3] == 0 else np.nan
-    out[2] = best[2]
-    out[3] = status
-    out[4] = impacts
-    out[5] = steps
-    out[6] = best[4]
-    out[7] = best[5]
-    out[8] = nfev
+    out[SOL_ALPHA] = alpha
+    out[SOL_EPS] = np.sqrt(max(best[OUT_EPS2], 0.0)) if best[OUT_STATUS] == OK else np.nan
+    out[SOL_STATE] = best[OUT_STATE]
+    out[SOL_STATUS] = status
+    out[SOL_IMPACTS] = impacts
+    out[SOL_STEPS] = steps
+    out[SOL_X_MAX] = best[OUT_X_MAX]
+    out[SOL_X_END] = best[OUT_X_END]
+    out[SOL_NFEV] = nfev
     return out
 
 
@@ -206,30 +237,32 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
     """
     if eps_t >= 1.0:
         out = np.full(N_SOLVE_OUT, np.nan)
-        res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, 3)))
-        out[0] = 0.0
-        out[1] = np.sqrt(max(res[0], 0.0))
-        out[2:4] = res[2:4]
-        out[4] = 1
-        out[5] = res[9]
-        out[6] = res[4]
-        out[7] = res[5]
-        out[8] = res[10]
+        res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, N_REC)))
+        out[SOL_ALPHA] = 0.0
+        out[SOL_EPS] = np.sqrt(max(res[OUT_EPS2], 0.0))
+        out[SOL_STATE] = res[OUT_STATE]
+        out[SOL_STATUS] = res[OUT_STATUS]
+        out[SOL_IMPACTS] = 1
+        out[SOL_STEPS] = res[OUT_STEPS]
+        out[SOL_X_MAX] = res[OUT_X_MAX]
+        out[SOL_X_END] = res[OUT_X_END]
+        out[SOL_NFEV] = res[OUT_NFEV]
         return out
     if A == 0.0 and use_exact:
         out = np.full(N_SOLVE_OUT, np.nan)
-        out[2] = 0  # failed unless a root exists
-        out[3] = NO_BRACKET
-        out[4:6] = 0.0
-        out[8] = 0.0
+        out[SOL_STATE] = FAILED  # unless a root exists
+        out[SOL_STATUS] = NO_BRACKET
+        out[SOL_IMPACTS] = 0.0
+        out[SOL_STEPS] = 0.0
+        out[SOL_NFEV] = 0.0
         if eps_t > 0.0:
             alpha = alpha_exact_scalar(eps_t)
-            out[0] = alpha
-            out[1] = eps_t
-            out[2] = 1  # separation
-            out[3] = 0
-            out[6] = max_compression_exact(alpha)
-            out[7] = 0.0
+            out[SOL_ALPHA] = alpha
+            out[SOL_EPS] = eps_t
+            out[SOL_STATE] = SEPARATION
+            out[SOL_STATUS] = OK
+            out[SOL_X_MAX] = max_compression_exact(alpha)
+            out[SOL_X_END] = 0.0
         return out
     if use_table and eps_t >= EPS_MIN and xi <= XI_MAX:
         guess = alpha_from_table(eps_t, xi, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
@@ -245,7 +278,7 @@ def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb,
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
-    """``solve_point`` over flat arrays, in parallel; returns shape (n, 9)."""
+    """``solve_point`` over flat arrays, in parallel; returns shape (n, N_SOLVE_OUT)."""
     out = np.empty((eps.size, N_SOLVE_OUT))
     for i in prange(eps.size):
         _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
@@ -309,7 +342,7 @@ class AlphaSolution:
 def solve_table(
     eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
 ):
-    """Validated flat solve: returns the raw ``(n, 9)`` table and the broadcast shape."""
+    """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
     eps = check_eps(eps)
     xi = check_xi(xi)
     rtol, atol = check_tolerances(rtol, atol)
@@ -371,9 +404,9 @@ def solve_alpha(
     table, shape = solve_table(
         eps, xi, tol=tol, rtol=rtol, atol=atol, max_steps=max_steps, exact_at_zero=exact_at_zero, guess=guess
     )
-    status = table[:, 3].astype(int)
-    alpha = np.where(status == 0, table[:, 0], np.nan)
-    state = np.nan_to_num(table[:, 2], nan=0.0).astype(int)
+    status = table[:, SOL_STATUS].astype(int)
+    alpha = np.where(status == OK, table[:, SOL_ALPHA], np.nan)
+    state = np.nan_to_num(table[:, SOL_STATE], nan=float(FAILED)).astype(int)
 
     def shaped(a):
         a = np.asarray(a).reshape(shape)
@@ -381,12 +414,12 @@ def solve_alpha(
 
     return AlphaSolution(
         alpha=shaped(alpha),
-        eps_reached=shaped(table[:, 1]),
+        eps_reached=shaped(table[:, SOL_EPS]),
         state=shaped(np.array([END_STATES[c] for c in state], dtype=object)),
         status=shaped(np.array([STATUS[c] for c in status], dtype=object)),
-        impacts=shaped(table[:, 4].astype(np.int64)),
-        steps=shaped(table[:, 5].astype(np.int64)),
-        nfev=shaped(table[:, 8].astype(np.int64)),
-        x_max=shaped(table[:, 6]),
-        x_end=shaped(table[:, 7]),
+        impacts=shaped(table[:, SOL_IMPACTS].astype(np.int64)),
+        steps=shaped(table[:, SOL_STEPS].astype(np.int64)),
+        nfev=shaped(table[:, SOL_NFEV].astype(np.int64)),
+        x_max=shaped(table[:, SOL_X_MAX]),
+        x_end=shaped(table[:, SOL_X_END]),
     )

@@ -72,8 +72,11 @@ class AlphaTable:
     meta: dict
 
 
-# Layout of ``AlphaTable.geom``: (first node, spacing, node count) of each uniform grid.
+# Layout of ``AlphaTable.geom``: (first node, spacing, node count) of each uniform grid,
+# eta and p of region S, then eta and p of region N.
+G_FIRST, G_STEP, G_COUNT = 0, 1, 2
 G_S_ETA, G_S_P, G_N_ETA, G_N_P = 0, 3, 6, 9
+N_GEOM = 12
 
 
 @njit(cache=True, error_model="numpy")
@@ -89,13 +92,17 @@ def alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
         return 0.0
     u = np.log(eps)
     eta = eta_of_xi(xi)
-    b = eval_1d_uniform(b_t, b_c, g[0], g[1], int(g[2]), eta)
+    s_eta0, s_deta, s_neta = g[G_S_ETA + G_FIRST], g[G_S_ETA + G_STEP], int(g[G_S_ETA + G_COUNT])
+    b = eval_1d_uniform(b_t, b_c, s_eta0, s_deta, s_neta, eta)
     if u >= b:
         p = np.sqrt(1.0 - u / b)
-        L = eval_2d_uniform(s_tx, s_ty, s_c, g[0], g[1], int(g[2]), g[3], g[4], int(g[5]), eta, p)
+        s_p0, s_dp, s_np = g[G_S_P + G_FIRST], g[G_S_P + G_STEP], int(g[G_S_P + G_COUNT])
+        L = eval_2d_uniform(s_tx, s_ty, s_c, s_eta0, s_deta, s_neta, s_p0, s_dp, s_np, eta, p)
     else:
         p = np.sqrt((b - u) / (b - U_MIN))
-        L = eval_2d_uniform(n_tx, n_ty, n_c, g[6], g[7], int(g[8]), g[9], g[10], int(g[11]), eta, p)
+        n_eta0, n_deta, n_neta = g[G_N_ETA + G_FIRST], g[G_N_ETA + G_STEP], int(g[G_N_ETA + G_COUNT])
+        n_p0, n_dp, n_np = g[G_N_P + G_FIRST], g[G_N_P + G_STEP], int(g[G_N_P + G_COUNT])
+        L = eval_2d_uniform(n_tx, n_ty, n_c, n_eta0, n_deta, n_neta, n_p0, n_dp, n_np, eta, p)
     return np.exp(L) * (1.0 - eps) / eps
 
 

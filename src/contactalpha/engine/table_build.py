@@ -22,6 +22,14 @@ from .table import (
     DEFAULT_FILE,
     DEGREE,
     EPS_MIN,
+    G_COUNT,
+    G_FIRST,
+    G_N_ETA,
+    G_N_P,
+    G_S_ETA,
+    G_S_P,
+    G_STEP,
+    N_GEOM,
     TABLE_FORMAT_VERSION,
     U_MIN,
     XI_MAX,
@@ -163,22 +171,11 @@ def build_table(n_eta=277, n_p=101, refine_n=2, *, tol=1e-13, rtol=1e-12, atol=1
         rtol=rtol,
         atol=atol,
     )
-    geom = np.array(
-        [
-            eta[0],
-            eta[1] - eta[0],
-            eta.size,
-            p[0],
-            p[1] - p[0],
-            p.size,
-            eta_n[0],
-            eta_n[1] - eta_n[0],
-            eta_n.size,
-            p_n[0],
-            p_n[1] - p_n[0],
-            p_n.size,
-        ]
-    )
+    geom = np.empty(N_GEOM)
+    for start, nodes in ((G_S_ETA, eta), (G_S_P, p), (G_N_ETA, eta_n), (G_N_P, p_n)):
+        geom[start + G_FIRST] = nodes[0]
+        geom[start + G_STEP] = nodes[1] - nodes[0]
+        geom[start + G_COUNT] = nodes.size
     return AlphaTable(b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, geom, meta)
 
 

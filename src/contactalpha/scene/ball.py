@@ -45,8 +45,27 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from contactalpha import models
-from contactalpha.engine.driver import ATOL, END_STATES, MAX_STEPS, RTOL, STATUS
-from contactalpha.engine.kernel import NO_RESTITUTION, NONSEPARATION, SEPARATION, impact_kernel
+from contactalpha.engine.codes import (
+    END_STATES,
+    N_REC,
+    NO_RESTITUTION,
+    NONSEPARATION,
+    OUT_EPS2,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_STEPS,
+    OUT_T_END,
+    OUT_V_END,
+    OUT_X_END,
+    OUT_X_MAX,
+    REC_T,
+    REC_V,
+    REC_X,
+    SEPARATION,
+    STATUS,
+)
+from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
+from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import influence_factor, length_scale, time_scale
 from contactalpha.validation import check_range, check_tolerances
 
@@ -243,7 +262,7 @@ def run_contact(scene, speed, alpha, case, rtol, atol, max_step):
     ds = float(length_scale(scene.mass, scene.stiffness, speed))
     ts = float(time_scale(scene.mass, scene.stiffness, speed))
     A = scene.accel * ds / speed**2 if case == "A" else 0.0
-    rec = np.empty((CONTACT_MAX_ROWS, 3))
+    rec = np.empty((CONTACT_MAX_ROWS, N_REC))
     out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, max_step)
     return rec[:n], out, A, ds, ts
 
@@ -312,9 +331,9 @@ def simulate(
             break
         alpha = contact_alpha(scene, speed, model, case)
         path, out, A, ds, ts = run_contact(scene, speed, alpha, case, rtol, atol, max_step)
-        code, stat = int(out[2]), int(out[3])
-        x_m, x_e, v_e, t_e = out[4], out[5], out[6], out[8]
-        _append(series, t + path[:, 0] * ts, path[:, 1] * ds, path[:, 2] * speed, CONTACT, i)
+        code, stat = int(out[OUT_STATE]), int(out[OUT_STATUS])
+        x_m, x_e, v_e, t_e = out[OUT_X_MAX], out[OUT_X_END], out[OUT_V_END], out[OUT_T_END]
+        _append(series, t + path[:, REC_T] * ts, path[:, REC_X] * ds, path[:, REC_V] * speed, CONTACT, i)
         e_in = float(energy_terms(scene, 0.0, speed)["total"])
         e_out = float(energy_terms(scene, x_e * ds, v_e * speed)["total"])
         fields = {
@@ -324,7 +343,7 @@ def simulate(
             "xi": scene.influence(speed),
             "alpha": alpha,
             "A": A,
-            "eps_post": np.sqrt(max(out[0], 0.0)) if code != NO_RESTITUTION else 0.0,
+            "eps_post": np.sqrt(max(out[OUT_EPS2], 0.0)) if code != NO_RESTITUTION else 0.0,
             "state": code,
             "status": stat,
             "v_out": -v_e * speed if code == SEPARATION else 0.0,
@@ -333,7 +352,7 @@ def simulate(
             "energy_in": e_in,
             "energy_out": e_out,
             "damping_work": scene.mass * speed**2 * _scaled_damping(A, x_e, v_e),
-            "steps": out[9],
+            "steps": out[OUT_STEPS],
         }
         for name, value in fields.items():
             rows[name].append(value)

@@ -9,7 +9,7 @@ import json
 
 import numpy as np
 
-from contactalpha.engine.kernel import SEPARATION
+from contactalpha.engine.codes import SEPARATION
 
 from .study import model_label, state_names
 

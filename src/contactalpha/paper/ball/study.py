@@ -20,8 +20,23 @@ import xarray as xr
 
 from contactalpha import models
 from contactalpha.engine.boundary import separation_boundary
-from contactalpha.engine.driver import ATOL, END_STATES, RTOL, STATUS
-from contactalpha.engine.kernel import NO_RESTITUTION, SEPARATION
+from contactalpha.engine.codes import (
+    END_STATES,
+    NO_RESTITUTION,
+    OUT_EPS2,
+    OUT_STATE,
+    OUT_STATUS,
+    OUT_T_END,
+    OUT_V_END,
+    OUT_X_END,
+    OUT_X_MAX,
+    REC_T,
+    REC_V,
+    REC_X,
+    SEPARATION,
+    STATUS,
+)
+from contactalpha.engine.driver import ATOL, RTOL
 from contactalpha.engine.scaling import time_scale
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.scene.ball import (
@@ -195,20 +210,20 @@ def first_collision(
             for k, name in enumerate(names):
                 alpha = contact_alpha(sc, v0, name, "A")
                 path, res, _, ds, ts = run_contact(sc, v0, alpha, "A", rtol, atol, max_step)
-                code = int(res[2])
+                code = int(res[OUT_STATE])
                 values = {
                     "alpha": alpha,
-                    "eps_post": 0.0 if code == NO_RESTITUTION else np.sqrt(max(res[0], 0.0)),
+                    "eps_post": 0.0 if code == NO_RESTITUTION else np.sqrt(max(res[OUT_EPS2], 0.0)),
                     "state": code,
-                    "status": res[3],
-                    "v_out": -res[6] * v0 if code == SEPARATION else 0.0,
-                    "delta_max": res[4] * ds,
-                    "delta_end": res[5] * ds,
-                    "t_stop": res[8] * ts,
+                    "status": res[OUT_STATUS],
+                    "v_out": -res[OUT_V_END] * v0 if code == SEPARATION else 0.0,
+                    "delta_max": res[OUT_X_MAX] * ds,
+                    "delta_end": res[OUT_X_END] * ds,
+                    "t_stop": res[OUT_T_END] * ts,
                 }
                 for field_name, value in values.items():
                     out[field_name][i, j, k] = value
-                paths[i, j, k] = (path[:, 0] * ts, path[:, 1] * ds, path[:, 2] * v0, alpha)
+                paths[i, j, k] = (path[:, REC_T] * ts, path[:, REC_X] * ds, path[:, REC_V] * v0, alpha)
     n = max(p[0].size for p in paths.values())
     series = {name: np.full((*shape, n), np.nan) for name in ("time", "delta", "ddelta", "contact_force")}
     for (i, j, k), (t, d, dd, alpha) in paths.items():

@@ -33,7 +33,17 @@ import numpy as np
 
 from contactalpha.baselines.fixedstep import impact_rk4
 from contactalpha.baselines.reference import alpha_bracketed, impact_scipy_limited
-from contactalpha.engine.driver import END_STATES, MAX_STEPS, STATUS, impact
+from contactalpha.engine.codes import (
+    END_STATES,
+    OK,
+    SOL_ALPHA,
+    SOL_IMPACTS,
+    SOL_NFEV,
+    SOL_STATE,
+    SOL_STATUS,
+    STATUS,
+)
+from contactalpha.engine.driver import MAX_STEPS, impact
 from contactalpha.engine.exact import alpha_exact, restitution_exact
 from contactalpha.engine.scaling import scaled_load
 from contactalpha.engine.solver import solve_alpha, solve_kernel
@@ -143,10 +153,12 @@ def solve_with(method, setting, eps, xi, *, max_nfev=SCIPY_MAX_NFEV, alpha0=None
         out = solve_kernel(
             eps, float(scaled_load(xi)), float(alpha0), opts["tol"], opts["rtol"], opts["atol"], MAX_STEPS
         )
-        status = int(out[3])
-        alpha = float(out[0]) if status == 0 else np.nan
-        state = END_STATES[int(np.nan_to_num(out[2]))]
-        return AlphaSolve(method, setting, alpha, state, STATUS[status], int(out[4]), int(out[8]))
+        status = int(out[SOL_STATUS])
+        alpha = float(out[SOL_ALPHA]) if status == OK else np.nan
+        state = END_STATES[int(np.nan_to_num(out[SOL_STATE]))]
+        return AlphaSolve(
+            method, setting, alpha, state, STATUS[status], int(out[SOL_IMPACTS]), int(out[SOL_NFEV])
+        )
     if method in ("engine", "engine-table"):
         s = solve_alpha(eps, xi, **_engine_options(setting, method))
         return AlphaSolve(

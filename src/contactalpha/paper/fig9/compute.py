@@ -10,8 +10,8 @@ here as explicit, numeric criteria.
 import numpy as np
 import xarray as xr
 
+from contactalpha.engine.codes import END_STATES, NONSEPARATION, STATE_CODES
 from contactalpha.engine.driver import impact
-from contactalpha.engine.kernel import NONSEPARATION
 from contactalpha.models import MODELS, alpha
 
 # Panels of the paper's Fig. 9.
@@ -26,7 +26,6 @@ OBVIOUS = 0.05
 LOW_EPS = 0.3
 # "Close to unity" in the statement checks.
 HIGH_EPS = 0.9
-_STATE_NAMES = {0: "failed", 1: "separation", 2: "nonseparation", 3: "creep", 4: "no_restitution"}
 
 
 def post_vs_pre(models, xis, eps_pre, *, rtol=1e-12, atol=1e-14):
@@ -44,13 +43,12 @@ def post_vs_pre(models, xis, eps_pre, *, rtol=1e-12, atol=1e-14):
     post = np.full(shape, np.nan)
     state = np.zeros(shape, dtype=np.int8)
     status = np.empty(shape, dtype=object)
-    codes = {v: k for k, v in _STATE_NAMES.items()}
     for i, name in enumerate(models):
         for j, xi in enumerate(xis):
             a[i, j] = alpha(eps_pre, xi, model=name)
             r = impact(a[i, j], xi, rtol=rtol, atol=atol)
             post[i, j] = r.eps
-            state[i, j] = [codes[s] for s in np.atleast_1d(r.state)]
+            state[i, j] = [STATE_CODES[s] for s in np.atleast_1d(r.state)]
             status[i, j] = np.atleast_1d(r.status)
     return xr.Dataset(
         {
@@ -79,7 +77,7 @@ def json_legend():
     """End-state legend as a JSON string, for dataset attributes."""
     import json
 
-    return json.dumps(_STATE_NAMES)
+    return json.dumps(END_STATES)
 
 
 def max_deviation(ds):

@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from contactalpha.engine.driver import STATUS, impact
+from contactalpha.engine.codes import STATUS
+from contactalpha.engine.driver import impact
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.models import shen
 

@@ -18,7 +18,25 @@ import time
 import numpy as np
 import xarray as xr
 
-from contactalpha.engine.driver import ATOL, END_STATES, MAX_STEPS, RTOL, STATUS
+from contactalpha.engine.codes import (
+    CREEP,
+    END_STATES,
+    NO_RESTITUTION,
+    NONSEPARATION,
+    OK,
+    SEPARATION,
+    SOL_ALPHA,
+    SOL_EPS,
+    SOL_IMPACTS,
+    SOL_NFEV,
+    SOL_STATE,
+    SOL_STATUS,
+    SOL_STEPS,
+    SOL_X_END,
+    SOL_X_MAX,
+    STATUS,
+)
+from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.solver import EPS_TOL, solve_table
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.validation import check_eps, check_xi
@@ -37,11 +55,6 @@ XI_MATCH = 1e-9
 PROGRESS_EVERY = 5.0
 SOLVER_NAME = "contactalpha.solve_alpha: Newton on ln eps vs ln alpha, DOP853 impacts, exact at xi = 0"
 
-# Column layout of solver.solve_table.
-_ALPHA, _EPS, _STATE, _STATUS, _IMPACTS, _STEPS, _XMAX, _XEND, _NFEV = range(9)
-
-# End-state name -> code, the inverse of impact.END_STATES.
-STATE_CODES = {name: code for code, name in END_STATES.items()}
 
 VARIABLES = {
     "alpha": ("1", "hysteresis damping factor alpha"),
@@ -255,22 +268,22 @@ def _tqdm_progress():
 
 
 def _to_dataset(eps, xi, table):
-    status = table[..., _STATUS].astype(np.int8)
-    ok = status == 0
-    x_max, x_end = table[..., _XMAX], table[..., _XEND]
+    status = table[..., SOL_STATUS].astype(np.int8)
+    ok = status == OK
+    x_max, x_end = table[..., SOL_X_MAX], table[..., SOL_X_END]
     with np.errstate(divide="ignore", invalid="ignore"):
         lam = np.where(ok & (x_max > 0), x_end / x_max, np.nan)
     data = {
-        "alpha": np.where(ok, table[..., _ALPHA], np.nan),
-        "state": np.nan_to_num(table[..., _STATE], nan=0.0).astype(np.int8),
+        "alpha": np.where(ok, table[..., SOL_ALPHA], np.nan),
+        "state": np.nan_to_num(table[..., SOL_STATE], nan=0.0).astype(np.int8),
         "status": status,
-        "eps_reached": table[..., _EPS],
+        "eps_reached": table[..., SOL_EPS],
         "lambda": lam,
         "x_max": x_max,
         "x_end": x_end,
-        "impacts": table[..., _IMPACTS].astype(np.int32),
-        "steps": table[..., _STEPS].astype(np.int64),
-        "nfev": table[..., _NFEV].astype(np.int64),
+        "impacts": table[..., SOL_IMPACTS].astype(np.int32),
+        "steps": table[..., SOL_STEPS].astype(np.int64),
+        "nfev": table[..., SOL_NFEV].astype(np.int64),
     }
     ds = xr.Dataset(
         {name: (("epsilon", "xi"), values) for name, values in data.items()},
@@ -309,7 +322,7 @@ def section_regions(state):
     Parameters
     ----------
     state : array_like of int
-        End-state codes (``impact.END_STATES``).
+        End-state codes (``codes.END_STATES``).
 
     Returns
     -------
@@ -318,9 +331,9 @@ def section_regions(state):
     """
     state = np.asarray(state)
     regions = np.zeros(state.shape, dtype=int)
-    regions[np.isin(state, (STATE_CODES["creep"], STATE_CODES["no_restitution"]))] = 1
-    regions[state == STATE_CODES["nonseparation"]] = 2
-    regions[state == STATE_CODES["separation"]] = 3
+    regions[np.isin(state, (CREEP, NO_RESTITUTION))] = 1
+    regions[state == NONSEPARATION] = 2
+    regions[state == SEPARATION] = 3
     return regions
 
 

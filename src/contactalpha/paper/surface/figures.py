@@ -11,10 +11,10 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.patches import Patch
 
-from contactalpha.engine.driver import END_STATES
+from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.plotting import new_figure
 
-from .compute import STATE_CODES, XI_MATCH, paper_eq25, paper_eq26, section_regions
+from .compute import XI_MATCH, paper_eq25, paper_eq26, section_regions
 
 # Below this xi the symlog axis is linear: half a cell below the smallest log-spaced xi.
 XI_LINTHRESH = 1e-5

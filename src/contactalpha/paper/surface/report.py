@@ -4,7 +4,7 @@ from datetime import UTC, datetime
 
 import numpy as np
 
-from contactalpha.engine.driver import END_STATES, STATUS
+from contactalpha.engine.codes import END_STATES, STATUS
 
 from .compute import XI_MATCH, paper_eq25, paper_eq26, section_regions
 
