@@ -9,7 +9,6 @@ Prints, measured side by side in this run:
 """
 
 import argparse
-import json
 import os
 import platform
 import subprocess
@@ -127,8 +126,10 @@ def main(argv=None):
         impacts_max=int(s.impacts[loaded].max()),
     )
     if args.out:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(json.dumps(results, indent=2))
+        from contactalpha.io import write_json_atomic
+        from contactalpha.provenance import result_attrs
+
+        write_json_atomic(args.out, {**result_attrs(vars(args), "bench_core"), **results})
 
 
 if __name__ == "__main__":

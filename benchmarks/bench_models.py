@@ -9,7 +9,6 @@ Prints, measured in this run on the same random points of the table's domain:
 """
 
 import argparse
-import json
 import os
 import platform
 import time
@@ -96,8 +95,10 @@ def main(argv=None):
     )
     out.update(cost_ratio_exact_over_eq40=ratio, speedup_over_solve=exact_rate / solve_rate)
     if args.out:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(json.dumps(out, indent=2))
+        from contactalpha.io import write_json_atomic
+        from contactalpha.provenance import result_attrs
+
+        write_json_atomic(args.out, {**result_attrs(vars(args), "bench_models"), **out})
 
 
 if __name__ == "__main__":

@@ -1,9 +1,13 @@
 """Reading and writing result files: atomically, so an interrupted run leaves no half-written file."""
 
+import json
+import math
 import os
 import tempfile
-from pathlib import Path
+from collections.abc import Mapping
+from pathlib import Path, PurePath
 
+import numpy as np
 import xarray as xr
 
 # netCDF4/HDF5 through h5py: no netCDF C library needed.
@@ -43,6 +47,36 @@ def write_atomic(path, write):
 def write_text_atomic(path, text):
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     return write_atomic(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+
+
+def jsonable(obj):
+    """``obj`` as plain JSON data, for ``json_text``.
+
+    NumPy scalars and arrays become Python numbers and lists, tuples lists, keys and paths strings,
+    NaN and infinite floats ``None`` (JSON has no such numbers).  Anything else is returned
+    unchanged, so that ``json`` refuses what it cannot write.
+    """
+    if isinstance(obj, Mapping):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple | np.ndarray):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, PurePath):
+        return str(obj)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def json_text(obj, *, indent=None, sort_keys=False):
+    """The one JSON form of results: ``jsonable(obj)``, strict (no NaN literals)."""
+    return json.dumps(jsonable(obj), indent=indent, sort_keys=sort_keys, allow_nan=False)
+
+
+def write_json_atomic(path, obj):
+    """Write ``obj`` as indented JSON (``json_text``, one space per level) to ``path`` atomically."""
+    return write_text_atomic(path, json_text(obj, indent=1) + "\n")
 
 
 def write_dataset_atomic(ds, path):

@@ -6,6 +6,7 @@ import subprocess
 from datetime import UTC, datetime
 from pathlib import Path
 
+from contactalpha.io import json_text
 from contactalpha.version import __version__
 
 
@@ -33,6 +34,19 @@ def history_line(step):
     """One ``history`` entry: UTC time stamp, the step, the package version."""
     stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     return f"{stamp} {step} (contactalpha {__version__})"
+
+
+def result_attrs(config, step):
+    """Attributes every results file carries: package version, git commit, its settings, a history line.
+
+    ``config`` (the settings that made the result) is stored as JSON text with sorted keys.
+    """
+    return {
+        "contactalpha_version": __version__,
+        "git_commit": git_commit(),
+        "config": json_text(config, sort_keys=True),
+        "history": history_line(step),
+    }
 
 
 # The package whose sources ``source_hash`` reads.

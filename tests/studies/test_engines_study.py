@@ -60,7 +60,7 @@ def test_builtin_mappings_miss_the_target_and_the_engines_agree_with_the_package
 
 def test_results_carry_provenance_through_a_write_and_read(study):
     ds = study["opensim"]
-    for key in ("package_version", "git_commit", "config", "history", "engine_versions", "settings"):
+    for key in ("contactalpha_version", "git_commit", "config", "history", "engine_versions", "settings"):
         assert ds.attrs[key], key
     assert "opensim" in ds.attrs["engine_versions"]
     assert ds["eps_measured"].attrs["long_name"]

@@ -8,7 +8,7 @@ Eq. 40's damaged term), package (refit constants; rule fit_ship copies them into
 Nothing is written when a fit does not converge: the rule fails with scipy's message.
 """
 
-from contactalpha.io import load_surface, script_logger, write_text_atomic
+from contactalpha.io import load_surface, script_logger, write_json_atomic, write_text_atomic
 from contactalpha.paper.fit import report as fit_report
 from contactalpha.paper.fit.compute import FitNotConverged
 
@@ -26,8 +26,8 @@ for p in excluded["points"]:
     log.info(f"excluded eps = {p['eps']:g}, xi = {p['xi']:g}: {p['reason']}")
 for name, f in fits["readings"].items():
     log.info(f"reading {name}: converged = {f.converged}, RMS = {f.rms:.4g} ({f.message})")
-write_text_atomic(sm.output.coefficients, fit_report.dumps(report))
+write_json_atomic(sm.output.coefficients, report)
 write_text_atomic(sm.output.comparison, fit_report.comparison_markdown(report))
 write_text_atomic(sm.output.readings, fit_report.readings_markdown(report))
-write_text_atomic(sm.output.package, fit_report.dumps(fit_report.package_coefficients(report)))
+write_json_atomic(sm.output.package, fit_report.package_coefficients(report))
 log.info(f"wrote {', '.join(sm.output)}")

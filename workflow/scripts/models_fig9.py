@@ -6,12 +6,11 @@ Inputs: none.
 Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md, fig9_statements.md.
 """
 
-import json
 import time
 
 import numpy as np
 
-from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
+from contactalpha.io import json_text, script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
 from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre, statements_markdown
 from contactalpha.provenance import git_commit, history_line
@@ -29,7 +28,7 @@ start = time.perf_counter()
 ds = post_vs_pre(list(p["models"]) + [p["reference"]], p["xi"], eps, rtol=p["rtol"], atol=p["atol"])
 wall = time.perf_counter() - start
 ds.attrs.update(
-    config=json.dumps(dict(p)),
+    config=json_text(dict(p)),
     contactalpha_version=__version__,
     git_commit=git_commit(),
     solver="contactalpha.engine.driver (DOP853, events by change of variable)",

@@ -5,11 +5,9 @@ Inputs: results/models/alpha_table.npz.
 Outputs: results/models/table_check.md; the rule fails if the table misses max_rel_err.
 """
 
-import json
-
 from contactalpha.engine.table import DEFAULT_FILE, load_table
 from contactalpha.engine.table_build import check_table
-from contactalpha.io import script_logger, write_text_atomic
+from contactalpha.io import json_text, script_logger, write_text_atomic
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_table_check", sm.log[0])
@@ -29,7 +27,7 @@ Built table: `{sm.input[0]}`; shipped table: `{DEFAULT_FILE.name}` in the packag
 | promised max relative error | {p["max_rel_err"]:.0e} |
 | max relative difference to the shipped table | {res["max_rel_diff_shipped"]:.2e} |
 
-Table metadata: `{json.dumps(meta)}`
+Table metadata: `{json_text(meta)}`
 """
 write_text_atomic(sm.output[0], text)
 log.info(text)

@@ -6,12 +6,11 @@ interpolating quintic tensor splines, re-expressed on uniform knots so that the
 jitted evaluator needs no knot search.
 """
 
-import json
 from pathlib import Path
 
 import numpy as np
 
-from contactalpha.io import write_atomic
+from contactalpha.io import json_text, write_atomic
 
 from .boundary import separation_boundary
 from .bspline import clamp_to_uniform
@@ -186,7 +185,7 @@ def save_table(table, path, **extra_meta):
 
     def write(tmp):
         with open(tmp, "wb") as fh:
-            np.savez_compressed(fh, **arrays, meta=json.dumps(meta))
+            np.savez_compressed(fh, **arrays, meta=json_text(meta))
 
     return write_atomic(Path(path), write)
 

@@ -38,7 +38,8 @@ from contactalpha.engine.codes import (
 )
 from contactalpha.engine.driver import ATOL, RTOL
 from contactalpha.engine.scaling import time_scale
-from contactalpha.provenance import git_commit, history_line
+from contactalpha.io import json_text
+from contactalpha.provenance import result_attrs
 from contactalpha.scene.ball import (
     COLLISION_FIELDS,
     CONTACT,
@@ -51,7 +52,6 @@ from contactalpha.scene.ball import (
     energy_terms,
     run_contact,
 )
-from contactalpha.version import __version__
 
 
 def _legend(codes):
@@ -94,10 +94,7 @@ def model_label(name):
 
 def _provenance(config, step):
     return {
-        "package_version": __version__,
-        "git_commit": git_commit(),
-        "config": json.dumps(config, sort_keys=True, default=str),
-        "history": history_line(step),
+        **result_attrs(config, step),
         "solver": "contactalpha.engine.kernel.impact_kernel (DOP853) per contact; flights in closed form",
     }
 
@@ -138,7 +135,7 @@ def run_dataset(run, config=None, *, rtol=RTOL, atol=ATOL):
         {
             "case": run.case,
             "model": run.model,
-            "scene": json.dumps(asdict(s)),
+            "scene": json_text(asdict(s)),
             "end_state": run.end_state,
             "end_time": run.end_time,
             "status": run.status,
@@ -259,7 +256,7 @@ def first_collision(
     units = {"time": "s", "delta": "m", "ddelta": "m/s", "contact_force": "N"}
     for name, values in series.items():
         ds[name] = ((*dims, "sample"), values, {"units": units[name], "long_name": f"contact path: {name}"})
-    ds.attrs["scene"] = json.dumps(asdict(scene))
+    ds.attrs["scene"] = json_text(asdict(scene))
     return ds
 
 
@@ -378,8 +375,8 @@ def run_first_collision(
         {
             "new_model": new,
             "reference": ref,
-            "classical": json.dumps(classical),
-            "skipped_models": json.dumps(miss_new + miss_ref),
+            "classical": json_text(classical),
+            "skipped_models": json_text(miss_new + miss_ref),
         }
     )
     return ds

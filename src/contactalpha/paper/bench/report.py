@@ -15,9 +15,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from contactalpha.io import write_atomic, write_text_atomic
+from contactalpha.io import json_text, write_atomic, write_json_atomic, write_text_atomic
 from contactalpha.paper.bench import workprecision
 from contactalpha.plotting import new_figure, save_figure
+from contactalpha.provenance import result_attrs
 
 from .workprecision import CATEGORIES, METHODS, REGIMES, cost_to_reach
 
@@ -344,25 +345,6 @@ def fill_readme(readme, text, start=README_START, end=README_END):
     return new
 
 
-def write_json(path, obj):
-    """Write ``obj`` as indented JSON, atomically (NaN written as null)."""
-
-    def clean(x):
-        if isinstance(x, dict):
-            return {k: clean(v) for k, v in x.items()}
-        if isinstance(x, list | tuple):
-            return [clean(v) for v in x]
-        if isinstance(x, float | np.floating) and not np.isfinite(x):
-            return None
-        if isinstance(x, np.integer):
-            return int(x)
-        if isinstance(x, np.floating):
-            return float(x)
-        return x
-
-    write_text_atomic(path, json.dumps(clean(obj), indent=2))
-
-
 # --- stages: config section in, files out (called by the workflow and the benchmark) ---
 
 
@@ -389,13 +371,9 @@ def _checkpoint(path):
     def save(rows):
         with open(path, "a", encoding="utf-8") as fh:
             for row in rows:
-                fh.write(json.dumps({k: (None if _is_nan(v) else v) for k, v in row.items()}) + "\n")
+                fh.write(json_text(row) + "\n")
 
     return done, save, path
-
-
-def _is_nan(v):
-    return isinstance(v, float) and not np.isfinite(v)
 
 
 def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
@@ -476,8 +454,9 @@ def run_scaling(cfg, scaling_json, log=print):
     out = workprecision.scaling_study(s["sizes"], s["thread_points"], runs, s["alpha_fit_min"], eps, xi)
     out["machine"] = machine_info()
     out["ridge_grid"] = f"{eps.size} x {xi.size} (the surface stage's default grid)"
+    out.update(result_attrs(cfg, "bench: scaling"))
     log(f"scaling: grid exponent {out['grid_fit']['exponent']:.3f}, ridge {out['ridge']}")
-    write_json(scaling_json, out)
+    write_json_atomic(scaling_json, out)
 
 
 def grid_description(cfg):

@@ -12,6 +12,7 @@ import xarray as xr
 
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, STATE_CODES
 from contactalpha.engine.driver import impact
+from contactalpha.io import json_text
 from contactalpha.models import MODELS, alpha
 
 # Panels of the paper's Fig. 9.
@@ -75,9 +76,7 @@ def post_vs_pre(models, xis, eps_pre, *, rtol=1e-12, atol=1e-14):
 
 def json_legend():
     """End-state legend as a JSON string, for dataset attributes."""
-    import json
-
-    return json.dumps(END_STATES)
+    return json_text(END_STATES)
 
 
 def max_deviation(ds):

@@ -7,11 +7,11 @@ content of ``results/fit/coefficients.json``); ``comparison_markdown`` and
 All numbers in the markdown come from the dict, none are typed by hand.
 """
 
-import json
 from datetime import UTC, datetime
 
 import numpy as np
 
+from contactalpha.io import jsonable
 from contactalpha.models import shen
 from contactalpha.paper.fit import compute as fit
 from contactalpha.version import __version__
@@ -133,7 +133,7 @@ def refit_report(ds, **settings):
         report["eq26"] = _fit_entry(fits["eq26"], fit.verdicts(fits["eq26"], shen.EQ26_PUBLISHED, k))
         report["eq26"]["xi"] = fits["eq26"].extra["xi"]
         report["eq26"]["eps_max"] = fits["eq26"].extra["eps_max"]
-    return _jsonable(report), fits
+    return jsonable(report), fits
 
 
 def _surface_info(ds):
@@ -203,18 +203,6 @@ def _lambda_entry(points, refit):
     return out
 
 
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None
-    return obj
-
-
 def package_coefficients(report):
     """The refit constants shipped as ``contactalpha/data/shen_refit.json`` (model ``shen_refit``)."""
     constants = dict(shen.PUBLISHED)
@@ -228,11 +216,6 @@ def package_coefficients(report):
         "surface": report["surface"],
         "generated": report["generated"],
     }
-
-
-def dumps(obj):
-    """JSON text of a report (sorted keys off: the order is the reading order)."""
-    return json.dumps(obj, indent=1, allow_nan=False) + "\n"
 
 
 def _fmt(x, digits=4):

@@ -12,7 +12,6 @@ The grid is built from the workflow's ``surface`` config section
 cannot (unsorted values, ranges that do not fit their step).
 """
 
-import json
 import time
 
 import numpy as np
@@ -38,6 +37,7 @@ from contactalpha.engine.codes import (
 )
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.solver import EPS_TOL, solve_table
+from contactalpha.io import json_text
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.validation import check_eps, check_xi
 from contactalpha.version import __version__
@@ -388,7 +388,7 @@ def merge_chunks(paths, config=None):
     merged.attrs.update(
         {key: first[key] for key in ("solver", "tol", "rtol", "atol", "max_steps", "contactalpha_version")},
         git_commit=git_commit(),
-        config=json.dumps(config if config is not None else {}, sort_keys=True),
+        config=json_text(config if config is not None else {}, sort_keys=True),
         chunks=chunks,
         compute_seconds=compute,
         wall_seconds=finished - started,

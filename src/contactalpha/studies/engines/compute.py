@@ -22,7 +22,6 @@ should produce (``eps_package``), so an engine is judged against the target and 
 model of what it computes.
 """
 
-import json
 import time
 from dataclasses import asdict, replace
 
@@ -33,8 +32,9 @@ from contactalpha.adapters import exudyn_contact, opensim_hc
 from contactalpha.engine.codes import END_STATES, SEPARATION, STATE_CODES
 from contactalpha.engine.driver import impact
 from contactalpha.engine.solver import solve_alpha
+from contactalpha.io import json_text
 from contactalpha.models.registry import hunt_crossley
-from contactalpha.provenance import git_commit, history_line
+from contactalpha.provenance import result_attrs
 from contactalpha.scene.ball import Scene, simulate
 from contactalpha.scene.engine_conventions import (
     exudyn_alpha,
@@ -42,7 +42,6 @@ from contactalpha.scene.engine_conventions import (
     opensim_alpha,
     opensim_dissipation,
 )
-from contactalpha.version import __version__
 
 # Runs of each engine: name -> (engine input, what it is).  The order is the table's.
 RUNS = {
@@ -86,11 +85,8 @@ def scene_from_config(scene):
 def provenance(config, step, versions):
     """Attributes every result of this study carries."""
     return {
-        "package_version": __version__,
-        "git_commit": git_commit(),
-        "config": json.dumps(config, sort_keys=True, default=str),
-        "history": history_line(step),
-        "engine_versions": json.dumps(versions, sort_keys=True),
+        **result_attrs(config, step),
+        "engine_versions": json_text(versions, sort_keys=True),
     }
 
 
@@ -215,8 +211,8 @@ def round_trip(engine, scene, eps_values, forces, settings, config=None):
     ds.attrs.update(
         {
             "engine": engine,
-            "scene": json.dumps(asdict(scene)),
-            "settings": json.dumps(settings, sort_keys=True),
+            "scene": json_text(asdict(scene)),
+            "settings": json_text(settings, sort_keys=True),
             "seconds_total": time.perf_counter() - start,
         }
     )
@@ -305,9 +301,9 @@ def case_a(scene, model="exact", settings=None, config=None):
     ds.attrs.update(provenance(config or {}, "case A in OpenSim", {"opensim": engine_version("opensim")}))
     ds.attrs.update(
         {
-            "scene": json.dumps(asdict(scene)),
+            "scene": json_text(asdict(scene)),
             "model": model,
-            "settings": json.dumps(settings, sort_keys=True),
+            "settings": json_text(settings, sort_keys=True),
             "opensim_count": engine["count"],
             "opensim_rebounds": engine["rebounds"],
             "opensim_rest_time": engine["rest_time"],
