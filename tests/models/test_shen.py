@@ -139,3 +139,23 @@ def test_eq26_peak_alpha_restitutes_far_above_region_one():
     eps = restitution(peak, 0.2)
     assert eps == pytest.approx(impact_scipy(peak, 0.2).eps, abs=1e-8)
     assert eps > 0.2
+
+
+def test_each_paper_formula_is_the_one_the_models_use():
+    eps = np.array([0.05, 0.3, 0.7, 0.99])
+    # Hu & Guo's model is Eq. 25 to the bit; Eq. 39's first term is Eq. 26 times (1 - eps)^a.
+    assert np.array_equal(models.alpha(eps, 0.4, model="hu_guo"), shen.eq25(eps))
+    np.testing.assert_allclose(
+        shen.first_term(eps, 0.1, 0.2, 0.3, 6.0), shen.eq26(eps, 0.1, 0.2, 0.3) * (1 - eps) ** 6
+    )
+    # The printed digits of Eq. 40's first term: tau = 1 - xi^0.05, width 0.1568 xi^0.9.
+    assert shen.printed_tau(0.2) == 1.0 - 0.2**0.05
+    assert shen.printed_width(0.2) == 0.1568 * 0.2**0.9
+    first, _ = shen.eq40_terms(eps, 0.2, reading="sigma_a6")
+    expected = shen.first_term(eps, 1.0 - 0.2**0.05, 0.1568 * 0.2**0.9, shen.PUBLISHED["beta"], 6.0)
+    assert np.array_equal(first, expected)
+
+
+def test_unknown_reading_is_refused_by_name():
+    with pytest.raises(ValueError, match="sigma_a6"):
+        shen.check_reading("sigma_a7")

@@ -9,6 +9,7 @@ import yaml
 import contactalpha
 from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.io import load_surface, write_dataset_atomic, write_text_atomic
+from contactalpha.models import shen
 from contactalpha.paper.surface.compute import (
     VARIABLES,
     check_surface_config,
@@ -18,8 +19,6 @@ from contactalpha.paper.surface.compute import (
     grid_from_config,
     log_progress,
     merge_chunks,
-    paper_eq25,
-    paper_eq26,
     section_regions,
 )
 from contactalpha.paper.surface.report import surface_summary
@@ -255,8 +254,8 @@ def test_load_surface_rejects_other_files(surface, tmp_path):
 
 
 def test_paper_equations_and_regions():
-    np.testing.assert_allclose(paper_eq25([0.5, 0.2]), [1.5, 6.0])
-    np.testing.assert_allclose(paper_eq26(0.1, tau=0.01, sigma=0.011, beta=0.113), np.exp(-1.1) / 0.113)
+    np.testing.assert_allclose(shen.eq25([0.5, 0.2]), [1.5, 6.0])
+    np.testing.assert_allclose(shen.eq26(0.1, tau=0.01, sigma=0.011, beta=0.113), np.exp(-1.1) / 0.113)
     states = [STATE_CODES[n] for n in ("creep", "no_restitution", "nonseparation", "separation", "failed")]
     np.testing.assert_array_equal(section_regions(states), [1, 1, 2, 3, 0])
 

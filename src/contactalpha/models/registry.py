@@ -14,7 +14,7 @@ import numpy as np
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.validation import check_eps, check_xi
 
-from .shen import shen_published, shen_refit
+from .shen import eq25, shen_published, shen_refit
 
 
 @dataclass(frozen=True)
@@ -56,7 +56,7 @@ def flores(eps, xi=0.0):
 
 def hu_guo(eps, xi=0.0):
     """Hu & Guo (2015), Mech. Mach. Theory 85; paper Eq. 25: alpha = 3 (1 - eps) / (2 eps).  Ignores xi."""
-    return 1.5 * (1.0 - eps) / eps + 0.0 * xi
+    return eq25(eps) + 0.0 * xi
 
 
 def gonthier(eps, xi=0.0):

@@ -97,7 +97,8 @@ READINGS = {
 BEST_READING = "sigma_a6"
 
 
-def _reading(reading):
+def check_reading(reading):
+    """``reading`` if it is a key of ``READINGS``; ValueError naming the valid ones otherwise."""
     if reading not in READINGS:
         raise ValueError(f"reading = {reading!r} is not one of the valid readings {sorted(READINGS)}")
     return reading
@@ -111,7 +112,7 @@ def reading_constants(reading=BEST_READING):
         "beta_a6": ["tau_one", "tau_exp", "width_coef", "width_exp", "a"],
         "beta_a0": ["tau_one", "tau_exp", "width_coef", "width_exp"],
         "none": [],
-    }[_reading(reading)]
+    }[check_reading(reading)]
     return first + SECOND_TERM
 
 
@@ -182,9 +183,31 @@ def exponent_b(eps, xi, c=PUBLISHED):
     return -(eps ** (xi ** c["b_xi_exp"]) + c["b_xi_coef"] * xi - c["b_const"])
 
 
+def eq25(eps):
+    """Eq. 25, Hu & Guo's alpha (the paper's alpha_initial): ``3 (1 - eps) / (2 eps)``."""
+    eps = np.asarray(eps, dtype=float)
+    return 1.5 * (1.0 - eps) / eps
+
+
 def eq26(eps, tau, sigma, beta):
     """EXP of Eq. 26: ``exp(-(eps + tau)^2 / sigma) / beta``."""
     return np.exp(-((np.asarray(eps, dtype=float) + tau) ** 2) / sigma) / beta
+
+
+def first_term(eps, tau, sigma, beta, a):
+    """Eq. 39's first term: ``exp(-(eps + tau)^2 / sigma) (1 - eps)^a / beta`` (Eq. 26 times (1 - eps)^a)."""
+    eps = np.asarray(eps, dtype=float)
+    return np.exp(-((eps + tau) ** 2) / sigma) * (1.0 - eps) ** a / beta
+
+
+def printed_tau(xi, c=PUBLISHED):
+    """Tau of Eq. 40's first term as printed: ``1 - xi^0.05``."""
+    return c["tau_one"] - np.asarray(xi, dtype=float) ** c["tau_exp"]
+
+
+def printed_width(xi, c=PUBLISHED):
+    """The printed ``0.1568 xi^0.9`` of Eq. 40's first term (sigma or beta, by reading)."""
+    return c["width_coef"] * np.asarray(xi, dtype=float) ** c["width_exp"]
 
 
 def eq39(eps, xi, *, tau, sigma, beta, a, lam, b, eta_c, eta_r, energy_coef=ENERGY_COEF):
@@ -196,7 +219,7 @@ def eq39(eps, xi, *, tau, sigma, beta, a, lam, b, eta_c, eta_r, energy_coef=ENER
     eps = np.asarray(eps, dtype=float)
     l25 = np.asarray(lam, dtype=float) ** 2.5
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        first = np.exp(-((eps + tau) ** 2) / sigma) * (1.0 - eps) ** a / beta
+        first = first_term(eps, tau, sigma, beta, a)
         second = (
             energy_coef
             * (1.0 - eps**2 - l25)
@@ -208,9 +231,8 @@ def eq39(eps, xi, *, tau, sigma, beta, a, lam, b, eta_c, eta_r, energy_coef=ENER
 
 def first_term_params(xi, c=PUBLISHED, reading=BEST_READING):
     """(tau, sigma, beta, a) of Eq. 39's first term under a reading of Eq. 40."""
-    xi = np.asarray(xi, dtype=float)
-    tau = c["tau_one"] - xi ** c["tau_exp"]
-    width = c["width_coef"] * xi ** c["width_exp"]
+    tau = printed_tau(xi, c)
+    width = printed_width(xi, c)
     if reading.startswith("sigma"):
         return tau, width, c["beta"], c["a"] if reading == "sigma_a6" else 0.0
     return tau, 1.0, width, c["a"] if reading == "beta_a6" else 0.0
@@ -218,7 +240,7 @@ def first_term_params(xi, c=PUBLISHED, reading=BEST_READING):
 
 def eq40_terms(eps, xi, c=PUBLISHED, reading=BEST_READING):
     """The two terms of Eq. 40 for 0 < xi < 1, without validation: ``(first, second)``."""
-    _reading(reading)
+    check_reading(reading)
     eps, xi = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
     lam = lambda_eq40(eps, xi, c)
     second = eq39(
@@ -238,7 +260,7 @@ def eq40_terms(eps, xi, c=PUBLISHED, reading=BEST_READING):
         return np.zeros_like(second), second
     tau, sigma, beta, a = first_term_params(xi, c, reading)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        first = np.exp(-((eps + tau) ** 2) / sigma) * (1.0 - eps) ** a / beta
+        first = first_term(eps, tau, sigma, beta, a)
     return first, second
 
 

@@ -357,8 +357,8 @@ def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A):
     sw = np.ones_like(eps) if weight is None else np.sqrt(weight)
     names = ["tau", "sigma", "beta", "b", "eta"]
     logged = np.array([False, True, True, False, True])
-    width = shen.PUBLISHED["width_coef"] * xi ** shen.PUBLISHED["width_exp"]
-    tau = shen.PUBLISHED["tau_one"] - xi ** shen.PUBLISHED["tau_exp"]
+    width = shen.printed_width(xi)
+    tau = shen.printed_tau(xi)
     starts = ([tau, width, 1.0, 0.0, 1.0], [tau, 1.0, width, 0.0, 1.0], [0.01, 0.011, 0.113, 0.0, 1.0])
 
     def to_internal(v):
@@ -429,14 +429,14 @@ def reading_evidence(slices, share_min=0.1):
             continue
         v, x = f.values(), f.extra["xi"]
         e0 = f.extra["eps_min"]
-        first = shen.eq26(e0, v["tau"], v["sigma"], v["beta"]) * (1 - e0) ** SLICE_A
+        first = shen.first_term(e0, v["tau"], v["sigma"], v["beta"], SLICE_A)
         if first / (first + f.extra["second_at_min"]) < share_min:
             continue
-        width = shen.PUBLISHED["width_coef"] * x ** shen.PUBLISHED["width_exp"]
+        width = shen.printed_width(x)
         used.append(x)
         ls.append(abs(np.log(v["sigma"] / width)))
         lb.append(abs(np.log(v["beta"] / width)))
-        lt.append(abs(v["tau"] - (shen.PUBLISHED["tau_one"] - x ** shen.PUBLISHED["tau_exp"])))
+        lt.append(abs(v["tau"] - shen.printed_tau(x)))
     if not used:
         nan = float("nan")
         return {"sections": [], "sigma_score": nan, "beta_score": nan, "tau_score": nan, "role": "none"}

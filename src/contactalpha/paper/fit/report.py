@@ -74,7 +74,7 @@ def refit_report(ds, **settings):
         raise ValueError(f"unknown fit settings {sorted(unknown)}; valid: {sorted(DEFAULTS)}")
     cfg = {**DEFAULTS, **settings}
     for r in cfg["readings"]:
-        shen._reading(r)
+        shen.check_reading(r)
     loaded, unloaded, excluded = fit.surface_points(ds, weights=cfg["weights"])
     if len(loaded) == 0:
         raise ValueError(f"the surface has no valid point with xi > 0 to fit; {excluded.describe()}")
@@ -368,8 +368,8 @@ def readings_markdown(report):
         c, x = s["constants"], s["xi"]
         srows.append(
             f"| {x:.4g} | {_fmt(c['tau'], 3)} | {_fmt(c['sigma'], 3)} | {_fmt(c['beta'], 3)} "
-            f"| {_fmt(c['b'], 3)} | {_fmt(c['eta'], 3)} | {_fmt(0.1568 * x**0.9, 3)} "
-            f"| {_fmt(1 - x**0.05, 3)} | {_fmt(s['rms'], 3)} | "
+            f"| {_fmt(c['b'], 3)} | {_fmt(c['eta'], 3)} | {_fmt(shen.printed_width(x), 3)} "
+            f"| {_fmt(shen.printed_tau(x), 3)} | {_fmt(s['rms'], 3)} | "
             f"{', '.join(s['at_bound']) or '–'} |"
         )
     role = ev["role"]

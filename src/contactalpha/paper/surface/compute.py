@@ -298,18 +298,6 @@ def _to_dataset(eps, xi, table):
     return ds
 
 
-def paper_eq26(eps, tau, sigma, beta):
-    """The paper's Eq. 26, ``EXP = exp(-(eps + tau)^2 / sigma) / beta`` (region I at one xi)."""
-    eps = np.asarray(eps, dtype=float)
-    return np.exp(-((eps + tau) ** 2) / sigma) / beta
-
-
-def paper_eq25(eps):
-    """The paper's Eq. 25 (Hu & Guo's alpha, its alpha_initial): ``3 (1 - eps) / (2 eps)``."""
-    eps = np.asarray(eps, dtype=float)
-    return 1.5 * (1.0 - eps) / eps
-
-
 def section_regions(state):
     """Regions I, II, III of the paper's Fig. 5 along a section, from the end states.
 

@@ -12,9 +12,10 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.patches import Patch
 
 from contactalpha.engine.codes import END_STATES, STATE_CODES
+from contactalpha.models import shen
 from contactalpha.plotting import new_figure
 
-from .compute import XI_MATCH, paper_eq25, paper_eq26, section_regions
+from .compute import XI_MATCH, section_regions
 
 # Below this xi the symlog axis is linear: half a cell below the smallest log-spaced xi.
 XI_LINTHRESH = 1e-5
@@ -127,8 +128,8 @@ def plot_section(ds, xi, *, tau, sigma, beta):
     alpha = section["alpha"].values
     ok = section["status"].values == 0
     regions = np.where(ok, section_regions(section["state"].values), 0)
-    eq25 = paper_eq25(eps)
-    eq26 = paper_eq26(eps, tau, sigma, beta)
+    eq25 = shen.eq25(eps)
+    eq26 = shen.eq26(eps, tau, sigma, beta)
     fig, (top, bottom) = new_figure(1, 2, width=5.0, aspect=1.05, sharex=True, height_ratios=[2, 1])
     for ax in (top, bottom):
         for region, lo, hi in _region_spans(eps, regions):

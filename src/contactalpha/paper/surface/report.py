@@ -5,8 +5,9 @@ from datetime import UTC, datetime
 import numpy as np
 
 from contactalpha.engine.codes import END_STATES, STATUS
+from contactalpha.models.shen import eq25, eq26
 
-from .compute import XI_MATCH, paper_eq25, paper_eq26, section_regions
+from .compute import XI_MATCH, section_regions
 
 # Failed points listed one by one in the summary; the rest are counted.
 MAX_FAILED_LISTED = 30
@@ -103,12 +104,12 @@ def _failures(ds):
     return lines
 
 
-def _section(ds, xi, eq26):
+def _section(ds, xi, eq26_constants):
     section = ds.sel(xi=xi, method="nearest", tolerance=XI_MATCH)
     eps, alpha = section["epsilon"].values, section["alpha"].values
     regions = np.where(section["status"].values == 0, section_regions(section["state"].values), 0)
-    ratio25 = alpha / paper_eq25(eps)
-    ratio26 = alpha / paper_eq26(eps, **eq26)
+    ratio25 = alpha / eq25(eps)
+    ratio26 = alpha / eq26(eps, **eq26_constants)
     lines = [
         f"## Section xi = {xi:g} (Fig. 5)",
         "",
@@ -130,8 +131,9 @@ def _section(ds, xi, eq26):
         )
     lines += [
         "",
-        f"Eq. 26 with tau = {eq26['tau']:g}, sigma = {eq26['sigma']:g}, beta = {eq26['beta']:g}: "
-        f"at eps = {_fmt(eps[0])} it gives {_fmt(paper_eq26(eps[0], **eq26))} "
+        f"Eq. 26 with tau = {eq26_constants['tau']:g}, sigma = {eq26_constants['sigma']:g}, "
+        f"beta = {eq26_constants['beta']:g}: "
+        f"at eps = {_fmt(eps[0])} it gives {_fmt(eq26(eps[0], **eq26_constants))} "
         f"where the surface has {_fmt(alpha[0])}.",
     ]
     return lines
