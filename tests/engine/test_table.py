@@ -150,3 +150,21 @@ def test_models_that_ignore_load_say_so():
 )
 def test_classical_formulas(name, value):
     assert ca.alpha(0.4, 0.0, model=name) == pytest.approx(value, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    "eps, xi, match",
+    [
+        (np.full(3, 0.5), np.full(4, 0.2), "shape mismatch"),
+        (0.5 + 1j, 0.2, "eps = .* is complex"),
+        (1.5, 0.2, r"eps = 1.5 is outside the valid range \[0.01, 1.0\]"),
+        (np.nan, 0.2, "eps = nan"),
+        (0.5, 1.0, "xi = 1.0"),
+    ],
+)
+def test_exact_model_adds_the_exact_solve_hint_only_where_exact_solve_covers_the_point(eps, xi, match):
+    with pytest.raises(ValueError, match=match) as err:
+        ca.alpha(eps, xi, model="exact")
+    assert "exact_solve" not in str(err.value)
+    with pytest.raises(ValueError, match=r"xi = 0.995 .*'exact_solve' covers the rest"):
+        ca.alpha(0.5, 0.995, model="exact")

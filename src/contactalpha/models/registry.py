@@ -84,7 +84,21 @@ def exact_tabulated(eps, xi):
     try:
         return alpha_tabulated(eps, xi)
     except ValueError as exc:
+        if not _solvable_off_table(eps, xi):
+            raise  # bad input or shapes: the hint would mislead
         raise ValueError(f"{exc} of the exact table; model='exact_solve' covers the rest") from None
+
+
+def _solvable_off_table(eps, xi):
+    """True when some valid target ``(eps, xi)`` lies outside the table only, so ``exact_solve`` covers it."""
+    from contactalpha.engine.table import EPS_MIN, XI_MAX
+
+    try:
+        e, x = np.broadcast_arrays(check_eps(eps), check_xi(xi))
+    except ValueError:
+        return False  # not a table-domain error; the caller re-raises the original
+    off = (e < EPS_MIN) | (x > XI_MAX)
+    return bool(np.any(off & ~((e == 0.0) & (x == 0.0))))
 
 
 def exact_surface(eps, xi):
