@@ -1,7 +1,7 @@
 """Refit Eqs. 26, 34, 39 and 40 to the surface and compare with the published constants.
 
 Settings (snakemake.params): readings, weights, loss, verdict_k, eq26 (xi, eps_max, or null),
-restitution (see contactalpha.paper.fit.report.DEFAULTS).
+restitution (see contactalpha.paper.fit.report.FitSettings).
 Inputs: results/surface.h5.
 Outputs: coefficients (JSON report), comparison (markdown table), readings (evidence note on
 Eq. 40's damaged term), package (refit constants; rule fit_ship copies them into the package).

@@ -9,7 +9,7 @@ package version, git commit and build time in its metadata.
 
 import time
 
-from contactalpha.engine.table_build import build_table, save_table
+from contactalpha.engine.table_build import TableSettings, build_table, save_table
 from contactalpha.io import script_logger
 from contactalpha.provenance import git_commit
 from contactalpha.version import __version__
@@ -18,9 +18,8 @@ sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_table", sm.log[0])
 p = dict(sm.params.table)
 start = time.perf_counter()
-table = build_table(
-    p["n_eta"], p["n_p"], p["refine_n"], tol=p["tol"], rtol=p["rtol"], atol=p["atol"], progress=log.info
-)
+s = TableSettings(**p)
+table = build_table(s.n_eta, s.n_p, s.refine_n, tol=s.tol, rtol=s.rtol, atol=s.atol, progress=log.info)
 wall = time.perf_counter() - start
 save_table(table, sm.output[0], wall_time_s=wall, contactalpha_version=__version__, git_commit=git_commit())
 log.info(f"table built in {wall:.1f} s: {sm.output[0]}")

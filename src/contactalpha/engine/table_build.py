@@ -6,6 +6,7 @@ interpolating quintic tensor splines, re-expressed on uniform knots so that the
 jitted evaluator needs no knot search.
 """
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,31 @@ B_FLOOR = U_MIN - 2.0
 B_SOFTNESS = 0.1
 # Below this xi the boundary lies far under B_FLOOR and is not searched for.
 XI_BOUNDARY_MIN = 1e-6
+
+
+@dataclass(frozen=True)
+class TableSettings:
+    """Grid and solver settings of ``build_table``; the defaults build the shipped table.
+
+    They are the defaults of the workflow's ``models.table`` section
+    (``workflow/schemas/config.schema.yaml``; tests/workflow/test_settings.py diffs the two).
+    """
+
+    n_eta: int = 277
+    n_p: int = 101
+    refine_n: int = 3
+    tol: float = 1e-13
+    rtol: float = 1e-12
+    atol: float = 1e-14
+
+
+@dataclass(frozen=True)
+class TableCheckSettings:
+    """Settings of the table check (``check_table``); defaults of the ``models.check`` section."""
+
+    points: int = 2000
+    seed: int = 0
+    max_rel_err: float = 1e-6
 
 
 def xi_of_eta(eta):
@@ -97,7 +123,16 @@ def _node_values(eps, xi, tol, rtol, atol):
     return L
 
 
-def build_table(n_eta=277, n_p=101, refine_n=2, *, tol=1e-13, rtol=1e-12, atol=1e-14, progress=None):
+def build_table(
+    n_eta=TableSettings.n_eta,
+    n_p=TableSettings.n_p,
+    refine_n=TableSettings.refine_n,
+    *,
+    tol=TableSettings.tol,
+    rtol=TableSettings.rtol,
+    atol=TableSettings.atol,
+    progress=None,
+):
     """Compute the table: boundary, region S and region N node values, splines.
 
     Parameters
@@ -200,7 +235,7 @@ def random_points(n, seed):
     return eps, xi
 
 
-def check_table(path, *, n=2000, seed=0, shipped=DEFAULT_FILE):
+def check_table(path, *, n=TableCheckSettings.points, seed=TableCheckSettings.seed, shipped=DEFAULT_FILE):
     """Accuracy of the table at ``path`` against ``solve_alpha``, and its distance to the shipped table.
 
     Returns

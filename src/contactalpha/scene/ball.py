@@ -79,6 +79,18 @@ CONTACT_MAX_ROWS = 200_000
 # Samples of each flight parabola in the time series (flights are exact, so
 # this only sets how smooth the plotted curve is).
 FLIGHT_SAMPLES = 40
+
+
+@dataclass(frozen=True)
+class ContactNumerics:
+    """Integrator settings of every contact (``simulate``'s defaults; the ``ball.numerics`` section)."""
+
+    rtol: float = RTOL
+    atol: float = ATOL
+    max_step: float = CONTACT_MAX_STEP
+    flight_samples: int = FLIGHT_SAMPLES
+
+
 # Guard against a runaway loop; case B at the default time limit needs ~100.
 MAX_COLLISIONS = 100_000
 # Cases of the paper's Fig. 11: A keeps the external forces in the contact

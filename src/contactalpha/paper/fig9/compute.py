@@ -7,6 +7,8 @@ checks of the paper's statements about Fig. 9 (end of Sect. 5) are written
 here as explicit, numeric criteria.
 """
 
+from dataclasses import dataclass, field
+
 import numpy as np
 import xarray as xr
 
@@ -15,11 +17,7 @@ from contactalpha.engine.driver import impact
 from contactalpha.io import json_text
 from contactalpha.models import MODELS, alpha
 
-# Panels of the paper's Fig. 9.
-FIG9_XI = (0.0, 0.016, 0.227, 0.429, 0.665, 0.91)
-# The five models the paper compares, in its order.
-FIG9_MODELS = ("hunt_crossley", "lankarani_nikravesh", "flores", "hu_guo", "shen_published")
-# The classical models among them (derived without external forces).
+# The classical models the paper compares, in its order (derived without external forces).
 CLASSICAL = ("hunt_crossley", "lankarani_nikravesh", "flores", "hu_guo")
 # A deviation |post - pre| above this counts as "obvious" in the statement checks.
 OBVIOUS = 0.05
@@ -29,7 +27,23 @@ LOW_EPS = 0.3
 HIGH_EPS = 0.9
 
 
-def post_vs_pre(models, xis, eps_pre, *, rtol=1e-12, atol=1e-14):
+@dataclass(frozen=True)
+class Fig9Settings:
+    """Settings of Fig. 9; the defaults are the ``models.fig9`` section's (the paper's panels).
+
+    ``eps`` is a range ``{start, stop, step}`` of pre-restitution coefficients.
+    """
+
+    xi: tuple = (0.0, 0.016, 0.227, 0.429, 0.665, 0.91)
+    models: tuple = (*CLASSICAL, "shen_published", "shen_refit")
+    new_model: str = "shen_published"
+    reference: str = "exact"
+    eps: dict = field(default_factory=lambda: {"start": 0.01, "stop": 0.99, "step": 0.01})
+    rtol: float = 1e-12
+    atol: float = 1e-14
+
+
+def post_vs_pre(models, xis, eps_pre, *, rtol=Fig9Settings.rtol, atol=Fig9Settings.atol):
     """Post-restitution eps for every (model, xi, eps_pre).
 
     Returns
@@ -107,7 +121,7 @@ def _dev(ds, model, xi, eps_sel=None):
     return float(d.max())
 
 
-def fig9_statements(ds, *, new="shen_published", reference="exact"):
+def fig9_statements(ds, *, new=Fig9Settings.new_model, reference=Fig9Settings.reference):
     """The paper's conclusions about Fig. 9, each checked on ``ds`` (needs ``reference`` in ds.model).
 
     Returns a list of dicts with keys ``claim``, ``criterion``, ``evidence`` and

@@ -7,6 +7,7 @@ content of ``results/fit/coefficients.json``); ``comparison_markdown`` and
 All numbers in the markdown come from the dict, none are typed by hand.
 """
 
+from dataclasses import asdict, dataclass, field, fields
 from datetime import UTC, datetime
 
 import numpy as np
@@ -16,17 +17,25 @@ from contactalpha.models import shen
 from contactalpha.paper.fit import compute as fit
 from contactalpha.version import __version__
 
-# Default fit settings (the workflow's ``fit`` config section overrides them).
-DEFAULTS = {
-    "readings": list(shen.READINGS),
-    "weights": "area",
-    "loss": "linear",
-    "verdict_k": fit.VERDICT_K,
-    "eq26": {"xi": 0.2, "eps_max": fit.EQ26_EPS_MAX},
-    "restitution": True,
-    "max_nfev": fit.MAX_NFEV,
-    "coarse_stride": fit.COARSE_STRIDE,
-}
+
+@dataclass(frozen=True)
+class FitSettings:
+    """Settings of ``refit_report``; the defaults are the workflow's ``fit`` section's.
+
+    ``max_nfev`` and ``coarse_stride`` are library-only (not in the config): the evaluation
+    budget of each Eq. 40 fit and its continuation (``fit.fit_eq40_surface``).
+    """
+
+    readings: tuple = tuple(shen.READINGS)
+    weights: str = "area"
+    loss: str = "linear"
+    verdict_k: float = fit.VERDICT_K
+    eq26: dict | None = field(default_factory=lambda: {"xi": 0.2, "eps_max": fit.EQ26_EPS_MAX})
+    restitution: bool = True
+    max_nfev: int = fit.MAX_NFEV
+    coarse_stride: int = fit.COARSE_STRIDE
+
+
 # Order and labels of the models in the comparison table.
 MODEL_LABELS = {
     "published": "Eq. 40 as published (beta = 1 as printed)",
@@ -48,7 +57,7 @@ def refit_report(ds, **settings):
     ds : xarray.Dataset
         The alpha surface.
     **settings
-        Overrides of ``DEFAULTS``: ``readings`` (keys of ``shen.READINGS``
+        Overrides of ``FitSettings``: ``readings`` (keys of ``shen.READINGS``
         refitted for the evidence), ``weights``, ``loss``, ``verdict_k``,
         ``eq26`` (``{"xi", "eps_max"}`` or None to skip), ``restitution``
         (measure the error as restitution through the engine), ``max_nfev``
@@ -69,10 +78,12 @@ def refit_report(ds, **settings):
     ValueError
         For unknown settings, or a surface without valid loaded points.
     """
-    unknown = set(settings) - set(DEFAULTS)
+    valid = {f.name for f in fields(FitSettings)}
+    unknown = set(settings) - valid
     if unknown:
-        raise ValueError(f"unknown fit settings {sorted(unknown)}; valid: {sorted(DEFAULTS)}")
-    cfg = {**DEFAULTS, **settings}
+        raise ValueError(f"unknown fit settings {sorted(unknown)}; valid: {sorted(valid)}")
+    cfg = asdict(FitSettings(**settings))
+    cfg["readings"] = list(cfg["readings"])
     for r in cfg["readings"]:
         shen.check_reading(r)
     loaded, unloaded, excluded = fit.surface_points(ds, weights=cfg["weights"])

@@ -13,6 +13,7 @@ cannot (unsorted values, ranges that do not fit their step).
 """
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -53,6 +54,22 @@ BLOCK_POINTS = 400
 XI_MATCH = 1e-9
 # Seconds between two progress log lines.
 PROGRESS_EVERY = 5.0
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Root-finder and integrator settings of every surface point (``solve_alpha``'s own defaults).
+
+    They are the defaults of the workflow's ``surface.solver`` section
+    (tests/workflow/test_settings.py diffs the two).
+    """
+
+    tol: float = EPS_TOL
+    rtol: float = RTOL
+    atol: float = ATOL
+    max_steps: int = MAX_STEPS
+
+
 SOLVER_NAME = "contactalpha.solve_alpha: Newton on ln eps vs ln alpha, DOP853 impacts, exact at xi = 0"
 
 

@@ -1,0 +1,87 @@
+"""Each stage's settings object has the schema's defaults: one owner, diffed here."""
+
+import inspect
+from dataclasses import asdict, fields
+from pathlib import Path
+
+import pytest
+import yaml
+
+from contactalpha.engine.table_build import TableCheckSettings, TableSettings, build_table, check_table
+from contactalpha.paper.fig9.compute import Fig9Settings
+from contactalpha.paper.fit.report import FitSettings
+from contactalpha.paper.surface.compute import SolverSettings, compute_surface
+from contactalpha.scene.ball import ContactNumerics, Scene, simulate
+
+SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
+
+# Schema section -> (settings class, keys only the workflow has, fields only the library has).
+OWNERS = {
+    ("surface", "solver"): (SolverSettings, set(), set()),
+    ("models", "table"): (TableSettings, set(), set()),
+    ("models", "check"): (TableCheckSettings, set(), set()),
+    ("models", "fig9"): (Fig9Settings, set(), set()),
+    ("fit",): (FitSettings, {"package_coefficients"}, {"max_nfev", "coarse_stride"}),
+    ("ball", "numerics"): (ContactNumerics, set(), set()),
+}
+
+
+def _section(path):
+    node = yaml.safe_load(SCHEMA.read_text())
+    for key in path:
+        node = node["properties"][key]
+    return node
+
+
+def _default(node):
+    """The value an absent key takes: its default, with the defaults of an object's members filled in."""
+    value = node.get("default")
+    if node.get("type") == "object" and value == {}:
+        return {k: _default(v) for k, v in node["properties"].items()}
+    return value
+
+
+def _plain(value):
+    if isinstance(value, tuple | list):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+@pytest.mark.parametrize("path", list(OWNERS), ids=".".join)
+def test_settings_defaults_are_the_schema_defaults(path):
+    cls, workflow_only, library_only = OWNERS[path]
+    schema = {k: v for k, v in _default(_section(path)).items() if k not in workflow_only}
+    ours = {k: v for k, v in _plain(asdict(cls())).items() if k not in library_only}
+    assert ours == schema
+
+
+def test_scene_defaults_are_the_schema_defaults():
+    scene = _default(_section(("ball", "scene")))
+    cases = _default(_section(("ball", "cases")))
+    s = Scene()
+    assert {k: getattr(s, k) for k in scene} == scene
+    assert {k: getattr(s, k) for k in ("eps", "force", "t_end")} == {
+        k: cases[k] for k in ("eps", "force", "t_end")
+    }
+
+
+def _kwdefaults(fn):
+    return {n: p.default for n, p in inspect.signature(fn).parameters.items() if p.default is not p.empty}
+
+
+def test_library_defaults_are_the_settings_defaults():
+    # build_table(refine_n=2) once disagreed with the shipped table's 3.
+    d = _kwdefaults(build_table)
+    assert {f.name: d[f.name] for f in fields(TableSettings)} == asdict(TableSettings())
+    assert _kwdefaults(check_table)["n"] == TableCheckSettings().points
+    d = _kwdefaults(compute_surface)
+    assert {f.name: d[f.name] for f in fields(SolverSettings)} == asdict(SolverSettings())
+    d = _kwdefaults(simulate)
+    assert {f.name: d[f.name] for f in fields(ContactNumerics)} == asdict(ContactNumerics())
+
+
+def test_unknown_settings_are_refused():
+    with pytest.raises(TypeError):
+        TableSettings(refine=3)
