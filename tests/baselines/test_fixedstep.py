@@ -64,3 +64,37 @@ def test_creep_rest_tolerance_controls_the_stop():
 def test_bad_settings_raise_naming_the_value(kw, name):
     with pytest.raises(ValueError, match=name):
         impact_rk4(1.0, 0.2, **kw)
+
+
+def test_baseline_writes_its_own_force_law_and_load():
+    # A baseline that imported the engine's force law could not catch an error in it.
+    import ast
+    import inspect
+
+    import contactalpha.baselines.fixedstep as fixedstep
+
+    tree = ast.parse(inspect.getsource(fixedstep))
+    imported = {
+        (node.module, alias.name)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom)
+        for alias in node.names
+    }
+    engine = {name for module, name in imported if module and module.startswith("contactalpha.engine")}
+    assert engine <= {"END_STATES", "ImpactResult"}, engine
+
+
+@pytest.mark.parametrize("xi", [0.0, 1e-6, 0.2, 0.9])
+def test_own_load_and_rest_position_agree_with_the_paper(xi):
+    from contactalpha.baselines.fixedstep import acceleration, load_of_xi, rest_position
+
+    A = load_of_xi(xi)
+    # Eq. 10 scaled: xi = A x_m / (1/2 + A x_m) with x_m = (1 - xi)^(-2/5) the undamped maximum.
+    x_m = (1.0 - xi) ** -0.4
+    assert A * x_m / (0.5 + A * x_m) == pytest.approx(xi, rel=1e-14, abs=0)
+    if xi > 0:
+        assert acceleration(rest_position(A), 0.3, A, 0.0) == pytest.approx(0.0, abs=1e-14 * A)
+    # Hertz constant 5/4 and damping: x'' at x = 1, v = -2, alpha = 0.5 is A - 1.25 (1 - 1).
+    assert acceleration(1.0, -2.0, A, 0.5) == pytest.approx(A, abs=1e-15)
+    assert acceleration(1.0, 0.0, A, 0.5) == pytest.approx(A - 1.25, abs=1e-15)
+    assert acceleration(-1e-3, 5.0, A, 0.5) == A  # out of contact

@@ -8,8 +8,11 @@ impact equation (SCIENCE.md Sect. 2; paper Eq. 24 after scaling)
 stepped with the classical fourth-order Runge-Kutta method at a constant step
 ``h``, events found by a sign change of ``v`` or ``x`` over a step and placed
 on the step's cubic Hermite interpolant, and creep or no-restitution accepted
-once the state rests within ``rest_tol`` of the static equilibrium.  It shares
-no code with the adaptive engine.
+once the state rests within ``rest_tol`` of the static equilibrium.  Its force
+law, scaled load and equilibrium are written out again here (``acceleration``,
+``load_of_xi``, ``rest_position``) rather than imported from the engine, so a
+wrong constant in the engine shows up as a disagreement with this baseline; it
+borrows only the engine's names of end states and its result type.
 
 It fails in the ways explicit fixed-step methods fail, and says so in
 ``status`` rather than returning a plausible number:
@@ -26,9 +29,6 @@ import numpy as np
 from numba import njit
 
 from contactalpha.engine.driver import END_STATES, ImpactResult
-from contactalpha.engine.events import equilibrium
-from contactalpha.engine.rk import contact_acceleration as acceleration
-from contactalpha.engine.scaling import scaled_load
 from contactalpha.validation import check_alpha, check_count, check_range, check_xi
 
 # Status codes: shared meaning with ``impact.STATUS``, plus a missed event.
@@ -59,6 +59,26 @@ REST_TOL = 1e-9
 EVENT_BISECTIONS = 60
 # Number of fields returned by ``rk4_impact_kernel``.
 N_RK4_OUT = 10
+
+
+@njit(cache=True, error_model="numpy")
+def acceleration(x, v, A, alpha):
+    """Scaled Eq. 24: load minus Hertz force ``(5/4) x^1.5`` minus its damping ``alpha x' (5/4) x^1.5``."""
+    if x <= 0.0:
+        return A  # out of contact: the load alone
+    hertz = 1.25 * x**1.5
+    return A - hertz - alpha * v * hertz
+
+
+@njit(cache=True, error_model="numpy")
+def rest_position(A):
+    """Static equilibrium of the scaled contact, where ``(5/4) x^1.5 = A``."""
+    return (0.8 * A) ** (2.0 / 3.0)
+
+
+def load_of_xi(xi):
+    """Scaled load ``A = a delta_star / v0^2 = xi (1 - xi)^(-3/5) / 2`` (paper Eqs. 10, 11 scaled)."""
+    return 0.5 * xi / (1.0 - xi) ** 0.6
 
 
 @njit(cache=True, error_model="numpy")
@@ -140,7 +160,7 @@ def rk4_impact_kernel(alpha, A, h, max_steps, rest_tol):
         ``eps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev``.
     """
     out = np.full(N_RK4_OUT, np.nan)
-    xeq = equilibrium(A) if A > 0.0 else np.inf
+    xeq = rest_position(A) if A > 0.0 else np.inf
     x = 0.0
     v = 1.0
     t = 0.0
@@ -248,7 +268,7 @@ def impact_rk4(alpha, xi, *, h=STEP, max_steps=MAX_STEP_COUNT, rest_tol=REST_TOL
     h = float(check_range("h", h, 0.0, 1.0, lo_open=True))
     rest_tol = float(check_range("rest_tol", rest_tol, 0.0, 1e-3, lo_open=True))
     max_steps = check_count("max_steps", max_steps, 1, 1e10)
-    out = rk4_impact_kernel(alpha, float(scaled_load(xi)), h, max_steps, rest_tol)
+    out = rk4_impact_kernel(alpha, load_of_xi(xi), h, max_steps, rest_tol)
     status = int(out[2])
     return ImpactResult(
         eps=np.sqrt(out[0]) if status == OK else np.nan,
