@@ -274,10 +274,10 @@ def test_statements_report_every_claim(first, runs):
     a, b = (run_dataset(runs[c]) for c in ("A", "B"))
     rows = statements(first, a, b, "shen_zero_load", ["hunt_crossley", "flores", "hu_guo"])
     text = statements_markdown(rows)
-    assert all(r[3] in ("holds", "does not hold") for r in rows)
-    by_text = {r[0]: r for r in rows}
+    assert all(r.verdict in ("holds", "does not hold") for r in rows)
+    by_text = {r.claim: r for r in rows}
     xi_row = next(r for t, r in by_text.items() if t.startswith("The forces"))
-    assert xi_row[3] == "holds"
+    assert xi_row.verdict == "holds"
     assert "nan" not in text.lower()
     assert len(rows) >= 12
 

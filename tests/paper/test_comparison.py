@@ -9,6 +9,7 @@ from contactalpha.paper.fig9.compute import (
     nonseparation_mask,
     post_vs_pre,
 )
+from contactalpha.paper.statements import FAILS, HOLDS, NOT_CHECKED, PARTLY, statements_markdown, verdict
 
 EPS = np.array([0.05, 0.3, 0.6, 0.95])
 
@@ -45,6 +46,27 @@ def test_non_separating_ends_are_marked(ds):
 
 def test_statements_carry_verdicts(ds):
     st = fig9_statements(ds, new="hu_guo", reference="exact")
-    assert all(s["holds"] in ("holds", "partly", "does not hold") for s in st)
-    fixed = [s for s in st if "fixed when" in s["claim"]][0]
-    assert fixed["holds"] == "holds"
+    assert all(s.verdict in ("holds", "partly", "does not hold") for s in st)
+    fixed = [s for s in st if "fixed when" in s.claim][0]
+    assert fixed.verdict == "holds"
+
+
+def test_no_evidence_is_not_checked_never_holds():
+    assert verdict([]) == NOT_CHECKED
+    assert verdict([True, True]) == HOLDS and verdict([True, False]) == PARTLY and verdict([False]) == FAILS
+
+
+def test_claims_whose_panels_or_models_are_absent_are_not_checked(ds):
+    # Only the xi = 0.91 panel and no reference model: every claim about xi <= 0.016 or about
+    # end states against the exact alpha lacks its data.
+    st = fig9_statements(
+        ds.sel(xi=[0.91], model=["hunt_crossley", "hu_guo"]), new="hu_guo", reference="exact"
+    )
+    by_claim = {s.claim[:20]: s for s in st}
+    assert by_claim["Fig. 9(a, b): classi"].verdict == NOT_CHECKED
+    assert "ξ = 0 or 0.016" in by_claim["Fig. 9(a, b): classi"].evidence
+    assert by_claim["The incorrect dissip"].verdict == NOT_CHECKED
+    assert by_claim["Classical models kee"].verdict == NOT_CHECKED  # one panel cannot show alpha is fixed
+    assert by_claim["Fig. 9(e, f): fixed "].verdict in (HOLDS, PARTLY, FAILS)
+    text = statements_markdown(st, "Fig. 9")
+    assert f"{sum(s.verdict == NOT_CHECKED for s in st)} not checked" in text

@@ -21,4 +21,4 @@ notes = [
 ]
 rows = statements(first, a, b, new, json.loads(first.attrs["classical"]))
 write_text_atomic(sm.output[0], statements_markdown(rows, notes))
-log.info(f"{sum(r[3] == 'holds' for r in rows)} of {len(rows)} statements hold")
+log.info(f"{sum(r.verdict == 'holds' for r in rows)} of {len(rows)} statements hold")

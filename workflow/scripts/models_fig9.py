@@ -12,7 +12,8 @@ import numpy as np
 
 from contactalpha.io import json_text, script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
-from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre, statements_markdown
+from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre
+from contactalpha.paper.statements import statements_markdown
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.version import __version__
 
@@ -49,9 +50,6 @@ write_text_atomic(
 statements = fig9_statements(ds, new=p["new_model"], reference=p["reference"])
 write_text_atomic(
     sm.output.statements,
-    "# The paper's conclusions about Fig. 9, checked on our numbers\n\n"
-    + statements_markdown(statements)
-    + "\n"
-    + footer,
+    statements_markdown(statements, "The paper's conclusions about Fig. 9, checked on our numbers") + footer,
 )
 log.info("wrote %s, %s, %s", sm.output.data, sm.output.table, sm.output.statements)

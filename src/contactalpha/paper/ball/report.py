@@ -10,6 +10,8 @@ import json
 import numpy as np
 
 from contactalpha.engine.codes import SEPARATION
+from contactalpha.paper.statements import Statement, not_checked, verdict
+from contactalpha.paper.statements import statements_markdown as render_statements
 
 from .study import model_label, state_names
 
@@ -22,8 +24,6 @@ PAPER_XI = (0.021, 0.233, 0.799)
 PAPER_COUNT_A = 10
 # Collisions after which the paper says the accumulated loss error peaks.
 PAPER_PEAK_AFTER = 3
-HOLDS = "holds"
-FAILS = "does not hold"
 
 
 def loss_error(case_a, case_b):
@@ -114,10 +114,6 @@ def cases_markdown(runs, skipped=()):
     return "\n".join(lines) + "\n"
 
 
-def _verdict(ok):
-    return HOLDS if ok else FAILS
-
-
 def _state(ds, force_i, eps, model):
     j = int(np.argmin(np.abs(ds["epsilon"].values - eps)))
     k = list(ds["model"].values).index(model)
@@ -149,11 +145,19 @@ def _first_collision_statements(ds, new, classical):
         ours = ", ".join(_fmt(x, 4) for x in xi)
         ok = bool(np.all(np.abs(xi - np.array(PAPER_XI)) <= 1e-3))
         out.append(
-            (
+            Statement(
                 "The forces F = " + ", ".join(f"{f:g}" for f in forces) + " N give ξ = 0.021, 0.233, 0.799.",
                 "abs(ξ − paper) ≤ 1e-3",
                 f"ξ = {ours}",
-                _verdict(ok),
+                verdict([ok]),
+            )
+        )
+    else:
+        out.append(
+            not_checked(
+                "The forces F = 0.1, 60, 495 N give ξ = 0.021, 0.233, 0.799.",
+                "abs(ξ − paper) ≤ 1e-3",
+                f"{len(xi)} forces instead of the paper's {len(PAPER_XI)}",
             )
         )
     models_ = list(ds["model"].values)
@@ -170,11 +174,11 @@ def _first_collision_statements(ds, new, classical):
     rows = [spread(small, j, close_set) for j in range(ds.sizes["epsilon"])]
     worst = max(r[0] for r in rows)
     out.append(
-        (
+        Statement(
             f"At ξ = {_fmt(xi[small])} Flores, Hu–Guo and the new model give close results.",
             f"for every ε: spread of post-ε ≤ {CLOSE_EPS} and equal end states",
             f"largest spread {_fmt(worst)}; end states equal: {all(r[1] for r in rows)}",
-            _verdict(worst <= CLOSE_EPS and all(r[1] for r in rows)),
+            verdict([worst <= CLOSE_EPS and all(r[1] for r in rows)]),
         )
     )
     mid = int(np.argmin(np.abs(xi - PAPER_XI[1])))
@@ -184,24 +188,40 @@ def _first_collision_statements(ds, new, classical):
             s != SEPARATION for m, s in states.items() if m != "hunt_crossley"
         )
         out.append(
-            (
+            Statement(
                 f"At ξ = {_fmt(xi[mid])}, ε = 0.3 every model but Hunt–Crossley ends without separation.",
                 "Hunt–Crossley separates, all others do not",
                 ", ".join(f"{model_label(m)}: {state_names([s])[0]}" for m, s in states.items())
                 + _reference_state(ds, mid, 0.3),
-                _verdict(ok),
+                verdict([ok]),
+            )
+        )
+    else:
+        out.append(
+            not_checked(
+                f"At ξ = {_fmt(xi[mid])}, ε = 0.3 every model but Hunt–Crossley ends without separation.",
+                "Hunt–Crossley separates, all others do not",
+                "Hunt–Crossley or ε = 0.3",
             )
         )
     if _has_eps(ds, 0.5):
         states = {m: _state(ds, mid, 0.5, m)[0] for m in classical + [new]}
         ok = states[new] != SEPARATION and all(s == SEPARATION for m, s in states.items() if m != new)
         out.append(
-            (
+            Statement(
                 f"At ξ = {_fmt(xi[mid])}, ε = 0.5 only the new model ends without separation.",
                 "the new model does not separate, all others do",
                 ", ".join(f"{model_label(m)}: {state_names([s])[0]}" for m, s in states.items())
                 + _reference_state(ds, mid, 0.5),
-                _verdict(ok),
+                verdict([ok]),
+            )
+        )
+    else:
+        out.append(
+            not_checked(
+                f"At ξ = {_fmt(xi[mid])}, ε = 0.5 only the new model ends without separation.",
+                "the new model does not separate, all others do",
+                "ε = 0.5",
             )
         )
     pairs = [n for n in ("flores", "hu_guo") if n in models_]
@@ -210,11 +230,19 @@ def _first_collision_statements(ds, new, classical):
         rows = [spread(mid, j, pairs + [new]) for j in js]
         worst = max(r[0] for r in rows)
         out.append(
-            (
+            Statement(
                 f"At ξ = {_fmt(xi[mid])}, ε ≥ 0.7, Flores and Hu–Guo respond like the new model.",
                 f"spread of post-ε ≤ {CLOSE_EPS} and equal end states",
                 f"largest spread {_fmt(worst)}; end states equal: {all(r[1] for r in rows)}",
-                _verdict(worst <= CLOSE_EPS and all(r[1] for r in rows)),
+                verdict([worst <= CLOSE_EPS and all(r[1] for r in rows)]),
+            )
+        )
+    else:
+        out.append(
+            not_checked(
+                f"At ξ = {_fmt(xi[mid])}, ε ≥ 0.7, Flores and Hu–Guo respond like the new model.",
+                f"spread of post-ε ≤ {CLOSE_EPS} and equal end states",
+                "Flores and Hu–Guo" if not pairs else "ε ≥ 0.7",
             )
         )
     big = int(np.argmax(xi))
@@ -222,11 +250,11 @@ def _first_collision_statements(ds, new, classical):
     nonsep = int(np.sum(~sep[big][:, ks]))
     total = sep[big][:, ks].size
     out.append(
-        (
+        Statement(
             f"At ξ = {_fmt(xi[big], 4)} almost all results of the four models end without separation.",
             "more than half of the (model, ε) runs do not separate",
             f"{nonsep} of {total} do not separate",
-            _verdict(nonsep > total / 2),
+            verdict([nonsep > total / 2]),
         )
     )
     eps_grid = ds["epsilon"].values
@@ -238,27 +266,27 @@ def _first_collision_statements(ds, new, classical):
     n_diff = sum(x[2] for x in differs)
     close_pairs = ", ".join(f"{model_label(m)} at ε = {e:g}" for m, e, x in differs if not x)
     out.append(
-        (
+        Statement(
             f"At ξ = {_fmt(xi[big], 4)} all responses of Hunt–Crossley, Flores and Hu–Guo err obviously"
             " against the new model, even at ε close to 1.",
             f"for every ε, each of the three is not close to the new model (post-ε differs by > {CLOSE_EPS}"
             " or the end state differs)",
             f"{n_diff} of {len(differs)} (model, ε) responses differ"
             + (f"; close: {close_pairs}" if close_pairs else ""),
-            _verdict(n_diff == len(differs)),
+            verdict([n_diff == len(differs)]),
         )
     )
     four = classical + [new]
     err = np.abs(ds["eps_post"].values[:, :, [models_.index(m) for m in four]] - eps_grid[None, :, None])
     best = np.argmin(err, axis=2) == len(four) - 1
     out.append(
-        (
+        Statement(
             "Conclusion: the described model is more suitable for impact analysis.",
             "in every (ξ, ε) of the study, the new model's post-ε is the closest of the four to the ε asked",
             f"closest in {int(best.sum())} of {best.size}; largest error of the new model "
             f"{_fmt(err[:, :, -1].max())}, of the best classical model per case "
             f"{_fmt(err[:, :, :-1].min(axis=2).max())}",
-            _verdict(bool(best.all())),
+            verdict([bool(best.all())]),
         )
     )
     mono = {}
@@ -269,22 +297,22 @@ def _first_collision_statements(ds, new, classical):
         ok_eps = bool(np.all(np.diff(s.astype(int), axis=1) >= 0))
         mono[m] = ok_xi and ok_eps
     out.append(
-        (
+        Statement(
             "The larger ξ or the smaller ε, the harder the ball separates.",
             "for every model, separation at (ξ, ε) implies separation at smaller ξ and at larger ε",
             ", ".join(f"{model_label(m)}: {'monotone' if v else 'not monotone'}" for m, v in mono.items()),
-            _verdict(all(mono.values())),
+            verdict([all(mono.values())]),
         )
     )
     ns = ~sep & (ds["status"].values == 0)
     zero_v = bool(np.all(ds["v_out"].values[ns] == 0.0))
     open_loop = bool(np.all(ds["delta_end"].values[ns] > 0.0))
     out.append(
-        (
+        Statement(
             "Nonseparation gives zero separation velocity and an incomplete hysteresis loop.",
             "every non-separating contact ends with rebound speed 0 and deformation > 0",
             f"{int(ns.sum())} non-separating contacts; speed 0: {zero_v}; deformation > 0: {open_loop}",
-            _verdict(zero_v and open_loop),
+            verdict([zero_v and open_loop]),
         )
     )
     return out
@@ -295,89 +323,95 @@ def _case_statements(case_a, case_b):
     na, nb = case_a.attrs["collisions"], case_b.attrs["collisions"]
     ra = case_a.attrs["rebounds"]
     out.append(
-        (
+        Statement(
             f"{PAPER_COUNT_A} collisions occur in case A.",
             "our count (final non-separating contact included), or our rebounds (excluded), equals 10",
             f"{na} collisions, {ra} rebounds; end state: {case_a.attrs['end_state']}",
-            _verdict(PAPER_COUNT_A in (na, ra)),
+            verdict([PAPER_COUNT_A in (na, ra)]),
         )
     )
     nb_phys = case_b.attrs["rebounds_above_rest_deformation"]
     out.append(
-        (
+        Statement(
             "More collisions are needed in case B.",
             "case B's count exceeds case A's, by both counts",
             f"case B: {nb} collisions to t_end = {case_b.attrs['end_time']:.3f} s "
             f"(end state: {case_b.attrs['end_state']}), {nb_phys} rebounds above δ_eq; case A: {na}",
-            _verdict(nb > na and nb_phys > case_a.attrs["rebounds_above_rest_deformation"]),
+            verdict([nb > na and nb_phys > case_a.attrs["rebounds_above_rest_deformation"]]),
         )
     )
     d = loss_error(case_a, case_b)
     acc = np.cumsum(d)
     out.append(
-        (
+        Statement(
             "The first collision loses more energy in case A than in case B.",
             "ΔE_A,1 > ΔE_B,1",
             f"ΔE_A,1 = {case_a['c_damping_work'].values[0] * 1e3:.4f} mJ, "
             f"ΔE_B,1 = {case_b['c_damping_work'].values[0] * 1e3:.4f} mJ",
-            _verdict(d[0] > 0),
+            verdict([d[0] > 0]),
         )
     )
     k = PAPER_PEAK_AFTER
-    if d.size > k:
+    late = (
+        (
+            "The loss errors of the first three collisions are > 0 and the accumulated error peaks right"
+            " after the third.",
+            "ΔE_A,i − ΔE_B,i > 0 for i ≤ 3 and the accumulated error is largest after collision 3",
+        ),
+        (
+            "From the fourth collision the approach speed in case B is greater than in case A.",
+            "v_B,i > v_A,i for every i ≥ 4 that both cases have",
+        ),
+        (
+            "From the fourth collision the accumulated loss error decreases constantly.",
+            "the accumulated error falls at every collision i ≥ 4 that both cases have",
+        ),
+    )
+    if d.size <= k:
+        out += [not_checked(*claim, f"only {d.size} collisions in both cases") for claim in late]
+    else:
         peak = int(np.argmax(acc)) + 1
         out.append(
-            (
-                "The loss errors of the first three collisions are > 0 and the accumulated error peaks right"
-                " after the third.",
-                "ΔE_A,i − ΔE_B,i > 0 for i ≤ 3 and the accumulated error is largest after collision 3",
+            Statement(
+                *late[0],
                 "errors (mJ): "
                 + ", ".join(f"{x * 1e3:.4f}" for x in d[: k + 1])
                 + f", ...; peak after collision {peak}",
-                _verdict(bool(np.all(d[:k] > 0)) and peak == k),
+                verdict([bool(np.all(d[:k] > 0)) and peak == k]),
             )
         )
         va = case_a["c_v_in"].values[k : d.size]
         vb = case_b["c_v_in"].values[k : d.size]
         ratio = vb / va
         out.append(
-            (
-                "From the fourth collision the approach speed in case B is greater than in case A.",
-                "v_B,i > v_A,i for every i ≥ 4 that both cases have",
+            Statement(
+                *late[1],
                 f"v_B/v_A from {ratio.min():.3f} to {ratio.max():.3f}",
-                _verdict(bool(np.all(ratio > 1.0))),
+                verdict([bool(np.all(ratio > 1.0))]),
             )
         )
         out.append(
-            (
-                "From the fourth collision the accumulated loss error decreases constantly.",
-                "the accumulated error falls at every collision i ≥ 4 that both cases have",
+            Statement(
+                *late[2],
                 f"accumulated error (mJ) after collision 3: {acc[k - 1] * 1e3:.4f}, "
                 f"after collision {d.size}: {acc[-1] * 1e3:.4f}",
-                _verdict(bool(np.all(np.diff(acc[k - 1 :]) < 0))),
+                verdict([bool(np.all(np.diff(acc[k - 1 :]) < 0))]),
             )
         )
     return out
 
 
 def statements(first, case_a, case_b, new, classical):
-    """The paper's Sect. 6 statements, each as (statement, criterion, our numbers, verdict)."""
+    """The paper's Sect. 6 statements, each a ``statements.Statement``."""
     rows = []
     if case_a is not None and case_b is not None:
         rows += _case_statements(case_a, case_b)
+    else:
+        rows.append(not_checked("Cases A and B (Figs. 11-12).", "the case statements", "cases A and B"))
     rows += _first_collision_statements(first, new, list(classical))
     return rows
 
 
 def statements_markdown(rows, notes=()):
-    """Markdown list of checked statements."""
-    lines = ["# The paper's Sect. 6 statements, checked against our numbers", ""]
-    lines += [f"- {n}" for n in notes]
-    if notes:
-        lines.append("")
-    lines += ["| # | statement (paper) | criterion | our numbers | verdict |", "|---|---|---|---|---|"]
-    for i, (text, crit, ours, verdict) in enumerate(rows, 1):
-        lines.append(f"| {i} | {text} | {crit} | {ours} | **{verdict}** |")
-    n_ok = sum(r[3] == HOLDS for r in rows)
-    lines += ["", f"{n_ok} of {len(rows)} statements hold."]
-    return "\n".join(lines) + "\n"
+    """Markdown table of the checked Sect. 6 statements."""
+    return render_statements(rows, "The paper's Sect. 6 statements, checked against our numbers", notes)

@@ -16,6 +16,7 @@ from contactalpha.engine.codes import END_STATES, NONSEPARATION, STATE_CODES
 from contactalpha.engine.driver import impact
 from contactalpha.io import json_text
 from contactalpha.models import MODELS, alpha
+from contactalpha.paper.statements import Statement, not_checked, verdict
 
 # The classical models the paper compares, in its order (derived without external forces).
 CLASSICAL = ("hunt_crossley", "lankarani_nikravesh", "flores", "hu_guo")
@@ -124,107 +125,112 @@ def _dev(ds, model, xi, eps_sel=None):
 def fig9_statements(ds, *, new=Fig9Settings.new_model, reference=Fig9Settings.reference):
     """The paper's conclusions about Fig. 9, each checked on ``ds`` (needs ``reference`` in ds.model).
 
-    Returns a list of dicts with keys ``claim``, ``criterion``, ``evidence`` and
-    ``holds``: "holds" when the criterion is met for every model and panel it
-    names, "partly" for some, "does not hold" for none.
+    Returns a list of ``statements.Statement``: "holds" when the criterion is met for every
+    model and panel it names, "partly" for some, "does not hold" for none, "not checked" when
+    the panels or models it names are not in ``ds``.
     """
     out = []
     classical = [m for m in CLASSICAL if m in ds.model.values]
     small = [x for x in (0.0, 0.016) if x in ds.xi.values]
     large = [x for x in ds.xi.values if x >= 0.2]
+    big = [x for x in (0.665, 0.91) if x in ds.xi.values]
     low = lambda e: e <= LOW_EPS  # noqa: E731
     high = lambda e: e >= HIGH_EPS  # noqa: E731
+    no_classical = "no classical model" if not classical else ""
 
-    ev = {(m, x): _dev(ds, m, x, low) for m in classical for x in small}
-    out.append(
-        dict(
-            claim="Fig. 9(a, b): classical models misdescribe dissipation at low restitution.",
-            criterion=f"every classical model has max |post − pre| > {OBVIOUS} over ε ≤ {LOW_EPS} "
-            "at ξ = 0 and 0.016",
-            evidence="; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev.items()),
-            holds=_verdict(v > OBVIOUS for v in ev.values()),
-        )
+    def check(claim, criterion, missing, judge):
+        """``judge()`` -> (evidence, verdict) when nothing the claim needs is ``missing``."""
+        missing = "; ".join(m for m in missing if m)
+        if missing:
+            out.append(not_checked(claim, criterion, missing))
+        else:
+            out.append(Statement(claim, criterion, *judge()))
+
+    def low_eps():
+        ev = {(m, x): _dev(ds, m, x, low) for m in classical for x in small}
+        text = "; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev.items())
+        return text, verdict(v > OBVIOUS for v in ev.values())
+
+    check(
+        "Fig. 9(a, b): classical models misdescribe dissipation at low restitution.",
+        f"every classical model has max |post − pre| > {OBVIOUS} over ε ≤ {LOW_EPS} at ξ = 0 and 0.016",
+        [no_classical, "" if small else "no panel at ξ = 0 or 0.016"],
+        low_eps,
     )
-    if new in ds.model.values:
+
+    def new_better():
         ev_new = {x: _dev(ds, new, x) for x in small}
         ev_best = {x: min(_dev(ds, m, x) for m in classical) for x in small}
-        out.append(
-            dict(
-                claim="For ξ small or zero the new model does better over the whole range of ε.",
-                criterion="new model's max |post − pre| over all ε is below every classical model's, "
-                "at ξ = 0 and 0.016",
-                evidence="; ".join(
-                    f"ξ={x:g}: new {ev_new[x]:.3f}, best classical {ev_best[x]:.3f}" for x in small
-                ),
-                holds=_verdict(ev_new[x] < ev_best[x] for x in small),
-            )
-        )
-    ev_s = {m: max(_dev(ds, m, x) for x in small) for m in classical}
-    ev_l = {m: max(_dev(ds, m, x) for x in large) for m in classical}
-    out.append(
-        dict(
-            claim="Fig. 9(c–f): the errors are great when the influence factor is large.",
-            criterion="each classical model's max |post − pre| over ξ ≥ 0.2 exceeds its max over "
-            f"ξ ≤ 0.016, and exceeds {OBVIOUS}",
-            evidence="; ".join(f"{MODELS[m].label}: {ev_s[m]:.3f} → {ev_l[m]:.3f}" for m in classical),
-            holds=_verdict(ev_l[m] > ev_s[m] and ev_l[m] > OBVIOUS for m in classical),
-        )
+        text = "; ".join(f"ξ={x:g}: new {ev_new[x]:.3f}, best classical {ev_best[x]:.3f}" for x in small)
+        return text, verdict(ev_new[x] < ev_best[x] for x in small)
+
+    check(
+        "For ξ small or zero the new model does better over the whole range of ε.",
+        "new model's max |post − pre| over all ε is below every classical model's, at ξ = 0 and 0.016",
+        [
+            "" if new in ds.model.values else f"model {new}",
+            no_classical,
+            "" if small else "no panel at ξ = 0 or 0.016",
+        ],
+        new_better,
     )
-    fixed = all(
-        not MODELS[m].uses_xi and np.allclose(ds.alpha.sel(model=m), ds.alpha.sel(model=m).isel(xi=0))
-        for m in classical
+
+    def large_load():
+        ev_s = {m: max(_dev(ds, m, x) for x in small) for m in classical}
+        ev_l = {m: max(_dev(ds, m, x) for x in large) for m in classical}
+        text = "; ".join(f"{MODELS[m].label}: {ev_s[m]:.3f} → {ev_l[m]:.3f}" for m in classical)
+        return text, verdict(ev_l[m] > ev_s[m] and ev_l[m] > OBVIOUS for m in classical)
+
+    check(
+        "Fig. 9(c–f): the errors are great when the influence factor is large.",
+        f"each classical model's max |post − pre| over ξ ≥ 0.2 exceeds its max over ξ ≤ 0.016, "
+        f"and exceeds {OBVIOUS}",
+        [no_classical, "" if small else "no panel at ξ = 0 or 0.016", "" if large else "no panel at ξ ≥ 0.2"],
+        large_load,
     )
-    out.append(
-        dict(
-            claim="Classical models keep α fixed when ε is fixed and ξ varies.",
-            criterion="α of each classical model is identical across the panels",
-            evidence="α(ε) identical in every panel" if fixed else "α varies with ξ",
-            holds=_verdict([fixed]),
-        )
+
+    def fixed_alpha():
+        same = {
+            m: not MODELS[m].uses_xi
+            and bool(np.allclose(ds.alpha.sel(model=m), ds.alpha.sel(model=m).isel(xi=0)))
+            for m in classical
+        }
+        fixed = all(same.values())
+        return ("α(ε) identical in every panel" if fixed else "α varies with ξ"), verdict(same.values())
+
+    check(
+        "Classical models keep α fixed when ε is fixed and ξ varies.",
+        "α of each classical model is identical across the panels",
+        [no_classical, "" if ds.sizes["xi"] > 1 else "one panel only"],
+        fixed_alpha,
     )
-    big = [x for x in (0.665, 0.91) if x in ds.xi.values]
-    ev_h = {(m, x): _dev(ds, m, x, high) for m in classical for x in big}
-    out.append(
-        dict(
-            claim="Fig. 9(e, f): fixed α misdescribes dissipation even for ε close to 1.",
-            criterion=f"every classical model has max |post − pre| > {OBVIOUS} over ε ≥ {HIGH_EPS} "
-            "at ξ = 0.665 and 0.91",
-            evidence="; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev_h.items()),
-            holds=_verdict(v > OBVIOUS for v in ev_h.values()),
-        )
+
+    def high_eps():
+        ev_h = {(m, x): _dev(ds, m, x, high) for m in classical for x in big}
+        text = "; ".join(f"{MODELS[m].label} ξ={x:g}: {v:.3f}" for (m, x), v in ev_h.items())
+        return text, verdict(v > OBVIOUS for v in ev_h.values())
+
+    check(
+        "Fig. 9(e, f): fixed α misdescribes dissipation even for ε close to 1.",
+        f"every classical model has max |post − pre| > {OBVIOUS} over ε ≥ {HIGH_EPS} at ξ = 0.665 and 0.91",
+        [no_classical, "" if big else "no panel at ξ = 0.665 or 0.91"],
+        high_eps,
     )
-    if reference in ds.model.values:
+
+    def wrong_state():
         ref_state = ds.state.sel(model=reference)
         wrong = {m: int((ds.state.sel(model=m) != ref_state).sum()) for m in classical}
         total = int(ref_state.size)
-        out.append(
-            dict(
-                claim="The incorrect dissipation may cause a wrong impact end state.",
-                criterion="some classical model ends in another state than the exact α does "
-                "at the same (ε, ξ)",
-                evidence="; ".join(f"{MODELS[m].label}: {wrong[m]} of {total}" for m in classical),
-                holds=_verdict([any(v > 0 for v in wrong.values())]),
-            )
-        )
+        text = "; ".join(f"{MODELS[m].label}: {wrong[m]} of {total}" for m in classical)
+        return text, verdict([any(v > 0 for v in wrong.values())])
+
+    check(
+        "The incorrect dissipation may cause a wrong impact end state.",
+        "some classical model ends in another state than the exact α does at the same (ε, ξ)",
+        ["" if reference in ds.model.values else f"reference model {reference}", no_classical],
+        wrong_state,
+    )
     return out
-
-
-def _verdict(flags):
-    flags = [bool(f) for f in flags]
-    if all(flags):
-        return "holds"
-    return "partly" if any(flags) else "does not hold"
-
-
-def statements_markdown(statements):
-    """Render ``fig9_statements`` as a markdown list."""
-    lines = []
-    for s in statements:
-        verdict = f"**{s['holds']}**"
-        lines.append(
-            f"- {s['claim']} — {verdict}\n  - criterion: {s['criterion']}\n  - our numbers: {s['evidence']}"
-        )
-    return "\n".join(lines)
 
 
 def nonseparation_mask(ds):
