@@ -137,6 +137,20 @@ class _BudgetExceeded(Exception):
     """Raised inside ``solve_ivp`` when an impact has used its RHS budget."""
 
 
+# The function of SciPy's solve_ivp that places an event (a bracketing root-finder).
+EVENT_SOLVER = "solve_event_equation"
+
+
+def _from_event_location(err):
+    """True if ``err`` was raised while SciPy placed an event, not by a bad argument."""
+    tb = err.__traceback__
+    while tb is not None:
+        if tb.tb_frame.f_code.co_name == EVENT_SOLVER:
+            return True
+        tb = tb.tb_next
+    return False
+
+
 def impact_scipy_limited(
     alpha, xi, *, method="DOP853", rtol=1e-12, atol=1e-14, max_nfev=200_000, t_max=1e4, rest_tol=1e-9
 ):
@@ -173,7 +187,10 @@ def impact_scipy_limited(
         return ReferenceResult(np.nan, "failed", np.nan, np.nan, np.nan, max_nfev, "step limit exceeded")
     except ValueError as err:
         # solve_ivp's event root-finder raises when the event function has the
-        # same sign at both ends of a step (seen with LSODA near x_eq).
+        # same sign at both ends of a step (seen with LSODA near x_eq).  Any other
+        # ValueError (a bad method name or tolerance) is the caller's and propagates.
+        if not _from_event_location(err):
+            raise
         return ReferenceResult(
             np.nan, "failed", np.nan, np.nan, np.nan, count[0], f"event location failed: {err}"
         )
