@@ -49,6 +49,16 @@ def result_attrs(config, step):
     }
 
 
+def settings_fingerprint(settings, *modules):
+    """SHA-256 (hex) of ``settings`` (JSON, sorted keys) and of the sources of ``modules``.
+
+    Equal fingerprints mean the same settings run by the same code: what a checkpoint
+    must match before its rows are resumed.
+    """
+    text = json_text({"settings": settings, "code": source_hash(*modules) if modules else ""}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 # The package whose sources ``source_hash`` reads.
 PACKAGE_DIR = Path(__file__).resolve().parent
 PACKAGE = PACKAGE_DIR.name

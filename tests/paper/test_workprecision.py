@@ -6,6 +6,7 @@ from contactalpha.baselines.reference import alpha_bracketed, impact_scipy_limit
 from contactalpha.engine.codes import OUT_EPS2, OUT_STATUS, STATUS
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.paper.bench import workprecision as wp
+from contactalpha.paper.bench.report import checkpoint
 
 NO_RECORD = np.empty((0, 3))
 
@@ -193,3 +194,17 @@ def test_brent_counts_a_round_off_nan_eps_as_zero():
     b = alpha_bracketed(0.1, lambda a: Fake(1.0 / (1.0 + a) if a < 5.0 else np.nan), alpha0=0.5, rtol=1e-14)
     assert b.status == "ok"
     assert b.alpha == pytest.approx(5.0, rel=1e-13)
+
+
+def test_checkpoint_resumes_only_rows_of_the_same_settings(tmp_path):
+    table = tmp_path / "wp.csv"
+    done, save, partial = checkpoint(table, {"rtols": [1e-4]}, log=lambda msg: None)
+    assert done == []
+    save([{"method": "engine", "err": 1e-5}, {"method": "rk4", "err": float("nan")}])
+    done, _, _ = checkpoint(table, {"rtols": [1e-4]}, log=lambda msg: None)
+    assert done == [{"method": "engine", "err": 1e-5}, {"method": "rk4", "err": None}]
+    said = []
+    done, save, _ = checkpoint(table, {"rtols": [1e-8]}, log=said.append)
+    assert done == [] and not partial.exists() and "discarded" in said[0]
+    save([{"method": "engine", "err": 1e-9}])
+    assert checkpoint(table, {"rtols": [1e-8]}, log=said.append)[0] == [{"method": "engine", "err": 1e-9}]

@@ -1,9 +1,10 @@
-"""Figures, tables and the README text of the speed-and-accuracy benchmarks (issue 7).
+"""The speed-and-accuracy benchmark stage (issue 7): its runs, tables, figures and README text.
 
-Inputs are the tables written by the benchmark (``results/bench/*.csv`` and
-``scaling.json``); nothing here measures or computes a number that is not in
-them.  The README section between ``README_START`` and ``README_END`` is
-replaced by ``summary_markdown``'s text, so quoted numbers cannot drift.
+``run_workprecision``, ``run_failures`` and ``run_scaling`` run the measurements of
+``workprecision`` and write ``results/bench/*.csv`` and ``scaling.json`` (long runs resume
+from a fingerprinted checkpoint).  The summary, figures and the README section between
+``README_START`` and ``README_END`` are made from those files only, so quoted numbers
+cannot drift from the measured ones.
 """
 
 import json
@@ -18,12 +19,14 @@ import pandas as pd
 from contactalpha.io import json_text, write_atomic, write_json_atomic, write_text_atomic
 from contactalpha.paper.bench import workprecision
 from contactalpha.plotting import new_figure, save_figure
-from contactalpha.provenance import result_attrs
+from contactalpha.provenance import result_attrs, settings_fingerprint
 
 from .workprecision import CATEGORIES, METHODS, REGIMES, cost_to_reach
 
 README_START = "<!-- bench:start -->"
 README_END = "<!-- bench:end -->"
+# The module whose source closure (every engine and baseline it runs) a checkpoint's rows depend on.
+BENCH_CODE = "contactalpha.paper.bench.workprecision"
 # Accuracy levels (relative error of alpha) at which costs are compared.
 TARGETS = (1e-6, 1e-10)
 # Lowest error drawn on log axes: errors of 0 (the reference itself) sit here.
@@ -363,13 +366,34 @@ def method_settings(cfg):
     return settings
 
 
-def _checkpoint(path):
-    """Rows saved by an interrupted run of the same stage (a JSON-lines file), and an appender."""
+def checkpoint(path, settings, log=print):
+    """Rows saved by an interrupted run of the same stage (``<path>.partial``, JSON lines), and an appender.
+
+    The file's first line is the fingerprint of ``settings`` and of the benchmark's code
+    (``provenance.settings_fingerprint``): rows written under other settings or by other code
+    are discarded, never resumed.
+
+    Returns
+    -------
+    done : list of dict
+    save : callable appending a list of rows
+    partial : Path
+    """
     path = Path(str(path) + ".partial")
-    done = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
+    stamp = {"fingerprint": settings_fingerprint(settings, BENCH_CODE)}
+    done = []
+    if path.exists():
+        lines = path.read_text().splitlines()
+        if lines and json.loads(lines[0]) == stamp:
+            done = [json.loads(line) for line in lines[1:]]
+        else:
+            log(f"{path.name}: written with other settings or code; its rows are discarded")
+            path.unlink()
 
     def save(rows):
         with open(path, "a", encoding="utf-8") as fh:
+            if fh.tell() == 0:
+                fh.write(json_text(stamp) + "\n")
             for row in rows:
                 fh.write(json_text(row) + "\n")
 
@@ -387,7 +411,8 @@ def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
     for r in refs:
         log(f"reference {r['regime']}: alpha = {r['alpha']:.15g}, spread {r['spread']:.2e}")
     _write_csv(refs, reference_csv)
-    rows, save, partial = _checkpoint(workprecision_csv)
+    keys = ("rtols", "rk4_steps", "scipy_methods", "scipy_max_nfev")
+    rows, save, partial = checkpoint(workprecision_csv, {k: cfg[k] for k in keys}, log)
     done = {(r["regime"], r["method"]) for r in rows}
     for ref in refs:
         for method, values in method_settings(cfg).items():
@@ -414,7 +439,8 @@ def run_failures(cfg, failure_csv, counts_csv, log=print):
     plan = [(m, f["rtol"], f["eps"], f["xi"]) for m in ("engine", "engine-table")]
     plan += [("rk4", f["rk4_step"], f["eps"], f["xi"])]
     plan += [(f"scipy-{m}", f["rtol"], f["eps_coarse"], f["xi_coarse"]) for m in cfg["scipy_methods"]]
-    rows, save, partial = _checkpoint(failure_csv)
+    keys = ("failure", "scipy_methods", "scipy_max_nfev")
+    rows, save, partial = checkpoint(failure_csv, {k: cfg[k] for k in keys}, log)
     counts = []
     for method, setting, eps, xi in plan:
         part = [r for r in rows if r["method"] == method]
