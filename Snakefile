@@ -1,16 +1,31 @@
 # contactalpha workflow: `snakemake -c2` rebuilds every result under results/.
 # Stages live in workflow/rules/<stage>.smk; each appends its default targets to ALL_TARGETS.
 # Every rule declares `conda: "../envs/contactalpha.yaml"`, so that `snakemake --lint` is clean.
+import os
+
 from snakemake.utils import validate
 
-from contactalpha.config import check_config
+from contactalpha.config import check_config, read_yaml
+from contactalpha.io import claim_workdir
+
+SCHEMA = "workflow/schemas/config.schema.yaml"
+
+# Snakemake reads config.yaml (from the working directory, if there) without saying where a
+# malformed one breaks; read_yaml names the line and column.
+if os.path.exists("config.yaml"):
+    read_yaml("config.yaml")
 
 
 configfile: "config.yaml"
 
 
-validate(config, "workflow/schemas/config.schema.yaml")
-check_config(config)
+validate(config, SCHEMA)
+check_config(config, os.path.join(workflow.basedir, SCHEMA))
+
+# Resume after kill -9 with the same command: with no other run alive here, the killed run's
+# Snakemake lock and half-written temporaries are cleared (profiles/default sets rerun-incomplete).
+if workflow.is_main_process:
+    claim_workdir()
 
 ALL_TARGETS = []
 

@@ -72,7 +72,7 @@ def main():
 
     import numba
 
-    from contactalpha.io import load_surface
+    from contactalpha.io import load_surface_chunk
     from contactalpha.paper.surface.compute import compute_surface, grid_from_config
 
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
@@ -103,7 +103,8 @@ def main():
         wall = time.perf_counter() - t
         if done.returncode:
             sys.exit(f"snakemake failed:\n{done.stderr[-3000:]}")
-        chunks = [load_surface(p) for p in sorted(Path(work, "results/surface/chunks").glob("chunk_*.h5"))]
+        chunk_files = sorted(Path(work, "results/surface/chunks").glob("chunk_*.h5"))
+        chunks = [load_surface_chunk(p) for p in chunk_files]
     compute = sum(c.attrs["compute_seconds"] for c in chunks)
     span = max(c.attrs["finished"] for c in chunks) - min(c.attrs["started"] for c in chunks)
     what = "rule all" if args.all else "surface targets"

@@ -1,17 +1,151 @@
 """Checks on the workflow configuration that its JSON schema cannot express.
 
 The Snakefile calls ``check_config`` right after the schema validation, so a
-bad grid fails before any job runs, with a message naming the key.
+bad config fails at ``snakemake -n``, before any job runs, with a message
+naming the key: NaN or infinite numbers (JSON-schema bounds let NaN through),
+whole numbers written as floats where the schema wants an integer (``2.0``),
+unsorted grids, ranges that do not fit their step, a section or Eq. 26 ``xi``
+off the surface grid, and model names that are not registered.
 """
 
-from contactalpha.paper.surface.compute import check_surface_config
+import math
+from pathlib import Path
 
-# Section name -> check; stages add theirs here.
+import numpy as np
+import yaml
+
+from contactalpha.models import MODELS
+from contactalpha.paper.surface.compute import check_surface_config, grid_from_config
+
+# Section name -> check of that section alone; stages add theirs here.
 SECTION_CHECKS = {"surface": check_surface_config}
 
 
-def check_config(config):
-    """Raise ``ValueError`` naming the first bad key of the workflow ``config`` (a dict)."""
+def read_yaml(path):
+    """The YAML file ``path`` as Python data; a malformed file raises naming its line and column.
+
+    Raises
+    ------
+    ValueError
+        ``<path>:<line>:<column>: malformed YAML: <problem>`` (line and column from 1).
+    """
+    text = Path(path).read_text(encoding="utf-8")
+    try:
+        return yaml.safe_load(text)
+    except yaml.MarkedYAMLError as err:
+        mark = err.problem_mark or err.context_mark
+        where = f"{path}:{mark.line + 1}:{mark.column + 1}" if mark else str(path)
+        raise ValueError(f"{where}: malformed YAML: {err.problem or err.context}") from None
+    except yaml.YAMLError as err:
+        raise ValueError(f"{path}: malformed YAML: {err}") from None
+
+
+def _walk(value, key):
+    """(key, value) of every leaf of nested dicts and lists, keys dotted (``a.b[2]``)."""
+    if isinstance(value, dict):
+        for name, item in value.items():
+            yield from _walk(item, f"{key}.{name}" if key else str(name))
+    elif isinstance(value, list | tuple):
+        for i, item in enumerate(value):
+            yield from _walk(item, f"{key}[{i}]")
+    else:
+        yield key, value
+
+
+def check_finite(config):
+    """Raise ``ValueError`` naming the first key that holds NaN or an infinite number."""
+    for key, value in _walk(config, ""):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ValueError(f"{key} = {value!r} is not a finite number; valid: a finite number")
+
+
+def _resolve(node, schema):
+    ref = node.get("$ref", "")
+    if ref.startswith("#/"):
+        target = schema
+        for part in ref[2:].split("/"):
+            target = target[part]
+        node = {**target, **{k: v for k, v in node.items() if k != "$ref"}}
+    return node
+
+
+def _types(node):
+    kind = node.get("type", [])
+    return {kind} if isinstance(kind, str) else set(kind)
+
+
+def check_integers(config, schema):
+    """Raise ``ValueError`` naming the first key whose schema type is integer but that holds a float.
+
+    JSON schema counts ``2.0`` as an integer; Python's ``range`` and array sizes do not.
+    ``schema`` is the parsed JSON schema (local ``$ref`` resolved) of ``config``.
+    """
+    _check_integers(config, schema, schema, "")
+
+
+def _check_integers(value, node, root, key):
+    node = _resolve(node, root)
+    types = _types(node)
+    if "integer" in types and "number" not in types and isinstance(value, float):
+        raise ValueError(f"{key} = {value!r} is not a whole number; valid: an integer such as {int(value)}")
+    if isinstance(value, dict):
+        for name, item in value.items():
+            if name in node.get("properties", {}):
+                _check_integers(item, node["properties"][name], root, f"{key}.{name}" if key else name)
+    elif isinstance(value, list) and isinstance(node.get("items"), dict):
+        for i, item in enumerate(value):
+            _check_integers(item, node["items"], root, f"{key}[{i}]")
+
+
+def _check_models(config):
+    fig9 = config.get("models", {}).get("fig9", {})
+    for name in ("models", "reference", "new_model"):
+        names = fig9.get(name)
+        for i, model in enumerate([names] if isinstance(names, str) else names or []):
+            if model not in MODELS:
+                where = f"models.fig9.{name}" + (f"[{i}]" if not isinstance(names, str) else "")
+                valid = ", ".join(sorted(MODELS))
+                raise ValueError(f"{where} = {model!r} is not a registered model; valid: {valid}")
+    if "new_model" in fig9 and "models" in fig9 and fig9["new_model"] not in fig9["models"]:
+        raise ValueError(
+            f"models.fig9.new_model = {fig9['new_model']!r} is not in models.fig9.models; "
+            f"valid: one of {', '.join(fig9['models'])}"
+        )
+    case_a = config.get("engines", {}).get("case_a_model")
+    if case_a is not None and case_a not in MODELS:
+        raise ValueError(
+            f"engines.case_a_model = {case_a!r} is not a registered model; valid: {', '.join(sorted(MODELS))}"
+        )
+
+
+def _check_fit(config):
+    eq26 = config.get("fit", {}).get("eq26")
+    if eq26 is None or "surface" not in config:
+        return
+    _, xi = grid_from_config(config["surface"])
+    # The fit selects the section by equality (paper.fit.fit_eq26): the value must be a grid value.
+    if not np.any(xi == float(eq26["xi"])):
+        raise ValueError(
+            f"fit.eq26.xi = {eq26['xi']!r} is not on the surface xi grid; "
+            "valid: one of the xi values, e.g. add it to surface.xi.values"
+        )
+
+
+def check_config(config, schema=None):
+    """Raise ``ValueError`` naming the first bad key of the workflow ``config`` (a dict).
+
+    Parameters
+    ----------
+    config : dict
+        The configuration, after the schema validation (defaults filled in).
+    schema : dict or path-like, optional
+        Its JSON schema, for the integer check (``check_integers``).
+    """
+    check_finite(config)
+    if schema is not None:
+        check_integers(config, schema if isinstance(schema, dict) else read_yaml(schema))
     for name, check in SECTION_CHECKS.items():
         if name in config:
             check(config[name], key=name)
+    _check_fit(config)
+    _check_models(config)

@@ -1,8 +1,11 @@
 """Reading and writing result files: atomically, so an interrupted run leaves no half-written file."""
 
+import fcntl
 import json
 import math
 import os
+import re
+import socket
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path, PurePath
@@ -22,15 +25,92 @@ def _umask():
     return mask
 
 
+# Temporary files of ``write_atomic``: ``.<target>.atomic-<host>-<pid>.<random>.tmp`` beside the
+# target.  Host and process name the writer, so that a later write can tell a temporary file left
+# by a killed process (kill -9 inside the write) from one being written now.
+TMP_TAG = "atomic"
+TMP_PATTERN = re.compile(rf"^\.(?P<target>.+)\.{TMP_TAG}-(?P<host>[A-Za-z0-9-]+)-(?P<pid>\d+)\.[^.]+\.tmp$")
+
+
+def _host():
+    """The name of this machine, reduced to letters, digits and dashes (no dots: it sits in a file name)."""
+    return re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname()) or "localhost"
+
+
+def _alive(pid):
+    """Whether process ``pid`` of this machine exists (a reused pid counts as alive: kept, not deleted)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def stale_temporaries(directory, target=None):
+    """Temporary files of ``write_atomic`` in ``directory`` whose writer is dead.
+
+    Only files written on this machine are judged (a process of another host, on a
+    shared file system, cannot be checked); those whose process no longer exists are
+    stale: a ``kill -9`` or a power loss hit their write.
+
+    Parameters
+    ----------
+    directory : path-like
+        Searched without recursion; a missing directory has none.
+    target : str, optional
+        Only the temporary files of this target name.
+
+    Returns
+    -------
+    list of Path
+        Sorted.
+    """
+    directory = Path(directory)
+    if not directory.is_dir():
+        return []
+    host, stale = _host(), []
+    for path in directory.iterdir():
+        match = TMP_PATTERN.match(path.name)
+        if match is None or match["host"] != host or (target is not None and match["target"] != target):
+            continue
+        if not _alive(int(match["pid"])):
+            stale.append(path)
+    return sorted(stale)
+
+
+def remove_stale_temporaries(directory, target=None, recursive=False):
+    """Delete ``stale_temporaries(directory, target)`` (in every subfolder if ``recursive``).
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    folders = [Path(directory)]
+    if recursive and folders[0].is_dir():
+        folders += sorted(p for p in folders[0].rglob("*") if p.is_dir())
+    removed = []
+    for folder in folders:
+        for path in stale_temporaries(folder, target):
+            path.unlink(missing_ok=True)
+            removed.append(path)
+    return removed
+
+
 def write_atomic(path, write):
     """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it to ``path``.
 
     The rename is atomic on one file system, so ``path`` is either the old file,
-    absent, or complete.  The temporary file is removed if ``write`` fails.
+    absent, or complete.  The temporary file is removed if ``write`` fails; one
+    left by a killed earlier write of ``path`` (``stale_temporaries``) is removed first.
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    remove_stale_temporaries(path.parent, target=path.name)
+    prefix = f".{path.name}.{TMP_TAG}-{_host()}-{os.getpid()}."
+    fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=".tmp", dir=path.parent)
     os.close(fd)
     try:
         write(tmp)
@@ -42,6 +122,54 @@ def write_atomic(path, write):
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+# A workflow run holds an exclusive lock (flock) on this file, in its working directory, while it
+# lives; the kernel releases it when the process ends, however it ends (kill -9 included).  So a
+# run that gets the lock knows that no other run is alive there.
+RUN_LOCK = Path(".snakemake") / "contactalpha.run.lock"
+# Snakemake's own lock files (file persistence): left behind by a run that was killed.
+SNAKEMAKE_LOCKS = re.compile(r"^\d+\.(input|output)\.lock$")
+# Open lock files of this process: kept open for its lifetime.
+_HELD = {}
+
+
+def claim_workdir(workdir="."):
+    """Lock ``workdir`` for this workflow run and clear what killed runs left there.
+
+    Called by the Snakefile in Snakemake's main process.  If no other run holds
+    the directory's ``RUN_LOCK``, every Snakemake lock file in ``.snakemake/locks``
+    is stale (left by ``kill -9`` or a power loss), so it is removed, and so are
+    stale ``write_atomic`` temporaries under ``results/``: the same command then
+    resumes, with no ``--unlock``.  If another run is alive, nothing is touched
+    and Snakemake reports its lock as usual.
+
+    Returns
+    -------
+    held : bool
+        Whether this process holds the run lock (False: another run is alive, or the
+        file system cannot lock).
+    removed : list of Path
+        Stale files removed.
+    """
+    workdir = Path(workdir).resolve()
+    lock = workdir / RUN_LOCK
+    if lock in _HELD:
+        return True, []
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:  # held by a live run (EWOULDBLOCK), or no locks on this file system
+        os.close(fd)
+        return False, []
+    _HELD[lock] = fd
+    locks = workdir / ".snakemake" / "locks"
+    removed = sorted(p for p in locks.iterdir() if SNAKEMAKE_LOCKS.match(p.name)) if locks.is_dir() else []
+    for path in removed:
+        path.unlink(missing_ok=True)
+    removed += remove_stale_temporaries(workdir / "results", recursive=True)
+    return True, removed
 
 
 def write_text_atomic(path, text):
@@ -89,17 +217,54 @@ def load_dataset(path):
     return xr.load_dataset(path, engine=ENGINE)
 
 
+def _checked_surface(ds, path):
+    """``ds`` if it is an alpha surface (float alpha over strictly increasing epsilon and xi)."""
+    if "alpha" not in ds or ds["alpha"].dims != ("epsilon", "xi"):
+        raise ValueError(f"{path} is not an alpha surface; valid: a Dataset with alpha over (epsilon, xi)")
+    if ds["alpha"].dtype.kind != "f":
+        raise ValueError(f"{path}: alpha has dtype {ds['alpha'].dtype}; valid: floating point numbers")
+    for dim in ("epsilon", "xi"):
+        values = ds[dim].values
+        if values.dtype.kind != "f" or not np.all(np.diff(values) > 0):
+            raise ValueError(
+                f"{path}: coordinate {dim} is not strictly increasing floats ({values[:6]!r}...); "
+                "valid: sorted values without duplicates"
+            )
+    return ds
+
+
 def load_surface(path):
     """The alpha(eps, xi) surface Dataset written by the workflow (``results/surface.h5``).
 
     Raises
     ------
     ValueError
-        If the file holds no ``alpha`` over dims ``epsilon`` and ``xi``.
+        If the file holds no floating-point ``alpha`` over dims ``epsilon`` and ``xi``, if a
+        coordinate is not strictly increasing, or if it is a single chunk of a surface
+        (``load_surface_chunk``).
     """
-    ds = load_dataset(path)
-    if "alpha" not in ds or ds["alpha"].dims != ("epsilon", "xi"):
-        raise ValueError(f"{path} is not an alpha surface; valid: a Dataset with alpha over (epsilon, xi)")
+    ds = _checked_surface(load_dataset(path), path)
+    if "chunk" in ds.attrs:
+        raise ValueError(
+            f"{path} is chunk {ds.attrs['chunk']} of {ds.attrs.get('chunks', '?')}, not a whole surface; "
+            "valid: the merged file (results/surface.h5), or read chunks with load_surface_chunk"
+        )
+    return ds
+
+
+def load_surface_chunk(path):
+    """One chunk file of a surface (``results/surface/chunks/chunk_<k>.h5``), checked as ``load_surface``.
+
+    Raises
+    ------
+    ValueError
+        If it is not an alpha surface or carries no ``chunk`` and ``chunks`` attributes.
+    """
+    ds = _checked_surface(load_dataset(path), path)
+    if "chunk" not in ds.attrs or "chunks" not in ds.attrs:
+        raise ValueError(
+            f"{path} is not a surface chunk (no chunk attribute); valid: a file of compute_chunk"
+        )
     return ds
 
 

@@ -8,7 +8,7 @@ import yaml
 
 import contactalpha
 from contactalpha.engine.codes import END_STATES, STATE_CODES
-from contactalpha.io import load_surface, write_dataset_atomic, write_text_atomic
+from contactalpha.io import load_surface, load_surface_chunk, write_dataset_atomic, write_text_atomic
 from contactalpha.models import shen
 from contactalpha.paper.surface.compute import (
     VARIABLES,
@@ -247,6 +247,36 @@ def test_interrupted_write_leaves_the_old_file_and_no_temporary(surface, tmp_pat
 def test_load_surface_rejects_other_files(surface, tmp_path):
     path = write_dataset_atomic(surface[["steps"]], tmp_path / "other.h5")
     with pytest.raises(ValueError, match="is not an alpha surface"):
+        load_surface(path)
+
+
+def test_load_surface_rejects_a_chunk_and_load_surface_chunk_reads_it(surface, tmp_path):
+    chunk = write_dataset_atomic(surface.assign_attrs(chunk=1, chunks=2), tmp_path / "chunk_1.h5")
+    with pytest.raises(ValueError, match=r"chunk_1.h5 is chunk 1 of 2, not a whole surface; valid:"):
+        load_surface(chunk)
+    assert load_surface_chunk(chunk).attrs["chunk"] == 1
+    whole = write_dataset_atomic(surface, tmp_path / "surface.h5")
+    with pytest.raises(ValueError, match="is not a surface chunk"):
+        load_surface_chunk(whole)
+
+
+@pytest.mark.parametrize(
+    "damage, message",
+    [
+        (lambda ds: ds.assign(alpha=ds.alpha.astype(str)), "alpha has dtype <U"),
+        (lambda ds: ds.isel(xi=[1, 0, 2]), "coordinate xi is not strictly increasing"),
+        (lambda ds: ds.isel(epsilon=[0, 0, 1]), "coordinate epsilon is not strictly increasing"),
+        (
+            lambda ds: ds.assign_coords(xi=ds.xi.astype(str)),
+            "coordinate xi is not strictly increasing floats",
+        ),
+    ],
+)
+def test_load_surface_rejects_text_alpha_and_unsorted_or_repeated_coordinates(
+    surface, tmp_path, damage, message
+):
+    path = write_dataset_atomic(damage(surface), tmp_path / "surface.h5")
+    with pytest.raises(ValueError, match=message):
         load_surface(path)
 
 

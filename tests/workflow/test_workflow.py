@@ -1,6 +1,8 @@
 """End to end: the whole Snakemake workflow on workflow/test-config.yaml, in a temporary directory."""
 
 import json
+import re
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -11,6 +13,7 @@ import yaml
 
 import contactalpha
 from contactalpha.engine.codes import END_STATES
+from contactalpha.io import TMP_TAG
 from contactalpha.paper.surface.compute import grid_from_config
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -33,14 +36,24 @@ def run(tmp_path_factory):
     snakemake(work, "results/surface/chunks/chunk_0.h5")
     chunk0 = work / "results/surface/chunks/chunk_0.h5"
     first_mtime = chunk0.stat().st_mtime_ns
-    stale = work / "results" / ".surface.h5.interrupted.tmp"
+    # A temporary file of a writer that is gone (a kill -9 inside write_atomic): the next run removes it.
+    gone = subprocess.Popen(["true"])
+    gone.wait()
+    host = re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())
+    stale = work / "results" / f".surface.h5.{TMP_TAG}-{host}-{gone.pid}.x1y2z3.tmp"
     stale.write_bytes(b"\x89HDF half written")
     log = snakemake(work)
-    return {"work": work, "log": log, "chunk0_resumed": chunk0.stat().st_mtime_ns == first_mtime}
+    return {
+        "work": work,
+        "log": log,
+        "chunk0_resumed": chunk0.stat().st_mtime_ns == first_mtime,
+        "stale_removed": not stale.exists(),
+    }
 
 
 def test_rerun_resumes_and_then_has_nothing_to_do(run):
     assert run["chunk0_resumed"], "chunk 0 was computed again"
+    assert run["stale_removed"], "a killed write's temporary file was left"
     assert "rule surface_chunk" in run["log"] and "chunk=1" in run["log"]
     assert "chunk=0" not in run["log"]
     again = snakemake(run["work"], "--dry-run")

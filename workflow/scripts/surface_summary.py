@@ -5,7 +5,7 @@ Inputs: surface (results/surface.h5), chunks (its chunk files, for per-chunk tim
 Outputs: the markdown file, written atomically.
 """
 
-from contactalpha.io import load_surface, script_logger, write_text_atomic
+from contactalpha.io import load_surface, load_surface_chunk, script_logger, write_text_atomic
 from contactalpha.paper.surface.report import surface_summary
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
@@ -13,7 +13,7 @@ log = script_logger("surface_summary", sm.log[0])
 figures = sm.params.figures
 text = surface_summary(
     load_surface(sm.input.surface),
-    [load_surface(p) for p in sm.input.chunks],
+    [load_surface_chunk(p) for p in sm.input.chunks],
     section_xi=figures["section_xi"],
     eq26=figures["eq26"],
 )
