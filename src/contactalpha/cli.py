@@ -1,6 +1,7 @@
 """Command line: ``contactalpha alpha EPS XI`` and ``contactalpha impact ALPHA XI``."""
 
 import argparse
+import re
 import sys
 
 from contactalpha.engine.driver import ATOL, RTOL, impact
@@ -14,9 +15,29 @@ def _number(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+# Every float literal that starts with a minus: argparse's own pattern (-1, -.5) misses -1e-3,
+# -inf and -nan and reads them as unknown options.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """An ``ArgumentParser`` that reads negative numbers in any float form as values.
+
+    Argument errors are reported on one line (``contactalpha: error: ...``), exit status 2.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message):
+        """Print ``message`` on one line to stderr and exit with status 2 (argparse prints usage too)."""
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} -h)\n")
+
+
 def build_parser():
     """Return the argument parser of the ``contactalpha`` command."""
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="contactalpha",
         description="Hunt-Crossley damping factor alpha under a constant external load.",
     )
