@@ -1,0 +1,1 @@
+"""Which model a scene needs: adequacy maps over (eps, xi), the physical bounce threshold, rest prediction."""
