@@ -301,8 +301,10 @@ def _guess_arrays(use_table):
 
         try:
             return True, table_arrays()
-        except (FileNotFoundError, ValueError):
-            pass  # no usable table: fall back to the formula guess
+        except (FileNotFoundError, ValueError) as err:
+            import warnings
+
+            warnings.warn(f"solve_alpha: no usable table ({err}); formula starting guess", stacklevel=3)
     e1 = np.empty(0)
     e2 = np.empty((0, 0))
     return False, (e1, e1, e1, e1, e2, e1, e1, e2, e1)

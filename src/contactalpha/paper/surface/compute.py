@@ -12,8 +12,10 @@ The grid is built from the workflow's ``surface`` config section
 cannot (unsorted values, ranges that do not fit their step).
 """
 
+import hashlib
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -38,6 +40,7 @@ from contactalpha.engine.codes import (
 )
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.solver import EPS_TOL, solve_table
+from contactalpha.engine.table import DEFAULT_FILE, table_arrays
 from contactalpha.io import json_text
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.validation import check_eps, check_xi
@@ -234,6 +237,7 @@ def compute_surface(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX
         ``units`` and ``long_name``; ``state`` and ``status`` are int8 codes
         with a ``legend`` attribute.  Failed points have NaN ``alpha`` and a
         nonzero ``status``.  Attributes record the solver, its settings, the
+        starting guess and the table file it came from (``guess_record``), the
         compute time and a ``history`` line.
     """
     eps = _increasing(check_eps(np.atleast_1d(eps)), "eps")
@@ -250,6 +254,7 @@ def compute_surface(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX
         solver=SOLVER_NAME,
         **solver,
         contactalpha_version=__version__,
+        **guess_record(),
         git_commit=git_commit(),
         compute_seconds=seconds,
         started=started,
@@ -282,6 +287,21 @@ def _tqdm_progress():
             bar.close()
 
     return update
+
+
+def guess_record(path=DEFAULT_FILE):
+    """Which starting guess ``solve_alpha`` uses (``guess="table"``), as surface attributes.
+
+    The guess changes the Newton path and so the last bits of alpha: ``guess`` is "table" with
+    ``guess_table`` naming the file and its SHA-256, or "formula" with why the table is unusable
+    (the solver then warns and falls back to the exact unloaded alpha).
+    """
+    try:
+        table_arrays(path)
+    except (FileNotFoundError, ValueError) as err:
+        return {"guess": "formula", "guess_table": f"none ({err})"}
+    digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return {"guess": "table", "guess_table": f"{Path(path).name} sha256 {digest}"}
 
 
 def _to_dataset(eps, xi, table):
@@ -375,7 +395,7 @@ def merge_chunks(paths, config=None):
         raise ValueError(
             f"chunks = {found} do not make up one run of {chunks}; valid: each of 0 .. {chunks - 1}"
         )
-    for key in ("tol", "rtol", "atol", "max_steps", "solver"):
+    for key in ("tol", "rtol", "atol", "max_steps", "solver", "guess", "guess_table"):
         values = {p.attrs[key] for p in parts}
         if len(values) > 1:
             raise ValueError(f"chunks disagree on {key} = {sorted(values)}; valid: one value")
@@ -391,7 +411,11 @@ def merge_chunks(paths, config=None):
     history = [line for p in ordered for line in p.attrs["history"].splitlines()]
     history.append(history_line(f"merge_chunks of {chunks} chunks"))
     merged.attrs.update(
-        {key: first[key] for key in ("solver", "tol", "rtol", "atol", "max_steps", "contactalpha_version")},
+        {
+            key: first[key]
+            for key in ("solver", "tol", "rtol", "atol", "max_steps", "guess", "guess_table")
+            + ("contactalpha_version",)
+        },
         git_commit=git_commit(),
         config=json_text(config if config is not None else {}, sort_keys=True),
         chunks=chunks,
