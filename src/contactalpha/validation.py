@@ -66,25 +66,73 @@ def check_positive(name, value):
     return check_range(name, value, 0.0, np.inf, lo_open=True, hi_open=True)
 
 
+# Valid ranges of the dimensionless inputs: (lo, hi, lo_open, hi_open).  One home for the
+# array checks below and for their scalar fast path ``plain_in``.
+RANGES = {
+    "eps": (0.0, 1.0, False, False),
+    "xi": (0.0, 1.0, False, True),
+    "alpha": (0.0, np.inf, False, True),
+}
+# Types the scalar fast path accepts as they are; anything else takes the full check.
+PLAIN_FLOATS = (float, np.float64)
+
+
+def plain_in(name, value):
+    """True if ``value`` is a plain float inside the range ``RANGES[name]`` (NaN is not).
+
+    The scalar fast path of ``check_eps``, ``check_xi`` and ``check_alpha`` for users'
+    one-contact-at-a-time loops (~0.2 us); on False the caller runs the full check, which
+    words the error.
+    """
+    if type(value) not in PLAIN_FLOATS:
+        return False
+    lo, hi, lo_open, hi_open = RANGES[name]
+    return (value > lo if lo_open else value >= lo) and (value < hi if hi_open else value <= hi)
+
+
+def _check_named(name, value):
+    lo, hi, lo_open, hi_open = RANGES[name]
+    return check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open)
+
+
 def check_eps(eps):
     """Restitution coefficient: 0 <= eps <= 1."""
-    return check_range("eps", eps, 0.0, 1.0)
+    return _check_named("eps", eps)
 
 
 def check_xi(xi):
     """Influence factor of the external load: 0 <= xi < 1."""
-    return check_range("xi", xi, 0.0, 1.0, hi_open=True)
+    return _check_named("xi", xi)
 
 
 def check_alpha(alpha):
     """Hysteresis damping factor: alpha >= 0 and finite."""
-    return check_range("alpha", alpha, 0.0, np.inf, hi_open=True)
+    return _check_named("alpha", alpha)
+
+
+# Floor of a relative tolerance set by double precision.
+RTOL_FLOOR = 1e-15
 
 
 def check_tolerances(rtol, atol):
-    """Relative tolerance in (0, 0.1], absolute tolerance in (0, 1]."""
+    """Relative tolerance in [RTOL_FLOOR, 0.1], absolute tolerance in (0, 1]."""
     check_range("rtol", rtol, 0.0, 0.1, lo_open=True)
     check_range("atol", atol, 0.0, 1.0, lo_open=True)
-    if rtol < 1e-15:
-        raise ValueError(f"rtol = {rtol!r} is below the floor 1e-15 set by double precision")
+    if rtol < RTOL_FLOOR:
+        raise ValueError(f"rtol = {rtol!r} is below the floor {RTOL_FLOOR} set by double precision")
     return float(rtol), float(atol)
+
+
+def plain_integrator_settings(rtol, atol, max_steps):
+    """True if plain ``rtol``, ``atol``, ``max_steps`` pass ``check_tolerances`` and ``check_max_steps``.
+
+    The scalar fast path of those checks; on False the caller runs them in full.
+    """
+    return (
+        type(rtol) in PLAIN_FLOATS
+        and type(atol) in PLAIN_FLOATS
+        and type(max_steps) is int
+        and RTOL_FLOOR <= rtol <= 0.1
+        and 0.0 < atol <= 1.0
+        and 1 <= max_steps <= MAX_STEPS_LIMIT
+    )

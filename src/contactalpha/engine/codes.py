@@ -50,7 +50,9 @@ OUT_T_MAX = 7  # time of maximum compression
 OUT_T_END = 8  # time of the end
 OUT_STEPS = 9  # attempted steps, events included
 OUT_NFEV = 10  # right-hand-side evaluations
-N_OUT = 11
+OUT_E_N = 11  # Newton's kinematic e_N = separation speed / approach speed (0 without separation)
+OUT_DE_N = 12  # d e_N / d alpha
+N_OUT = 13
 
 # Slots of the row returned by ``solver.solve_kernel`` / ``solver.solve_point`` (one alpha).
 SOL_ALPHA = 0  # damping factor found
@@ -62,7 +64,8 @@ SOL_STEPS = 5  # integrator steps, all impacts
 SOL_X_MAX = 6  # maximum compression at alpha
 SOL_X_END = 7  # end compression at alpha
 SOL_NFEV = 8  # right-hand-side evaluations, all impacts
-N_SOLVE_OUT = 9
+SOL_E_N = 9  # Newton's e_N that alpha produces
+N_SOLVE_OUT = 10
 
 # Slots of the row returned by ``boundary.boundary_kernel`` (one load).
 BND_ALPHA = 0  # alpha on the separation boundary

@@ -1,17 +1,26 @@
 """One impact: the public, validated, broadcasting face of ``kernel.impact_kernel``."""
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
 
-from contactalpha.validation import check_alpha, check_max_steps, check_tolerances, check_xi
+from contactalpha.validation import (
+    check_alpha,
+    check_max_steps,
+    check_tolerances,
+    check_xi,
+    plain_in,
+    plain_integrator_settings,
+)
 
 from .codes import (
     END_STATES,
     N_OUT,
     N_REC,
     OUT_DEPS2,
+    OUT_E_N,
     OUT_EPS2,
     OUT_NFEV,
     OUT_STATE,
@@ -25,7 +34,7 @@ from .codes import (
     STATUS,
 )
 from .kernel import impact_kernel
-from .scaling import scaled_load
+from .scaling import scaled_load, scaled_load_unchecked
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
 # over the paper's domain, which the alpha root-finder needs for 1e-10.
@@ -41,7 +50,10 @@ class ImpactResult:
 
     Attributes
     ----------
-    eps : Stronge's restitution coefficient (Eq. 17); NaN when the run failed.
+    eps : Stronge's energetic restitution coefficient (Eq. 17); NaN when the run failed.
+    e_n : Newton's kinematic coefficient, separation speed / approach speed (``-v_end``);
+        0 when the impact ends without separation, NaN when the run failed or the
+        integrator does not report it.
     state : end state name: separation, nonseparation, creep, no_restitution, failed.
     x_max, x_end, v_end : maximum compression and end state, scaled by delta_star
         and v0.  For creep and no restitution the end is the limit t -> inf.
@@ -62,6 +74,7 @@ class ImpactResult:
     nfev: np.ndarray
     status: np.ndarray
     deps_dalpha: np.ndarray
+    e_n: np.ndarray = np.nan
 
     @property
     def ok(self):
@@ -122,6 +135,31 @@ def _as_result(table, shape):
         nfev=shaped(table[:, OUT_NFEV].astype(np.int64)),
         status=shaped(np.array([STATUS[s] for s in status], dtype=object)),
         deps_dalpha=shaped(deps),
+        e_n=shaped(table[:, OUT_E_N]),
+    )
+
+
+# Empty trajectory record: impacts that record nothing share it.
+NO_RECORD = np.empty((0, N_REC))
+
+
+def _scalar_result(out):
+    """``_as_result`` of one kernel row, as Python scalars (the scalar fast path, same numbers)."""
+    eps2, de2, code, status = out[OUT_EPS2], out[OUT_DEPS2], out[OUT_STATE], out[OUT_STATUS]
+    eps = math.sqrt(eps2) if eps2 > 0.0 else (0.0 if eps2 <= 0.0 else math.nan)
+    return ImpactResult(
+        eps=eps,
+        state=END_STATES[int(code)],
+        x_max=float(out[OUT_X_MAX]),
+        x_end=float(out[OUT_X_END]),
+        v_end=float(out[OUT_V_END]),
+        t_max=float(out[OUT_T_MAX]),
+        t_end=float(out[OUT_T_END]),
+        steps=int(out[OUT_STEPS]),
+        nfev=int(out[OUT_NFEV]),
+        status=STATUS[int(status)],
+        deps_dalpha=float(de2 / (2 * eps)) if eps > 0 else math.nan,
+        e_n=float(out[OUT_E_N]),
     )
 
 
@@ -143,7 +181,11 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     Returns
     -------
     ImpactResult
+        Python scalars for scalar input, else arrays of the broadcast shape.
     """
+    if plain_in("alpha", alpha) and plain_in("xi", xi) and plain_integrator_settings(rtol, atol, max_steps):
+        out, _ = impact_kernel(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD)
+        return _scalar_result(out)
     alpha = check_alpha(alpha)
     xi = check_xi(xi)
     rtol, atol = check_tolerances(rtol, atol)

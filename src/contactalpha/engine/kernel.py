@@ -7,6 +7,9 @@ identity of the scaled equation (SCIENCE.md Sect. 3), exact for the ODE:
 
 Its derivative with respect to alpha comes from the sensitivities ``p, q``
 integrated along the trajectory, so a Newton step costs no extra impact.
+Newton's kinematic coefficient ``e_N = -v_e`` (separation speed over approach
+speed, 0 when the impact ends without separation) and its alpha-derivative
+are reported beside it.
 """
 
 import numpy as np
@@ -21,7 +24,9 @@ from .codes import (
     NON_FINITE,
     NONSEPARATION,
     OK,
+    OUT_DE_N,
     OUT_DEPS2,
+    OUT_E_N,
     OUT_EPS2,
     OUT_NFEV,
     OUT_STATE,
@@ -101,14 +106,15 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     Returns
     -------
     out : ndarray, shape (N_OUT,)
-        ``eps2, deps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev`` in the
-        slots ``codes.OUT_*``; the number of recorded rows is returned separately.
+        ``eps2, deps2, state, status, x_m, x_e, v_e, t_m, t_e, steps, nfev, e_N, de_N`` in
+        the slots ``codes.OUT_*``; the number of recorded rows is returned separately.
     n_rec : int
     """
     K = np.empty((N_STAGES + 1, N_STATE))
     y = np.zeros(N_STATE)
     y_new = np.empty(N_STATE)
     ytmp = np.empty(N_STATE)
+    y_start = np.empty(N_STATE)
     y[2] = 1.0
     n_rec = 0
     if record.shape[0] > 0:
@@ -169,9 +175,19 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 # Separation: integrate in w = sqrt(x), where the Hertz force is smooth.
                 k = MODE_SQRT_X
                 y[5] = np.sqrt(y[1])
+            _copy(y, y_start)
             st, ls, lf = locate(y, k, A, alpha, rtol, atol, max_steps - steps, K, y_new, ytmp)
             steps += ls
             nfev += lf
+            if st == OK and k == 2 and not compressing and y[1] < 0.0:
+                # A grazing exit: within one step x passed 0 (the load alone then turns v) and
+                # v turned below x = 0.  The bodies separated first, with a small speed.
+                _copy(y_start, y)
+                k = MODE_SQRT_X
+                y[5] = np.sqrt(y[1])
+                st, ls, lf = locate(y, k, A, alpha, rtol, atol, max_steps - steps, K, y_new, ytmp)
+                steps += ls
+                nfev += lf
             if st != OK:
                 status = EVENT_FAILED if st == STEP_UNDERFLOW else st
                 break
@@ -267,4 +283,10 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     out[OUT_T_END] = t_e
     out[OUT_STEPS] = steps
     out[OUT_NFEV] = nfev
+    if state == SEPARATION:
+        out[OUT_E_N] = -v_e  # v_e < 0: the bodies move apart
+        out[OUT_DE_N] = -dve
+    elif state != FAILED:
+        out[OUT_E_N] = 0.0
+        out[OUT_DE_N] = 0.0
     return out, n_rec

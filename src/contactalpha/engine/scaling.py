@@ -26,7 +26,11 @@ def time_scale(m_e, k, v0):
 
 def scaled_load(xi):
     """Scaled load ``A(xi) = xi (1 - xi)^(-3/5) / 2``; shape follows ``xi``."""
-    xi = check_xi(xi)
+    return scaled_load_unchecked(check_xi(xi))
+
+
+def scaled_load_unchecked(xi):
+    """``scaled_load`` of a float or float array already checked to lie in [0, 1)."""
     return 0.5 * xi * (1.0 - xi) ** -0.6
 
 

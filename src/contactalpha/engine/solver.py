@@ -22,12 +22,22 @@ Every point is solved from a starting guess that depends on its own
 ``(eps, xi)`` only, so a grid gives bit-identical results however it is split.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
 
-from contactalpha.validation import check_eps, check_max_steps, check_range, check_tolerances, check_xi
+from contactalpha.validation import (
+    PLAIN_FLOATS,
+    check_eps,
+    check_max_steps,
+    check_range,
+    check_tolerances,
+    check_xi,
+    plain_in,
+    plain_integrator_settings,
+)
 
 from .codes import (
     END_STATES,
@@ -39,7 +49,9 @@ from .codes import (
     NO_RESTITUTION,
     NOT_CONVERGED,
     OK,
+    OUT_DE_N,
     OUT_DEPS2,
+    OUT_E_N,
     OUT_EPS2,
     OUT_NFEV,
     OUT_STATE,
@@ -49,6 +61,7 @@ from .codes import (
     OUT_X_MAX,
     SEPARATION,
     SOL_ALPHA,
+    SOL_E_N,
     SOL_EPS,
     SOL_IMPACTS,
     SOL_NFEV,
@@ -62,11 +75,12 @@ from .codes import (
 from .driver import ATOL, MAX_STEPS, PARALLEL_MIN, RTOL
 from .exact import alpha_exact_scalar, max_compression_exact
 from .kernel import impact_kernel
-from .scaling import scaled_load
-from .table import EPS_MIN, XI_MAX, alpha_from_table
+from .scaling import scaled_load, scaled_load_unchecked
+from .table import EPS_MIN, XI_MAX, alpha_from_table, kinematic_alpha_from_table
 
-# Default absolute tolerance on the restitution coefficient reached.
+# Default absolute tolerance on the restitution coefficient reached, and the loosest accepted.
 EPS_TOL = 1e-12
+TOL_MAX = 1e-3
 # Relative width of the final bracket around the onset alpha (eps = 0).
 ONSET_RTOL = 1e-11
 # Iteration limit; each iteration is one impact.
@@ -104,14 +118,29 @@ def _bisect(lo, hi):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
-    """Find alpha with ``eps(alpha, A) = eps_t``.
+def _target_of(res, kinematic):
+    """``(e^2, d e^2 / d alpha, ended without restitution)`` of the definition being solved for.
+
+    Energetic: Stronge's eps, which vanishes only at the onset (no restitution).
+    Kinematic: Newton's e_N, which vanishes for every impact that does not separate.
+    """
+    if kinematic:
+        e_n = res[OUT_E_N]
+        return e_n * e_n, 2.0 * e_n * res[OUT_DE_N], res[OUT_STATE] != SEPARATION
+    return res[OUT_EPS2], res[OUT_DEPS2], res[OUT_STATE] == NO_RESTITUTION
+
+
+@njit(cache=True, error_model="numpy")
+def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
+    """Find alpha with ``eps(alpha, A) = eps_t`` (``e_N(alpha, A) = eps_t`` when ``kinematic``).
+
+    The kinematic target must be > 0: e_N = 0 holds on a whole range of alpha.
 
     Returns
     -------
     out : ndarray, shape (N_SOLVE_OUT,)
-        ``alpha, eps_reached, state, status, impacts, steps, x_m, x_e, nfev`` in the
-        slots ``codes.SOL_*``.
+        ``alpha, eps_reached, state, status, impacts, steps, x_m, x_e, nfev, e_N_reached``
+        in the slots ``codes.SOL_*``.
     """
     out = np.full(N_SOLVE_OUT, np.nan)
     lo = 0.0
@@ -138,7 +167,7 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
             status = int(res[OUT_STATUS])
             best = res
             break
-        e2 = res[OUT_EPS2]
+        e2, de2_here, dead = _target_of(res, kinematic)
         eps = np.sqrt(max(e2, 0.0))
         if onset:
             if res[OUT_STATE] == NO_RESTITUTION:
@@ -159,8 +188,7 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
             if abs(eps - eps_t) <= tol:
                 status = OK
                 break
-            de2_here = res[OUT_DEPS2]
-            has_slope = eps > 0.0 and de2_here < 0.0 and alpha > 0.0 and res[OUT_STATE] != NO_RESTITUTION
+            has_slope = eps > 0.0 and de2_here < 0.0 and alpha > 0.0 and not dead
             if eps > eps_t:
                 lo = alpha
                 lo_e2 = e2
@@ -168,7 +196,7 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
             else:
                 hi = alpha
             new = np.inf
-            near_onset = res[OUT_STATE] == NO_RESTITUTION
+            near_onset = dead
             if has_slope:
                 slope = alpha * de2_here / (2.0 * e2)
                 near_onset = slope < -STEEP
@@ -183,7 +211,11 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
                     if eps_t < SMALL_EPS:
                         x_m = res[OUT_X_MAX]
                         wc = 0.5 + A * x_m
-                        if abs(e2 - eps_t * eps_t) <= A * (rtol * x_m + atol) / wc:
+                        # e_N^2 = v_e^2 is known to 2 e_N (rtol e_N + atol) at best.
+                        res_e2 = (
+                            2.0 * eps * (rtol * eps + atol) if kinematic else A * (rtol * x_m + atol) / wc
+                        )
+                        if abs(e2 - eps_t * eps_t) <= res_e2:
                             status = OK  # eps^2 meets the target to its own resolution
                             break
                 else:
@@ -210,6 +242,7 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps):
         alpha = new
     out[SOL_ALPHA] = alpha
     out[SOL_EPS] = np.sqrt(max(best[OUT_EPS2], 0.0)) if best[OUT_STATUS] == OK else np.nan
+    out[SOL_E_N] = best[OUT_E_N] if best[OUT_STATUS] == OK else np.nan
     out[SOL_STATE] = best[OUT_STATE]
     out[SOL_STATUS] = status
     out[SOL_IMPACTS] = impacts
@@ -229,17 +262,21 @@ def initial_guess(eps, A):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk):
     """Solve one point: exact relation at ``A = 0`` (unless ``use_exact`` is False), else Newton.
 
-    ``tb`` holds the exact table's arrays (``table.ARRAY_NAMES``), used for the
-    starting guess when ``use_table`` is True and the point is inside its domain.
+    ``eps_t`` is Stronge's eps, or Newton's e_N when ``kinematic`` (then it must be > 0
+    unless ``A = 0``: e_N = 0 holds on a whole range of alpha, reported as no bracket).
+    ``tb`` holds the energetic table's arrays (``table.ARRAY_NAMES``), ``tk`` the
+    kinematic table's (``table.KINEMATIC_ARRAY_NAMES``), used for the starting guess
+    when ``use_table`` is True and the point is inside the table's domain.
     """
     if eps_t >= 1.0:
         out = np.full(N_SOLVE_OUT, np.nan)
         res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, N_REC)))
         out[SOL_ALPHA] = 0.0
         out[SOL_EPS] = np.sqrt(max(res[OUT_EPS2], 0.0))
+        out[SOL_E_N] = res[OUT_E_N]
         out[SOL_STATE] = res[OUT_STATE]
         out[SOL_STATUS] = res[OUT_STATUS]
         out[SOL_IMPACTS] = 1
@@ -248,7 +285,7 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
         out[SOL_X_END] = res[OUT_X_END]
         out[SOL_NFEV] = res[OUT_NFEV]
         return out
-    if A == 0.0 and use_exact:
+    if (A == 0.0 and use_exact) or (kinematic and eps_t <= 0.0):
         out = np.full(N_SOLVE_OUT, np.nan)
         out[SOL_STATE] = FAILED  # unless a root exists
         out[SOL_STATUS] = NO_BRACKET
@@ -256,58 +293,76 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
         out[SOL_STEPS] = 0.0
         out[SOL_NFEV] = 0.0
         if eps_t > 0.0:
+            # Without a load e_N = eps (the energy identity with A = 0).
             alpha = alpha_exact_scalar(eps_t)
             out[SOL_ALPHA] = alpha
             out[SOL_EPS] = eps_t
+            out[SOL_E_N] = eps_t
             out[SOL_STATE] = SEPARATION
             out[SOL_STATUS] = OK
             out[SOL_X_MAX] = max_compression_exact(alpha)
             out[SOL_X_END] = 0.0
         return out
-    if use_table and eps_t >= EPS_MIN and xi <= XI_MAX:
+    in_table = use_table and eps_t >= EPS_MIN and xi <= XI_MAX
+    if in_table and kinematic:
+        guess = kinematic_alpha_from_table(eps_t, xi, tk[0], tk[1], tk[2], tk[3])
+    elif in_table:
         guess = alpha_from_table(eps_t, xi, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], tb[6], tb[7], tb[8])
     else:
         guess = initial_guess(eps_t, A)
-    return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps)
+    return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps, kinematic)
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i):
-    out[i] = solve_point(eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb)
+def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i):
+    out[i] = solve_point(
+        eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk
+    )
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk):
     """``solve_point`` over flat arrays, in parallel; returns shape (n, N_SOLVE_OUT)."""
     out = np.empty((eps.size, N_SOLVE_OUT))
     for i in prange(eps.size):
-        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i)
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def solve_serial(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb):
+def solve_serial(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk):
     """``solve_many`` in one thread, for small inputs."""
     out = np.empty((eps.size, N_SOLVE_OUT))
     for i in range(eps.size):
-        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, out, i)
+        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i)
     return out
 
 
-def _guess_arrays(use_table):
-    """Table arrays for the starting guess, or empty stand-ins (and False) without a table."""
+_NO_TABLE = (
+    (np.empty(0),) * 4 + (np.empty((0, 0)),) + (np.empty(0),) * 2 + (np.empty((0, 0)), np.empty(0)),
+    (np.empty(0), np.empty(0), np.empty((0, 0)), np.empty(0)),
+)
+
+
+def _guess_arrays(use_table, kinematic):
+    """``(found, energetic arrays, kinematic arrays)`` for the starting guess.
+
+    Only the table of the definition being solved for is read; the other, and a table that
+    cannot be read, is replaced by empty stand-ins (then ``found`` is False).
+    """
+    tb, tk = _NO_TABLE
     if use_table:
-        from .table import table_arrays
+        from .table import kinematic_table_arrays, table_arrays
 
         try:
-            return True, table_arrays()
+            if kinematic:
+                return True, tb, kinematic_table_arrays()
+            return True, table_arrays(), tk
         except (FileNotFoundError, ValueError) as err:
             import warnings
 
             warnings.warn(f"solve_alpha: no usable table ({err}); formula starting guess", stacklevel=3)
-    e1 = np.empty(0)
-    e2 = np.empty((0, 0))
-    return False, (e1, e1, e1, e1, e2, e1, e1, e2, e1)
+    return False, tb, tk
 
 
 @dataclass(frozen=True)
@@ -317,12 +372,13 @@ class AlphaSolution:
     Attributes
     ----------
     alpha : damping factor; NaN where ``status`` is not "ok".
-    eps_reached : Stronge's epsilon that ``alpha`` actually produces.
+    eps_reached : Stronge's energetic epsilon that ``alpha`` actually produces.
     state : end state of the impact at ``alpha``.
     status : "ok" or why the root-finder stopped.
     impacts : impacts integrated for this point (0 on the exact xi = 0 path).
     steps, nfev : integrator steps and right-hand-side evaluations, all impacts.
     x_max, x_end : maximum compression and end compression at ``alpha`` (scaled).
+    e_n_reached : Newton's kinematic e_N that ``alpha`` produces (0 without separation).
     """
 
     alpha: np.ndarray
@@ -334,6 +390,7 @@ class AlphaSolution:
     nfev: np.ndarray
     x_max: np.ndarray
     x_end: np.ndarray
+    e_n_reached: np.ndarray
 
     @property
     def ok(self):
@@ -341,24 +398,69 @@ class AlphaSolution:
         return np.asarray(self.status) == "ok"
 
 
-def solve_table(
-    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
-):
-    """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
-    eps = check_eps(eps)
+# The two restitution coefficients a target may be given in.
+RESTITUTIONS = ("energetic", "kinematic")
+
+
+def check_restitution(restitution):
+    """Return True for "kinematic", False for "energetic"; raise ``ValueError`` otherwise."""
+    if restitution not in RESTITUTIONS:
+        raise ValueError(f"restitution = {restitution!r} is not one of {', '.join(map(repr, RESTITUTIONS))}")
+    return restitution == "kinematic"
+
+
+def no_kinematic_inverse(name="e_N"):
+    """The error for a kinematic target of 0, which many alpha produce."""
+    return ValueError(
+        f"{name} = 0.0 has no kinematic inverse: every alpha from the separation boundary's "
+        "alpha_b(xi) upwards ends without separation, so e_N = 0 for all of them; as e_N -> 0+ "
+        "alpha tends to alpha_b(xi) (see separation_boundary). Valid: e_N in (0, 1]"
+    )
+
+
+def _check_targets(eps, xi, kinematic, exact_at_zero):
+    """Validated, broadcast targets; the kinematic target 0 and eps = 0 at xi = 0 raise."""
+    if kinematic:
+        eps = check_range("e_N", eps, 0.0, 1.0)
+        if np.any(eps == 0.0):
+            raise no_kinematic_inverse()
+    else:
+        eps = check_eps(eps)
     xi = check_xi(xi)
-    rtol, atol = check_tolerances(rtol, atol)
-    max_steps = check_max_steps(max_steps)
-    tol = float(check_range("tol", tol, 0.0, 1e-3, lo_open=True))
     eps, xi = np.broadcast_arrays(eps, xi)
     if exact_at_zero and np.any((eps == 0.0) & (xi == 0.0)):
         raise ValueError(
             "eps = 0.0 at xi = 0.0 cannot be reached: without a load alpha -> infinity; "
             "valid: eps in (0, 1] when xi = 0, eps in [0, 1] when 0 < xi < 1"
         )
+    return eps, xi
+
+
+def _check_guess(guess):
     if guess not in ("table", "formula"):
         raise ValueError(f"guess = {guess!r} is not one of 'table', 'formula'")
-    use_table, tb = _guess_arrays(guess == "table")
+
+
+def solve_table(
+    eps,
+    xi,
+    *,
+    tol=EPS_TOL,
+    rtol=RTOL,
+    atol=ATOL,
+    max_steps=MAX_STEPS,
+    exact_at_zero=True,
+    guess="table",
+    restitution="energetic",
+):
+    """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
+    kinematic = check_restitution(restitution)
+    eps, xi = _check_targets(eps, xi, kinematic, exact_at_zero)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_steps = check_max_steps(max_steps)
+    tol = float(check_range("tol", tol, 0.0, TOL_MAX, lo_open=True))
+    _check_guess(guess)
+    use_table, tb, tk = _guess_arrays(guess == "table", kinematic)
     A = scaled_load(xi)
     run = solve_many if eps.size >= PARALLEL_MIN else solve_serial
     table = run(
@@ -372,39 +474,99 @@ def solve_table(
         bool(exact_at_zero),
         use_table,
         tb,
+        kinematic,
+        tk,
     )
     return table, eps.shape
 
 
+def _scalar_solution(row):
+    """``AlphaSolution`` of one solver row as Python scalars (the scalar fast path, same numbers)."""
+    status = int(row[SOL_STATUS])
+    state = row[SOL_STATE]
+    return AlphaSolution(
+        alpha=float(row[SOL_ALPHA]) if status == OK else math.nan,
+        eps_reached=float(row[SOL_EPS]),
+        state=END_STATES[int(state) if state == state else FAILED],
+        status=STATUS[status],
+        impacts=int(row[SOL_IMPACTS]),
+        steps=int(row[SOL_STEPS]),
+        nfev=int(row[SOL_NFEV]),
+        x_max=float(row[SOL_X_MAX]),
+        x_end=float(row[SOL_X_END]),
+        e_n_reached=float(row[SOL_E_N]),
+    )
+
+
 def solve_alpha(
-    eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, exact_at_zero=True, guess="table"
+    eps,
+    xi,
+    *,
+    tol=EPS_TOL,
+    rtol=RTOL,
+    atol=ATOL,
+    max_steps=MAX_STEPS,
+    exact_at_zero=True,
+    guess="table",
+    restitution="energetic",
 ):
     """Damping factor alpha that makes the loaded impact restitute with ``eps``.
 
     Parameters
     ----------
     eps : float or array_like
-        Target Stronge restitution coefficient, 0 <= eps <= 1.  ``eps = 0``
-        (only for ``xi > 0``) returns the onset alpha where restitution stops.
+        Target restitution coefficient, in the definition ``restitution`` names.
+        Energetic (Stronge's eps): 0 <= eps <= 1; ``eps = 0`` (only for ``xi > 0``)
+        returns the onset alpha where restitution stops.  Kinematic (Newton's e_N,
+        separation speed / approach speed): 0 < e_N <= 1; e_N = 0 has no inverse
+        (every alpha from the separation boundary up gives it) and raises.
     xi : float or array_like
         Influence factor of the load, 0 <= xi < 1; broadcast against ``eps``.
     tol : float
-        Absolute tolerance on the epsilon reached.
+        Absolute tolerance on the restitution reached.
     rtol, atol, max_steps
         Integrator settings, as in ``impact``.
     exact_at_zero : bool
         Use the exact relation at ``xi = 0`` (default); False integrates there too.
     guess : {"table", "formula"}
-        Starting guess: the shipped exact table (fewest impacts), or the exact
-        unloaded alpha (independent of any data file; used to build the table).
+        Starting guess: the shipped exact table of the chosen definition (fewest
+        impacts), or the exact unloaded alpha (independent of any data file; used to
+        build the tables).
+    restitution : {"energetic", "kinematic"}
+        Which coefficient ``eps`` is.
 
     Returns
     -------
     AlphaSolution
-        Points that failed carry NaN alpha and say why in ``status``.
+        Both coefficients reached (``eps_reached``, ``e_n_reached``); points that failed
+        carry NaN alpha and say why in ``status``.  Python scalars for scalar input.
     """
+    if (
+        guess == "table"
+        and plain_in("eps", eps)
+        and eps > 0.0
+        and plain_in("xi", xi)
+        and plain_integrator_settings(rtol, atol, max_steps)
+        and type(tol) in PLAIN_FLOATS
+        and 0.0 < tol <= TOL_MAX
+        and type(exact_at_zero) is bool
+        and restitution in RESTITUTIONS
+    ):
+        kinematic = restitution == "kinematic"
+        use_table, tb, tk = _guess_arrays(True, kinematic)
+        A = scaled_load_unchecked(xi)
+        row = solve_point(eps, A, xi, tol, rtol, atol, max_steps, exact_at_zero, use_table, tb, kinematic, tk)
+        return _scalar_solution(row)
     table, shape = solve_table(
-        eps, xi, tol=tol, rtol=rtol, atol=atol, max_steps=max_steps, exact_at_zero=exact_at_zero, guess=guess
+        eps,
+        xi,
+        tol=tol,
+        rtol=rtol,
+        atol=atol,
+        max_steps=max_steps,
+        exact_at_zero=exact_at_zero,
+        guess=guess,
+        restitution=restitution,
     )
     status = table[:, SOL_STATUS].astype(int)
     alpha = np.where(status == OK, table[:, SOL_ALPHA], np.nan)
@@ -424,4 +586,5 @@ def solve_alpha(
         nfev=shaped(table[:, SOL_NFEV].astype(np.int64)),
         x_max=shaped(table[:, SOL_X_MAX]),
         x_end=shaped(table[:, SOL_X_END]),
+        e_n_reached=shaped(table[:, SOL_E_N]),
     )

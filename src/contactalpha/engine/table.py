@@ -46,6 +46,7 @@ XI_SCALE = 1e-10
 # Spline degree in both directions.
 DEGREE = 5
 DEFAULT_FILE = Path(__file__).parents[1] / "data" / "alpha_table.npz"
+KINEMATIC_FILE = Path(__file__).parents[1] / "data" / "alpha_table_kinematic.npz"
 # Arrays stored in the table file, in the argument order of ``alpha_from_table``.
 ARRAY_NAMES = ("b_t", "b_c", "s_tx", "s_ty", "s_c", "n_tx", "n_ty", "n_c", "geom")
 
@@ -106,6 +107,37 @@ def alpha_from_table(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
     return np.exp(L) * (1.0 - eps) / eps
 
 
+# The kinematic table (Newton's e_N): one region, since e_N > 0 only where the impact separates.
+# Arrays in the argument order of ``kinematic_alpha_from_table``; ``k_geom`` holds the (first
+# node, spacing, node count) of the eta grid, then of the q grid.
+KINEMATIC_ARRAY_NAMES = ("k_tx", "k_ty", "k_c", "k_geom")
+G_K_ETA, G_K_Q = 0, 3
+N_K_GEOM = 6
+
+
+@njit(cache=True, error_model="numpy")
+def kinematic_q(e_n):
+    """Coordinate of the kinematic table along e_N: ``q = ln e_N``, in [U_MIN, 0]."""
+    return np.log(e_n)
+
+
+@njit(cache=True, error_model="numpy")
+def kinematic_alpha_from_table(e_n, xi, tx, ty, c, g):
+    """Scalar, numba-callable alpha(e_N, xi) from the kinematic table's arrays.
+
+    Tabulated: ``L = ln(alpha e_N / (1 - e_N))`` on (eta, q), as for the energetic table.
+    Defined on ``EPS_MIN <= e_N <= 1``, ``0 <= xi <= XI_MAX``; NaN outside and for NaN.
+    """
+    if not (EPS_MIN <= e_n <= 1.0 and 0.0 <= xi <= XI_MAX):
+        return np.nan
+    if e_n == 1.0:
+        return 0.0
+    e0, de, ne = g[G_K_ETA + G_FIRST], g[G_K_ETA + G_STEP], int(g[G_K_ETA + G_COUNT])
+    q0, dq, nq = g[G_K_Q + G_FIRST], g[G_K_Q + G_STEP], int(g[G_K_Q + G_COUNT])
+    L = eval_2d_uniform(tx, ty, c, e0, de, ne, q0, dq, nq, eta_of_xi(xi), kinematic_q(e_n))
+    return np.exp(L) * (1.0 - e_n) / e_n
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def alpha_from_table_many(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
     """``alpha_from_table`` over flat arrays, in parallel."""
@@ -128,20 +160,25 @@ def alpha_from_table_serial(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c,
 PARALLEL_MIN_LOOKUPS = 4096
 
 
-def load_table(path=DEFAULT_FILE):
-    """Read a table written by ``save_table``; refuse a different format version."""
+def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
+    """``(arrays, meta)`` of a table file written by ``table_build``; refuse a different format version."""
     path = Path(path)
     if not path.exists():
-        raise FileNotFoundError(f"exact-alpha table {path} not found; build it with `snakemake -c2 table`")
+        raise FileNotFoundError(f"exact-alpha table {path} not found; build it with {build_hint}")
     with np.load(path) as z:
         meta = json.loads(str(z["meta"]))
         if meta.get("format_version") != TABLE_FORMAT_VERSION:
             raise ValueError(
                 f"exact-alpha table {path} has format version {meta.get('format_version')!r}, "
-                f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with `snakemake -c2 table`"
+                f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with {build_hint}"
             )
-        arrays = {k: np.ascontiguousarray(z[k]) for k in ARRAY_NAMES}
-        return AlphaTable(**arrays, meta=meta)
+        return {k: np.ascontiguousarray(z[k]) for k in names}, meta
+
+
+def load_table(path=DEFAULT_FILE):
+    """Read the energetic table written by ``save_table``; refuse a different format version."""
+    arrays, meta = read_table_file(path, ARRAY_NAMES)
+    return AlphaTable(**arrays, meta=meta)
 
 
 _CACHE = {}
@@ -153,6 +190,15 @@ def table_arrays(path=DEFAULT_FILE):
     if key not in _CACHE:
         t = load_table(path)
         _CACHE[key] = tuple(getattr(t, name) for name in ARRAY_NAMES)
+    return _CACHE[key]
+
+
+def kinematic_table_arrays(path=KINEMATIC_FILE):
+    """The kinematic table's arrays in the argument order of ``kinematic_alpha_from_table``."""
+    key = ("kinematic", str(path))
+    if key not in _CACHE:
+        arrays, _ = read_table_file(path, KINEMATIC_ARRAY_NAMES, "`snakemake -c2 kinematic_table`")
+        _CACHE[key] = tuple(arrays[name] for name in KINEMATIC_ARRAY_NAMES)
     return _CACHE[key]
 
 

@@ -15,7 +15,9 @@ from contactalpha.io import json_text, write_atomic
 
 from .boundary import separation_boundary
 from .bspline import clamp_to_uniform
-from .driver import impact
+from .codes import OUT_DE_N, OUT_STATUS
+from .driver import ATOL, MAX_STEPS, RTOL, impact, impact_serial
+from .scaling import scaled_load
 from .solver import solve_alpha
 from .table import (
     ARRAY_NAMES,
@@ -24,12 +26,17 @@ from .table import (
     EPS_MIN,
     G_COUNT,
     G_FIRST,
+    G_K_ETA,
+    G_K_Q,
     G_N_ETA,
     G_N_P,
     G_S_ETA,
     G_S_P,
     G_STEP,
+    KINEMATIC_ARRAY_NAMES,
+    KINEMATIC_FILE,
     N_GEOM,
+    N_K_GEOM,
     TABLE_FORMAT_VERSION,
     U_MIN,
     XI_MAX,
@@ -37,6 +44,7 @@ from .table import (
     AlphaTable,
     alpha_tabulated,
     eta_of_xi,
+    kinematic_q,
 )
 
 # Smooth floor of the boundary position, in ln eps, and its softness.
@@ -71,6 +79,21 @@ class TableCheckSettings:
     max_rel_err: float = 1e-6
 
 
+@dataclass(frozen=True)
+class KinematicTableSettings:
+    """Grid and solver settings of ``build_kinematic_table``; the defaults build the shipped table.
+
+    One region on a uniform (eta, q = ln e_N) grid: e_N > 0 only where the impact separates, so
+    the kinematic alpha has no kink inside the domain (EPS_MIN <= e_N <= 1) to align a grid with.
+    """
+
+    n_eta: int = 277
+    n_q: int = 101
+    tol: float = 1e-13
+    rtol: float = 1e-12
+    atol: float = 1e-14
+
+
 def xi_of_eta(eta):
     """Inverse of ``eta_of_xi`` (bisection in log space; build time only)."""
     eta = np.asarray(eta, dtype=float)
@@ -102,16 +125,30 @@ def _spline2d(eta, p, L):
     return tx, ty, np.ascontiguousarray(c)
 
 
-def _node_values(eps, xi, tol, rtol, atol):
-    """``L`` at nodes; eps = 1 uses the slope of eps(alpha) at alpha = 0."""
+def kinematic_slope_at_zero(xi, rtol=RTOL, atol=ATOL):
+    """``d e_N / d alpha`` at ``alpha = 0`` (where e_N = 1), from the impact's sensitivities."""
+    A = np.ascontiguousarray(np.atleast_1d(scaled_load(xi)), dtype=float).ravel()
+    out = impact_serial(np.zeros_like(A), A, float(rtol), float(atol), MAX_STEPS)
+    if np.any(out[:, OUT_STATUS] != 0):
+        raise RuntimeError(f"table build: impact at alpha = 0 failed for xi = {np.asarray(xi)}")
+    return out[:, OUT_DE_N].reshape(np.shape(xi))
+
+
+def _node_values(eps, xi, tol, rtol, atol, restitution="energetic"):
+    """``L`` at nodes; eps = 1 uses the slope of eps(alpha) (or e_N(alpha)) at alpha = 0."""
     eps = np.asarray(eps, dtype=float)
     xi = np.broadcast_to(np.asarray(xi, dtype=float), eps.shape)
     L = np.empty(eps.shape)
     one = eps >= 1.0
     if one.any():
-        slope = impact(0.0, xi[one], rtol=rtol, atol=atol).deps_dalpha
+        if restitution == "kinematic":
+            slope = kinematic_slope_at_zero(xi[one], rtol, atol)
+        else:
+            slope = impact(0.0, xi[one], rtol=rtol, atol=atol).deps_dalpha
         L[one] = np.log(-1.0 / slope)
-    sol = solve_alpha(eps[~one], xi[~one], tol=tol, rtol=rtol, atol=atol, guess="formula")
+    sol = solve_alpha(
+        eps[~one], xi[~one], tol=tol, rtol=rtol, atol=atol, guess="formula", restitution=restitution
+    )
     if not np.all(sol.ok):
         bad = np.argwhere(~np.asarray(sol.ok)).ravel()
         raise RuntimeError(
@@ -211,6 +248,65 @@ def build_table(
         geom[start + G_STEP] = nodes[1] - nodes[0]
         geom[start + G_COUNT] = nodes.size
     return AlphaTable(b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, geom, meta)
+
+
+def build_kinematic_table(
+    n_eta=KinematicTableSettings.n_eta,
+    n_q=KinematicTableSettings.n_q,
+    *,
+    tol=KinematicTableSettings.tol,
+    rtol=KinematicTableSettings.rtol,
+    atol=KinematicTableSettings.atol,
+    progress=None,
+):
+    """Compute the kinematic table: alpha(e_N, xi) node values on (eta, q = ln e_N) and their spline.
+
+    Returns
+    -------
+    dict
+        The arrays ``table.KINEMATIC_ARRAY_NAMES`` and ``meta``.
+    """
+    say = progress or (lambda msg: None)
+    eta = np.linspace(0.0, float(eta_of_xi(XI_MAX)), n_eta)
+    xi = xi_of_eta(eta)
+    xi[0] = 0.0
+    q = np.linspace(float(kinematic_q(EPS_MIN)), 0.0, n_q)
+    e_n = np.exp(q)
+    e_n[-1] = 1.0
+    L = _node_values(np.broadcast_to(e_n, (n_eta, n_q)), xi[:, None], tol, rtol, atol, "kinematic")
+    say(f"kinematic: {L.size} nodes")
+    tx, ty, c = _spline2d(eta, q, L)
+    geom = np.empty(N_K_GEOM)
+    for start, nodes in ((G_K_ETA, eta), (G_K_Q, q)):
+        geom[start + G_FIRST] = nodes[0]
+        geom[start + G_STEP] = nodes[1] - nodes[0]
+        geom[start + G_COUNT] = nodes.size
+    meta = dict(
+        format_version=TABLE_FORMAT_VERSION,
+        restitution="kinematic",
+        eps_min=EPS_MIN,
+        xi_max=XI_MAX,
+        xi_scale=XI_SCALE,
+        degree=DEGREE,
+        n_eta=n_eta,
+        n_q=n_q,
+        tol=tol,
+        rtol=rtol,
+        atol=atol,
+    )
+    return dict(zip(KINEMATIC_ARRAY_NAMES, (tx, ty, c, geom), strict=True), meta=meta)
+
+
+def save_kinematic_table(table, path=KINEMATIC_FILE, **extra_meta):
+    """Write the kinematic table (``build_kinematic_table``'s dict) to ``path`` (.npz) atomically."""
+    meta = dict(table["meta"], **extra_meta)
+    arrays = {name: table[name] for name in KINEMATIC_ARRAY_NAMES}
+
+    def write(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez_compressed(fh, **arrays, meta=json_text(meta))
+
+    return write_atomic(Path(path), write)
 
 
 def save_table(table, path, **extra_meta):
