@@ -21,6 +21,7 @@ from contactalpha.paper.surface.compute import (
     merge_chunks,
     section_regions,
 )
+from contactalpha.paper.surface.figures import plot_alpha_surface, plot_end_states, plot_section
 from contactalpha.paper.surface.report import surface_summary
 from contactalpha.plotting import new_figure, save_figure
 
@@ -306,8 +307,47 @@ def test_summary_counts_and_largest_alpha(surface):
     assert "## Section xi = 0.2" in text
 
 
+def test_fig4_draws_the_surface_on_a_log_scale_and_marks_failed_points(surface):
+    failed = surface.copy(deep=True)
+    failed["status"][0, 3] = 1
+    failed["alpha"][0, 3] = np.nan
+    fig = plot_alpha_surface(failed)
+    left, right = fig.axes[:2]
+    for ax in (left, right):
+        mesh = ax.collections[0]
+        np.testing.assert_array_equal(
+            np.ma.filled(mesh.get_array(), np.nan).ravel(), failed.alpha.values.ravel()
+        )
+        assert mesh.norm.vmin == np.nanmin(failed.alpha) and mesh.norm.vmax == np.nanmax(failed.alpha)
+        (cross,) = [line for line in ax.lines if line.get_label() == "failed"]
+        assert (cross.get_xdata()[0], cross.get_ydata()[0]) == (XI[3], EPS[0])
+    assert right.get_xscale() == "symlog" and right.get_yscale() == "log"
+
+
+def test_end_state_map_colours_and_counts_every_state(surface):
+    fig = plot_end_states(surface)
+    codes = fig.axes[0].collections[0].get_array()
+    np.testing.assert_array_equal(np.asarray(codes).ravel(), surface.state.values.ravel())
+    legend = {t.get_text() for t in fig.legends[0].get_texts()}
+    for code, name in END_STATES.items():
+        assert f"{name.replace('_', ' ')} ({int(np.sum(surface.state.values == code))})" in legend
+
+
+def test_fig5_draws_the_section_eq25_eq26_and_their_ratios(surface):
+    fig = plot_section(surface, 0.2, tau=0.01, sigma=0.011, beta=0.113)
+    top, bottom = fig.axes
+    exact, eq25, eq26 = top.lines[:3]
+    section = surface.sel(xi=0.2)
+    np.testing.assert_array_equal(exact.get_ydata(), section.alpha.values)
+    np.testing.assert_allclose(eq25.get_ydata(), 1.5 * (1 - EPS) / EPS, rtol=1e-15)
+    np.testing.assert_allclose(eq26.get_ydata(), np.exp(-((EPS + 0.01) ** 2) / 0.011) / 0.113, rtol=1e-15)
+    np.testing.assert_allclose(bottom.lines[0].get_ydata(), section.alpha.values / (1.5 * (1 - EPS) / EPS))
+    names = [t.get_text() for t in top.texts]
+    want = [{1: "I", 2: "II", 3: "III"}[r] for r in section_regions(section.state.values)]
+    assert names == [n for i, n in enumerate(want) if i == 0 or n != want[i - 1]]
+
+
 def test_save_figure_writes_by_suffix_and_rejects_none(tmp_path):
-    # The three surface figures are drawn and checked in the workflow test.
     fig, ax = new_figure(width=2.0)
     ax.plot([0, 1], [0, 1])
     written = save_figure(fig, [tmp_path / "f.png", tmp_path / "f.pdf"])
