@@ -3,7 +3,8 @@
 For a load ``xi > 0`` there is one damping ``alpha_b(xi)`` at which the
 impact ends exactly at ``x = 0`` with ``v = 0``: lighter damping separates,
 heavier damping does not.  On it Stronge's coefficient is
-``eps_b = sqrt(A x_m / (1/2 + A x_m))`` (SCIENCE.md Sect. 3 with ``v_e = x_e = 0``).
+``eps_b = sqrt(A x_m / (1/2 + A x_m))`` (the restitution identity of docs/science.md with
+``v_e = x_e = 0``).
 
 ``alpha(eps, xi)`` is continuous across the boundary but not smooth: near it
 the two end states differ by terms of order ``|alpha - alpha_b|^{5/2}`` (the

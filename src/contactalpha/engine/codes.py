@@ -5,7 +5,7 @@ names cost nothing at run time.  The dictionaries give the words that the
 Python layer reports.
 """
 
-# End states of one impact (docs/science.md, "How an impact ends").
+# End states of one impact (docs/science.md, "End states").
 FAILED = 0
 SEPARATION = 1
 NONSEPARATION = 2

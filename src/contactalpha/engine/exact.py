@@ -1,7 +1,7 @@
 """The exact relation between alpha and Stronge's epsilon when there is no load (xi = 0).
 
 With ``A = 0`` the phase-plane equation of the scaled impact separates and
-gives (Carvalho & Martins 2019; SCIENCE.md Sect. 5)
+gives (Carvalho & Martins 2019; docs/science.md, "The exact unloaded relation")
 
     ln((1 + alpha) / (1 - alpha eps)) = alpha (1 + eps).
 

@@ -1,7 +1,7 @@
 """The jitted driver for one impact: phases, events, end states, Stronge's epsilon.
 
 Stronge's energetic coefficient (paper Eq. 17) is evaluated from the energy
-identity of the scaled equation (SCIENCE.md Sect. 3), exact for the ODE:
+identity of the scaled equation (docs/science.md, "The restitution identity"), exact for the ODE:
 
     eps^2 = (v_e^2 / 2 + A (x_m - x_e)) / (1/2 + A x_m).
 

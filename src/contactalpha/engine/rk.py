@@ -1,6 +1,6 @@
 """Right-hand side, one DOP853 step, error norm and step-size control.
 
-The scaled impact equation (SCIENCE.md Sect. 2; paper Eq. 24 after scaling) is
+The scaled impact equation (docs/science.md, "Scaling"; paper Eq. 24 after scaling) is
 
     x'' = A - (5/4) x^{3/2} (1 + alpha x'),   x(0) = 0,  x'(0) = 1.
 

@@ -6,8 +6,8 @@ found with Newton steps on ``ln eps`` against ``ln alpha`` (exact for the
 integrated along each impact, so every iteration costs one impact.  A bracket
 ``[lo, hi]`` with ``eps(lo) > target > eps(hi)`` is kept from the start
 (``eps(0) = 1``) and any step that leaves it is replaced by bisection, so the
-method cannot diverge; ``eps(alpha)`` is monotone decreasing (SCIENCE.md
-Sect. 6).
+method cannot diverge; ``eps(alpha)`` is monotone decreasing (docs/science.md,
+"Shape of the surface").
 
 - ``xi = 0`` uses the exact relation (``exact.alpha_exact``), no ODE.
 - The starting guess is the exact table (``table.py``, ~1e-7 relative) where

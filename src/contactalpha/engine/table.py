@@ -8,7 +8,7 @@ What is tabulated
 Coordinates
     ``eta = ln(1 + xi / XI_SCALE) - ln(1 - xi)`` is 0 at xi = 0 (the exact
     column is a grid line), logarithmic through the ridge near xi ~ eps^2 ..
-    eps (SCIENCE.md Sect. 6), and stretches xi -> 1.  ``u = ln eps``.
+    eps (docs/science.md, "Shape of the surface"), and stretches xi -> 1.  ``u = ln eps``.
     alpha is continuous but not smooth across the separation boundary
     ``u = b(eta)`` (``boundary.py``), so the plane is cut along it into a
     separation region S (``u >= b``) and a non-separation region N

@@ -1,6 +1,7 @@
 """Shen et al.'s closed form for alpha(eps, xi) (Sect. 5, Eqs. 26 and 31-40) and its building blocks.
 
-Eq. 40 reaches us through OCR, and its first term is damaged (SCIENCE.md Sect. 8).
+Eq. 40 reaches us through OCR, and its first term is damaged (docs/science.md, "Reading the
+damaged equations").
 The printed digits are ``e^{-(eps + 1 - xi^0.05)^2}``, ``0.1568 xi^0.9`` and a
 duplicated ``(1 - eps)^6``; Eq. 39's generic form of the term is
 ``e^{-(eps + tau)^2 / sigma} (1 - eps)^a / beta``.  Each way of mapping the digits
@@ -11,7 +12,7 @@ Under that reading, beta is not printed at all.  It is named ``beta``, set to 1
 ("as printed") in ``PUBLISHED`` and refit, never invented.
 
 The dissipation ratios of Eqs. 36-37 come from exact energy identities of the
-scaled equation ``x'' = A - (5/4) x^{3/2} (1 + alpha x')`` (SCIENCE.md Sect. 3).
+scaled equation ``x'' = A - (5/4) x^{3/2} (1 + alpha x')`` (docs/science.md, "The restitution identity").
 With ``D_c``, ``D_r`` the damping work of compression and restitution (unit
 ``m_e v0^2``), ``x_m`` the maximum and ``x_e`` the end compression, and
 ``lambda = x_e / x_m``:

@@ -9,7 +9,7 @@ ground by gravity ``g`` and a constant force ``F``; the deformation is
   ``u``, so flights need no integrator.
 - **Contact** (``delta >= 0``): one impact of the jitted engine
   (``kernel.impact_kernel``) in the scaling of that impact's approach speed
-  ``v`` (SCIENCE.md Sect. 2), converted back with ``length_scale`` and
+  ``v`` (docs/science.md, "Scaling"), converted back with ``length_scale`` and
   ``time_scale``.  Case A keeps the external forces, Eq. 24: scaled load
   ``A = a delta* / v^2``, and alpha comes from the model at this impact's
   influence factor ``xi(m, k, v, a)`` (Eq. 10).  Case B drops them during
@@ -35,7 +35,8 @@ only.  In case B the contact equation leaves out ``m a``, so inside a contact
 the total also dips by ``m a delta``; that term is zero again at separation,
 so every separating contact of case B also lowers the total by its damping
 work only.  The damping work per contact is computed here from the scaled
-energy identity (SCIENCE.md Sect. 3); ``damping_work_reference`` integrates
+energy identity (docs/science.md, "The restitution identity");
+``damping_work_reference`` integrates
 it independently with SciPy along the contact, for the tests.
 """
 
@@ -280,7 +281,7 @@ def run_contact(scene, speed, alpha, case, rtol, atol, max_step):
 
 
 def _scaled_damping(A, x_e, v_e):
-    """Scaled damping work ``1/2 - e_end`` of a contact (energy identity, SCIENCE.md Sect. 3)."""
+    """Scaled damping work ``1/2 - e_end`` of a contact (docs/science.md, "The restitution identity")."""
     return 0.5 - (0.5 * v_e**2 + 0.5 * x_e**2.5 - A * x_e)
 
 

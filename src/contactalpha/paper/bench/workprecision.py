@@ -1,7 +1,7 @@
 """Speed against accuracy: error and cost of each alpha solver, where each fails, and scaling.
 
 Every measurement solves the same problem, alpha for a target Stronge
-restitution ``eps`` at load ``xi`` (SCIENCE.md Sect. 1), with one of:
+restitution ``eps`` at load ``xi`` (docs/science.md, "The problem"), with one of:
 
 - ``engine``: the adaptive DOP853 engine with sensitivities and Newton
   (``solve_alpha``, ``guess="formula"``, ``exact_at_zero=False`` so xi = 0 is

@@ -394,7 +394,8 @@ def readings_markdown(report):
             "# Which reading of Eq. 40's damaged first term does the surface support?",
             "",
             "The OCR'd first term reads `e^{−(ε+1−ξ^{0.05})²}`, `0.1568 ξ^{0.9}` and a duplicated `(1−ε)^6`;",
-            "Eq. 39's generic form is `e^{−(ε+τ)²/σ}(1−ε)^a/β` (SCIENCE.md §8).",
+            "Eq. 39's generic form is `e^{−(ε+τ)²/σ}(1−ε)^a/β`"
+            " (docs/science.md, 'Reading the damaged equations').",
             "",
             "## 1. Per-ξ fits of Eq. 39 (a = 6 held, λ from the surface, η_c = 1)",
             "",

@@ -4,7 +4,7 @@ Each function takes the surface Dataset (``surface.compute_surface`` or
 ``io.load_surface``) and returns a matplotlib Figure; ``plotting.save_figure``
 writes it.  The right-hand panels put xi on a symlog axis (log above
 ``XI_LINTHRESH``, linear below, so xi = 0 stays visible) and eps on a log axis:
-that is where the steep ridge of SCIENCE.md Sect. 6 lives.
+that is where the steep ridge lives (docs/science.md, "Shape of the surface").
 """
 
 import numpy as np
