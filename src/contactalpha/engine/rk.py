@@ -144,7 +144,16 @@ def error_norm(K, h, y, y_new, rtol, atol):
 
 @njit(cache=True, error_model="numpy")
 def step_factor(err, rejected):
-    """Factor for the next step size from the error norm of this one."""
+    """Factor for the next step size from the error norm of this one.
+
+    The one accept/reject rule of the engine: ``kernel.impact_kernel`` (in time) and
+    ``events.locate`` (in the event variable) both accept a step when ``error_norm <= 1`` and
+    size the next one with this factor.  Their loops stay separate on purpose: the kernel
+    counts every attempted step against ``max_steps``, halves steps whose crossing is not
+    monotone and caps ``h`` at ``max_step``, while the locator counts accepted steps, clips
+    ``h`` to the distance left to the event and has its own underflow floor.  A single loop
+    would have to change one of those counts, and with it the ``steps`` every result reports.
+    """
     if not np.isfinite(err):
         return MIN_FACTOR
     if err == 0.0:
