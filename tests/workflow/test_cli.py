@@ -3,21 +3,35 @@ import sys
 
 import pytest
 
+from contactalpha.baselines.reference import impact_scipy
 from contactalpha.cli import main
 
 
-def test_alpha_command_prints_alpha_state_and_steps(capsys):
+def printed(out):
+    """The command's ``name   value`` lines as a dict of strings."""
+    return dict(line.rsplit(maxsplit=1) for line in out.strip().splitlines())
+
+
+def test_alpha_command_prints_the_root_and_its_restitution(capsys):
     assert main(["alpha", "0.5", "0.2"]) == 0
-    out = capsys.readouterr().out
-    assert "alpha        1.538485516" in out
-    assert "end state    separation" in out
-    assert "steps" in out
+    out = printed(capsys.readouterr().out)
+    assert out["end state"] == "separation" and out["status"] == "ok"
+    alpha = float(out["alpha"])
+    assert alpha == pytest.approx(1.538485516, abs=1e-9)
+    assert abs(float(out["eps reached"]) - 0.5) <= 1e-12
+    # the SciPy oracle (not the engine) restitutes 0.5 at the printed alpha
+    assert impact_scipy(alpha, 0.2, rtol=1e-12, atol=1e-14).eps == pytest.approx(0.5, abs=1e-10)
+    assert 1 <= int(out["impacts"]) <= 4 and int(out["steps"]) > 10
 
 
-def test_impact_command(capsys):
+def test_impact_command_prints_what_the_scipy_oracle_computes(capsys):
     assert main(["impact", "5", "0.2"]) == 0
-    out = capsys.readouterr().out
-    assert "end state    nonseparation" in out
+    out = printed(capsys.readouterr().out)
+    ref = impact_scipy(5.0, 0.2, rtol=1e-12, atol=1e-14)
+    assert out["end state"] == ref.state == "nonseparation" and out["status"] == "ok"
+    assert float(out["eps"]) == pytest.approx(ref.eps, abs=1e-10)
+    assert float(out["x_max"]) == pytest.approx(ref.x_max, rel=1e-10)
+    assert float(out["x_end"]) == pytest.approx(ref.x_end, rel=1e-8)
 
 
 def test_bad_input_is_one_line_and_exit_2(capsys):
