@@ -1,4 +1,4 @@
-"""Command line: ``contactalpha alpha EPS XI`` and ``contactalpha impact ALPHA XI``."""
+"""Command line: ``contactalpha alpha EPS XI``, ``impact ALPHA XI`` and ``scene EPS ...`` (the advisor)."""
 
 import argparse
 import re
@@ -51,13 +51,37 @@ def build_parser():
     i = sub.add_parser("impact", help="integrate one impact with damping ALPHA at influence factor XI")
     i.add_argument("alpha", type=_number, help="hysteresis damping factor, ALPHA >= 0")
     i.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
+    s = sub.add_parser("scene", help="which contact model a scene needs (scene advisor)")
+    s.add_argument("eps", type=_number, help="requested restitution (Stronge), 0 < EPS <= 1")
+    s.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
+    s.add_argument("--stiffness", type=_number, required=True, help="Hertz stiffness k, N/m^1.5")
+    s.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
+    load = s.add_mutually_exclusive_group(required=True)
+    load.add_argument("--accel", type=_number, help="constant acceleration into the contact, m/s^2")
+    load.add_argument("--force", type=_number, help="constant force into the contact, N")
+    s.add_argument("--tol", type=_number, default=0.01, help="tolerance on the delivered eps (default 0.01)")
+    s.add_argument("--json", action="store_true", help="print the advice as JSON")
     return p
+
+
+def _print_advice(adv):
+    from contactalpha.scene.advisor import format_advice
+
+    print(format_advice(adv))
 
 
 def main(argv=None):
     """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
     args = build_parser().parse_args(argv)
     try:
+        if args.command == "scene":
+            from contactalpha.io import json_text
+            from contactalpha.scene.advisor import advise
+
+            kw = {"accel": args.accel} if args.accel is not None else {"force": args.force}
+            adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
+            print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
+            return 0
         if args.command == "alpha":
             s = solve_alpha(args.eps, args.xi, tol=args.tol, rtol=args.rtol, atol=args.atol)
             print(f"alpha        {s.alpha:.15g}")

@@ -1,0 +1,87 @@
+"""The scene advisor: xi and its level, what each model delivers, adequacy, the cheapest model."""
+
+import json
+
+import numpy as np
+import pytest
+
+from contactalpha import cli, models
+from contactalpha.engine.driver import impact
+from contactalpha.scene import advisor as adv
+
+# The paper's ball at F = 60 N (xi = 0.2325): docs' check values.
+SCENE = {"mass": 0.5, "stiffness": 1.4e8, "approach_speed": 0.5}
+# Fixed costs (s) so that the recommendation does not depend on this machine's timings.
+COSTS = {name: 1e-6 for name in models.MODELS} | {"exact_solve": 1e-4, "exact": 2e-6}
+
+
+def test_levels_follow_the_paper():
+    assert [adv.xi_level(x) for x in (0.0, 0.0999, 0.1, 0.4999, 0.5, 0.99)] == [
+        "small", "small", "moderate", "moderate", "large", "large"
+    ]  # fmt: skip
+    with pytest.raises(ValueError, match="xi"):
+        adv.xi_level(1.0)
+
+
+def test_moderate_load_scene():
+    a = adv.advise(0.5, accel=129.81, tol=0.01, costs=COSTS, **SCENE)
+    assert a.xi == pytest.approx(0.2325, abs=1e-4) and a.xi_level == "moderate"
+    assert a.exact_state == "separation"
+    by = {m.name: m for m in a.models}
+    assert set(by) == set(models.MODELS)  # every registered model, new ones included
+    # Delivered eps is one impact with the model's alpha at this xi.
+    hc = by["hunt_crossley"]
+    assert hc.alpha == 0.75 and hc.delivered_eps == pytest.approx(float(impact(0.75, a.xi).eps), abs=1e-14)
+    assert not hc.adequate and hc.delivered_eps == pytest.approx(0.6624, abs=1e-4)
+    assert by["exact"].adequate and abs(by["exact"].delivered_eps - 0.5) < 1e-6
+    # alpha at xi = 0 gives eps = 0.519 here: the load may not be ignored at tol 0.01, may at 0.05.
+    assert not a.ignore_load and a.ignore_load_eps == pytest.approx(0.5194, abs=1e-4)
+    assert adv.advise(0.5, accel=129.81, tol=0.05, costs=COSTS, **SCENE).ignore_load
+    # Cheapest: the 1 us models that are adequate, the most accurate of them.
+    cheap = [m for m in a.models if m.adequate and COSTS[m.name] == 1e-6]
+    assert a.cheapest == min(cheap, key=lambda m: m.error).name
+
+
+def test_force_is_accel_times_mass_and_exactly_one_is_needed():
+    a = adv.advise(0.5, accel=129.81, costs=COSTS, **SCENE)
+    b = adv.advise(0.5, force=129.81 * 0.5, costs=COSTS, **SCENE)
+    assert a.xi == b.xi
+    for kw in ({}, {"accel": 1.0, "force": 1.0}):
+        with pytest.raises(ValueError, match="exactly one"):
+            adv.advise(0.5, costs=COSTS, **SCENE, **kw)
+    with pytest.raises(ValueError, match="restitution"):
+        adv.advise(0.5, accel=1.0, restitution="newton", costs=COSTS, **SCENE)
+
+
+def test_small_eps_needs_the_load():
+    # eps = 0.05 on the ball under gravity only: xi = 0.02 is "small", yet the exact impact creeps
+    # to rest and every model that ignores the load separates: none of them is adequate.
+    a = adv.advise(0.05, accel=9.81, costs=COSTS, **SCENE)
+    assert a.xi_level == "small" and a.exact_state == "creep" and not a.ignore_load
+    assert not any(m.adequate for m in a.models if not m.uses_xi)
+
+
+def test_adequacy_rule_and_recommendation():
+    ok = adv.is_adequate([0.501, 0.519, np.nan, 0.51], ["separation"] * 3 + ["creep"], 0.51, "separation", 0.01)
+    assert ok.tolist() == [True, True, False, False]
+    names = ["a", "b", "c"]
+    costs = {"a": 1.0, "b": 1.4, "c": 10.0}
+    assert adv.cheapest(names, [True, True, True], costs, [0.009, 0.001, 0.0]) == "b"  # tied on cost
+    assert adv.cheapest(names, [True, False, True], costs, [0.009, 0.001, 0.0]) == "a"
+    assert adv.cheapest(names, [False] * 3, costs, [0.0] * 3) is None
+
+
+def test_measured_costs_rank_the_solver_last():
+    costs = adv.measure_costs(["hunt_crossley", "exact_solve"])
+    assert 0 < costs["hunt_crossley"] < costs["exact_solve"]
+
+
+def test_command_line(capsys):
+    args = ["scene", "0.5", "--mass", "0.5", "--stiffness", "1.4e8", "--speed", "0.5", "--accel", "129.81"]
+    assert cli.main([*args, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["xi_level"] == "moderate" and len(data["models"]) == len(models.MODELS)
+    assert cli.main(args) == 0
+    assert "cheapest adequate model" in capsys.readouterr().out
+    assert cli.main([*args[:-2], "--force", "-1"]) == 2
+    assert "force" in capsys.readouterr().err
