@@ -152,4 +152,7 @@ def test_slurm_profile_is_accepted(tmp_path):
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     out = done.stdout + done.stderr
-    assert "Using profile" in out and "surface_chunk" in out
+    assert re.search(rf"Using profiles? {re.escape(str(ROOT / 'workflow/profiles/slurm'))}", out)
+    # one job per chunk (test config: 2) and one merge
+    assert re.search(r"^surface_chunk\s+2$", out, re.MULTILINE), out[-2000:]
+    assert re.search(r"^surface_merge\s+1$", out, re.MULTILINE)
