@@ -20,6 +20,7 @@ _EXPORTS = {
     "jit_alpha_tabulated": "engine.table",
     "AlphaSolution": "engine.solver",
     "solve_alpha": "engine.solver",
+    "convert_restitution": "engine.restitution",
     "alpha_exact": "engine.exact",
     "restitution_exact": "engine.exact",
     "influence_factor": "engine.scaling",

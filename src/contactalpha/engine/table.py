@@ -156,6 +156,24 @@ def alpha_from_table_serial(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c,
     return out
 
 
+@njit(cache=True, parallel=True, error_model="numpy")
+def kinematic_alpha_from_table_many(e_n, xi, tx, ty, c, g):
+    """``kinematic_alpha_from_table`` over flat arrays, in parallel."""
+    out = np.empty(e_n.size)
+    for i in prange(e_n.size):
+        out[i] = kinematic_alpha_from_table(e_n[i], xi[i], tx, ty, c, g)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def kinematic_alpha_from_table_serial(e_n, xi, tx, ty, c, g):
+    """``kinematic_alpha_from_table_many`` in one thread, for small inputs."""
+    out = np.empty(e_n.size)
+    for i in range(e_n.size):
+        out[i] = kinematic_alpha_from_table(e_n[i], xi[i], tx, ty, c, g)
+    return out
+
+
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN_LOOKUPS = 4096
 
@@ -212,42 +230,80 @@ def _first_outside(values, lo, hi):
     return -1
 
 
-def alpha_tabulated(eps, xi, *, path=DEFAULT_FILE):
+# Per restitution definition: (table file, scalar evaluator, serial and parallel array forms, arrays).
+def _lookup(restitution):
+    if restitution == "kinematic":
+        return (
+            KINEMATIC_FILE,
+            kinematic_alpha_from_table,
+            kinematic_alpha_from_table_serial,
+            kinematic_alpha_from_table_many,
+            kinematic_table_arrays,
+        )
+    if restitution == "energetic":
+        return DEFAULT_FILE, alpha_from_table, alpha_from_table_serial, alpha_from_table_many, table_arrays
+    raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
+
+
+def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     """Exact alpha(eps, xi) from the shipped table: ~1e-7 relative, at formula speed.
 
     Parameters
     ----------
     eps : array_like
         Restitution coefficient, ``EPS_MIN <= eps <= 1`` (the table's domain;
-        use ``solve_alpha`` below 0.01).
+        use ``solve_alpha`` below 0.01): Stronge's eps, or Newton's e_N when
+        ``restitution="kinematic"``.
     xi : array_like
         Influence factor, ``0 <= xi <= XI_MAX``.
+    path : path-like, optional
+        Table file; default the shipped table of the chosen definition.
+    restitution : {"energetic", "kinematic"}
+        Which coefficient ``eps`` is.
     """
-    from contactalpha.validation import as_real, check_range
+    from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
 
-    e, x = np.broadcast_arrays(as_real("eps", eps), as_real("xi", xi))
+    default, scalar, serial, many, arrays = _lookup(restitution)
+    tables = arrays(default if path is None else path)
+    name = "e_N" if restitution == "kinematic" else "eps"
+    if type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
+        value = scalar(eps, xi, *tables)  # NaN outside the domain: then the checks below word it
+        if value == value:
+            return value
+    e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
     e_flat = np.ascontiguousarray(e).ravel()
     x_flat = np.ascontiguousarray(x).ravel()
     # One jitted pass finds bad input; check_range then words the error.
     if _first_outside(e_flat, EPS_MIN, 1.0) >= 0:
-        check_range("eps", e_flat, EPS_MIN, 1.0)
+        check_range(name, e_flat, EPS_MIN, 1.0)
     if _first_outside(x_flat, 0.0, XI_MAX) >= 0:
         check_range("xi", x_flat, 0.0, XI_MAX)
-    run = alpha_from_table_many if e_flat.size >= PARALLEL_MIN_LOOKUPS else alpha_from_table_serial
-    out = run(e_flat, x_flat, *table_arrays(path)).reshape(e.shape)
+    run = many if e_flat.size >= PARALLEL_MIN_LOOKUPS else serial
+    out = run(e_flat, x_flat, *tables).reshape(e.shape)
     return out[()] if out.ndim == 0 else out
 
 
-def jit_alpha_tabulated(path=DEFAULT_FILE):
+def jit_alpha_tabulated(path=None, restitution="energetic"):
     """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
 
     The table arrays are frozen into the compiled function as constants.  Outside
     the table's domain ``EPS_MIN <= eps <= 1``, ``0 <= xi <= XI_MAX``, and for NaN
     input, ``f`` returns NaN (a jitted loop cannot raise a useful error);
     ``alpha_tabulated`` and ``alpha(..., model="exact")`` raise ``ValueError``
-    naming the value and the range for the same inputs.
+    naming the value and the range for the same inputs.  ``restitution="kinematic"``
+    reads ``eps`` as Newton's e_N.
     """
-    b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g = table_arrays(path)
+    default, _, _, _, arrays = _lookup(restitution)
+    tables = arrays(default if path is None else path)
+    if restitution == "kinematic":
+        tx, ty, c, g = tables
+
+        @njit(error_model="numpy")
+        def alpha_kinematic_jit(e_n, xi):
+            return kinematic_alpha_from_table(e_n, xi, tx, ty, c, g)
+
+        return alpha_kinematic_jit
+    b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g = tables
 
     @njit(error_model="numpy")
     def alpha_exact_jit(eps, xi):

@@ -87,8 +87,9 @@ class KinematicTableSettings:
     the kinematic alpha has no kink inside the domain (EPS_MIN <= e_N <= 1) to align a grid with.
     """
 
-    n_eta: int = 277
-    n_q: int = 101
+    # 139 x 51 nodes meet 2e-8 relative at 1000 random points (70 x 26: 1.7e-6).
+    n_eta: int = 139
+    n_q: int = 51
     tol: float = 1e-13
     rtol: float = 1e-12
     atol: float = 1e-14

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.engine.exact import alpha_exact
-from contactalpha.validation import check_eps, check_xi
+from contactalpha.engine.table import alpha_tabulated
+from contactalpha.validation import check_eps, check_xi, plain_in
 
 from .shen import eq25, shen_published, shen_refit
 
@@ -79,8 +80,6 @@ def exact_tabulated(eps, xi):
 
     Domain 0.01 <= eps <= 1, 0 <= xi <= 0.99; outside it, use ``exact_solve``.
     """
-    from contactalpha.engine.table import alpha_tabulated
-
     try:
         return alpha_tabulated(eps, xi)
     except ValueError as exc:
@@ -217,25 +216,40 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
     return f[()] if np.ndim(f) == 0 else f
 
 
-def alpha(eps, xi=0.0, model="exact"):
+# Models that know Newton's kinematic e_N: the exact surface solved for it, and its table.
+KINEMATIC_MODELS = ("exact", "exact_solve")
+
+
+def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
     """Damping factor alpha from a named model.
 
     Parameters
     ----------
     eps : array_like
         Restitution coefficient; 0 < eps <= 1 for models with 1/eps terms.
+        Stronge's energetic eps, or Newton's kinematic e_N (separation speed over
+        approach speed) when ``restitution="kinematic"``.
     xi : array_like
         Influence factor of the load, 0 <= xi < 1; ignored by models whose
         ``uses_xi`` is False.
     model : str
         A key of ``MODELS``.
+    restitution : {"energetic", "kinematic"}
+        Which coefficient ``eps`` is.  "kinematic" needs a model of ``KINEMATIC_MODELS``
+        and e_N > 0 (e_N = 0 holds for every alpha past the separation boundary).
 
     Returns
     -------
     alpha : float or ndarray
     """
+    if model == "exact" and restitution == "energetic" and plain_in("eps", eps) and plain_in("xi", xi):
+        return exact_tabulated(eps, xi)  # scalar fast path: no array checks on a valid float
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
+    if restitution not in ("energetic", "kinematic"):
+        raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
+    if restitution == "kinematic":
+        return _alpha_kinematic(eps, xi, model)
     if model == "exact":
         return exact_tabulated(eps, xi)  # validates in one jitted pass: keeps formula speed
     e = check_eps(eps)
@@ -246,3 +260,30 @@ def alpha(eps, xi=0.0, model="exact"):
         out = MODELS[model].fn(e, x)
     out = np.asarray(out, dtype=float)
     return out[()] if out.ndim == 0 else out
+
+
+def _alpha_kinematic(e_n, xi, model):
+    """``alpha(e_N, xi)`` of a model in ``KINEMATIC_MODELS``: the kinematic table or the solver."""
+    from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
+
+    if model not in KINEMATIC_MODELS:
+        raise ValueError(
+            f"model {model!r} is defined for Stronge's energetic eps; restitution='kinematic' needs one of "
+            f"{', '.join(map(repr, KINEMATIC_MODELS))} (or convert_restitution first)"
+        )
+    if np.any(np.asarray(e_n) == 0.0):
+        raise no_kinematic_inverse()
+    if model == "exact":
+        try:
+            return alpha_tabulated(e_n, xi, restitution="kinematic")
+        except ValueError as exc:
+            if not _solvable_off_table(e_n, xi):
+                raise
+            raise ValueError(f"{exc} of the kinematic table; model='exact_solve' covers the rest") from None
+    sol = solve_alpha(e_n, xi, restitution="kinematic")
+    if not np.all(sol.ok):
+        bad = np.asarray(sol.status)[~np.asarray(sol.ok)]
+        raise RuntimeError(
+            f"alpha solve failed at {np.size(bad)} point(s): {sorted(set(np.atleast_1d(bad)))}"
+        )
+    return sol.alpha
