@@ -29,6 +29,8 @@ _EXPORTS = {
     "scaled_load": "engine.scaling",
     "time_scale": "engine.scaling",
     "load_surface": "io",
+    "ContactParameters": "scene.parameters",
+    "contact_parameters": "scene.parameters",
 }
 __all__ = sorted(_EXPORTS)
 

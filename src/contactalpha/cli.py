@@ -61,6 +61,18 @@ def build_parser():
     load.add_argument("--force", type=_number, help="constant force into the contact, N")
     s.add_argument("--tol", type=_number, default=0.01, help="tolerance on the delivered eps (default 0.01)")
     s.add_argument("--json", action="store_true", help="print the advice as JSON")
+    f = sub.add_parser("params", help="contact parameters of a scene in SI units, per engine (front door)")
+    target = f.add_mutually_exclusive_group(required=True)
+    target.add_argument("--eps", type=_number, help="Stronge's energetic restitution, 0 <= EPS <= 1")
+    target.add_argument("--e-n", dest="e_n", type=_number, help="Newton's kinematic e_N, 0 < E_N <= 1")
+    f.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
+    f.add_argument("--stiffness", type=_number, required=True, help="Hertz stiffness k, N/m^1.5")
+    f.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
+    f_load = f.add_mutually_exclusive_group(required=True)
+    f_load.add_argument("--accel", type=_number, help="constant acceleration into the contact, m/s^2")
+    f_load.add_argument("--force", type=_number, help="constant force into the contact, N")
+    f.add_argument("--radius", type=_number, help="sphere radius, m (adds OpenSim's stiffness)")
+    f.add_argument("--json", action="store_true", help="print the parameters as JSON")
     return p
 
 
@@ -82,10 +94,29 @@ def main(argv=None):
             adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
             print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
             return 0
+        if args.command == "params":
+            from dataclasses import asdict
+
+            from contactalpha.io import json_text
+            from contactalpha.scene.parameters import contact_parameters, format_parameters
+
+            cp = contact_parameters(
+                args.eps,
+                args.mass,
+                args.stiffness,
+                args.speed,
+                e_N=args.e_n,
+                accel=args.accel,
+                force=args.force,
+                radius=args.radius,
+            )
+            print(json_text(asdict(cp), indent=1) if args.json else format_parameters(cp))
+            return 0
         if args.command == "alpha":
             s = solve_alpha(args.eps, args.xi, tol=args.tol, rtol=args.rtol, atol=args.atol)
             print(f"alpha        {s.alpha:.15g}")
             print(f"eps reached  {s.eps_reached:.15g}")
+            print(f"e_N reached  {s.e_n_reached:.15g}")
             print(f"end state    {s.state}")
             print(f"impacts      {s.impacts}")
             print(f"steps        {s.steps}")
@@ -93,6 +124,7 @@ def main(argv=None):
             return 0 if s.ok else 1
         r = impact(args.alpha, args.xi, rtol=args.rtol, atol=args.atol)
         print(f"eps          {r.eps:.15g}")
+        print(f"e_N          {r.e_n:.15g}")
         print(f"end state    {r.state}")
         print(f"x_max        {r.x_max:.15g}")
         print(f"x_end        {r.x_end:.15g}")
