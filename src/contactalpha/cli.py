@@ -35,6 +35,10 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} -h)\n")
 
 
+# The workflow's config schema, relative to a checkout (check-config --schema overrides it).
+SCHEMA = "workflow/schemas/config.schema.yaml"
+
+
 def build_parser():
     """Return the argument parser of the ``contactalpha`` command."""
     p = Parser(
@@ -61,6 +65,9 @@ def build_parser():
     load.add_argument("--force", type=_number, help="constant force into the contact, N")
     s.add_argument("--tol", type=_number, default=0.01, help="tolerance on the delivered eps (default 0.01)")
     s.add_argument("--json", action="store_true", help="print the advice as JSON")
+    c = sub.add_parser("check-config", help="check workflow config files as `snakemake -n` would")
+    c.add_argument("files", nargs="+", help="YAML config files (e.g. one given to --configfile)")
+    c.add_argument("--schema", default=SCHEMA, help=f"the workflow's JSON schema (default {SCHEMA})")
     f = sub.add_parser("params", help="contact parameters of a scene in SI units, per engine (front door)")
     target = f.add_mutually_exclusive_group(required=True)
     target.add_argument("--eps", type=_number, help="Stronge's energetic restitution, 0 <= EPS <= 1")
@@ -86,6 +93,13 @@ def main(argv=None):
     """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
     args = build_parser().parse_args(argv)
     try:
+        if args.command == "check-config":
+            from contactalpha.config import load_config
+
+            for path in args.files:
+                load_config(path, args.schema)
+                print(f"{path}: ok")
+            return 0
         if args.command == "scene":
             from contactalpha.io import json_text
             from contactalpha.scene.advisor import advise

@@ -149,3 +149,39 @@ def check_config(config, schema=None):
             check(config[name], key=name)
     _check_fit(config)
     _check_models(config)
+
+
+def load_config(path, schema):
+    """The workflow config file ``path`` as ``snakemake -n`` sees it, or the first error on one line.
+
+    Read (a malformed file names its line and column), validated against the JSON
+    ``schema`` file with its defaults filled in, then ``check_config``.  For a
+    ``--configfile``, which Snakemake parses before the workflow and reports without a
+    position; ``contactalpha check-config`` calls this.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, and the key or the line at fault.
+    """
+    import jsonschema
+    from snakemake.utils import validate
+
+    for name in (path, schema):
+        if not Path(name).is_file():
+            raise ValueError(f"{name} is not a file; valid: a YAML file")
+    config = read_yaml(path)
+    config = {} if config is None else config
+    if not isinstance(config, dict):
+        raise ValueError(f"{path} holds a {type(config).__name__}; valid: a mapping of sections")
+    rules = read_yaml(schema)
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(rules).iter_errors(config))
+    if error is not None:
+        key = ".".join(str(k) for k in error.absolute_path) or "(top level)"
+        raise ValueError(f"{path}: {key}: {error.message}")
+    validate(config, str(schema))  # fills in the defaults, as the Snakefile does
+    try:
+        check_config(config, rules)
+    except ValueError as err:
+        raise ValueError(f"{path}: {err}") from None
+    return config

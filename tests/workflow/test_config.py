@@ -9,6 +9,7 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
+from contactalpha.cli import main
 from contactalpha.config import check_config, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -122,3 +123,24 @@ def test_snakemake_n_names_the_line_of_a_malformed_config_yaml(tmp_path):
     (tmp_path / "config.yaml").write_text("surface:\n  chunks: [2\n")
     code, out = snakemake_dry_run(tmp_path)
     assert code != 0 and "config.yaml:3:1: malformed YAML:" in out
+
+
+def test_check_config_command_names_the_line_or_the_key_of_a_configfile(tmp_path, capsys):
+    """Snakemake parses a --configfile before the workflow and gives no position; this command does."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("surface:\n  xi:\n    values: [0.1, 0.2\n  chunks: 2\n")
+    assert main(["check-config", str(bad), "--schema", str(SCHEMA)]) == 2
+    assert (
+        capsys.readouterr().err
+        == f"contactalpha: error: {bad}:4:9: malformed YAML: expected ',' or ']', but got ':'\n"
+    )
+    bad.write_text("surface:\n  solver:\n    tol: 5\n")
+    assert main(["check-config", str(bad), "--schema", str(SCHEMA)]) == 2
+    assert capsys.readouterr().err == (
+        f"contactalpha: error: {bad}: surface.solver.tol: 5 is greater than the maximum of 0.001\n"
+    )
+    bad.write_text("models:\n  fig9:\n    reference: exactt\n")
+    assert main(["check-config", str(bad), "--schema", str(SCHEMA)]) == 2
+    assert f"{bad}: models.fig9.reference = 'exactt' is not a registered model" in capsys.readouterr().err
+    assert main(["check-config", str(TEST_CONFIG), str(ROOT / "config.yaml"), "--schema", str(SCHEMA)]) == 0
+    assert capsys.readouterr().out == f"{TEST_CONFIG}: ok\n{ROOT / 'config.yaml'}: ok\n"
