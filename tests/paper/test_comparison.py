@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-import contactalpha as ca
+from contactalpha.baselines.reference import impact_scipy
+from contactalpha.engine.codes import END_STATES
 from contactalpha.paper.fig9.compute import (
     deviation_table,
     fig9_statements,
@@ -24,10 +25,13 @@ def test_exact_model_delivers_what_it_is_asked_for(ds):
     np.testing.assert_allclose(post, np.broadcast_to(EPS, post.shape), atol=1e-6)
 
 
-def test_post_restitution_is_the_engine_run_with_the_models_alpha(ds):
-    a = ca.alpha(0.3, 0.227, model="hu_guo")
-    assert float(ds.alpha.sel(model="hu_guo", xi=0.227, eps_pre=0.3)) == a
-    assert float(ds.eps_post.sel(model="hu_guo", xi=0.227, eps_pre=0.3)) == ca.restitution(a, 0.227)
+def test_post_restitution_is_an_impact_with_the_models_alpha(ds):
+    # Hu & Guo's closed form, written out here, and the SciPy oracle's impact (not the engine's)
+    a = 3 * (1 - 0.3) / (2 * 0.3)
+    assert float(ds.alpha.sel(model="hu_guo", xi=0.227, eps_pre=0.3)) == pytest.approx(a, rel=1e-15)
+    ref = impact_scipy(a, 0.227, rtol=1e-12, atol=1e-14)
+    assert float(ds.eps_post.sel(model="hu_guo", xi=0.227, eps_pre=0.3)) == pytest.approx(ref.eps, abs=1e-10)
+    assert END_STATES[int(ds.state.sel(model="hu_guo", xi=0.227, eps_pre=0.3))] == ref.state
 
 
 def test_hunt_crossley_over_restitutes_at_low_eps(ds):
@@ -70,3 +74,6 @@ def test_claims_whose_panels_or_models_are_absent_are_not_checked(ds):
     assert by_claim["Fig. 9(e, f): fixed "].verdict in (HOLDS, PARTLY, FAILS)
     text = statements_markdown(st, "Fig. 9")
     assert f"{sum(s.verdict == NOT_CHECKED for s in st)} not checked" in text
+    # |post − pre| in a criterion must not split the table's cells: every row has 5 columns.
+    rows = [line for line in text.splitlines() if line.startswith("| ") and line[2].isdigit()]
+    assert rows and all(line.replace("\\|", "").count("|") == 6 for line in rows)

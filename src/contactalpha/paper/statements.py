@@ -63,7 +63,8 @@ def statements_markdown(statements, title, notes=()):
         lines.append("")
     lines += ["| # | statement (paper) | criterion | our numbers | verdict |", "|---|---|---|---|---|"]
     for i, s in enumerate(statements, 1):
-        lines.append(f"| {i} | {s.claim} | {s.criterion} | {s.evidence} | **{s.verdict}** |")
+        claim, criterion, evidence = (text.replace("|", "\\|") for text in (s.claim, s.criterion, s.evidence))
+        lines.append(f"| {i} | {claim} | {criterion} | {evidence} | **{s.verdict}** |")
     counts = ", ".join(f"{sum(s.verdict == v for s in statements)} {v}" for v in VERDICTS)
     lines += ["", f"Of {len(statements)} statements: {counts}."]
     return "\n".join(lines) + "\n"
