@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from contactalpha.adapters import exudyn_contact, opensim_hc
-from contactalpha.engine.codes import END_STATES, SEPARATION, STATE_CODES
+from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.engine.driver import impact
 from contactalpha.engine.solver import solve_alpha
 from contactalpha.io import json_text
@@ -105,11 +105,6 @@ def exact_alpha(scene, eps, force):
     return xi, float(sol.alpha), impact(sol.alpha, xi)
 
 
-def _e_n(result):
-    """Newton's restitution of a package ``ImpactResult``: ``-v_end`` at separation, else 0."""
-    return float(-result.v_end) if result.state == END_STATES[SEPARATION] else 0.0
-
-
 def run_one(run, scene, eps, force, alpha_exact, settings):
     """One drop in an engine; returns ``(alpha_applied, engine_input, MeasuredImpact, Samples)``."""
     m, r, k, v, g = scene.mass, scene.radius, scene.stiffness, scene.approach_speed, scene.gravity
@@ -160,7 +155,7 @@ def round_trip(engine, scene, eps_values, forces, settings, config=None):
             per_point["xi"][j, k] = xi
             per_point["alpha_exact"][j, k] = alpha_exact
             per_point["state_expected"][j, k] = STATE_CODES[expected.state]
-            per_point["e_n_expected"][j, k] = _e_n(expected)
+            per_point["e_n_expected"][j, k] = float(expected.e_n)
             for i, run in enumerate(runs):
                 alpha, e_in, res, samples = run_one(run, scene, eps, force, alpha_exact, settings)
                 pkg = impact(alpha, xi)
@@ -172,7 +167,7 @@ def round_trip(engine, scene, eps_values, forces, settings, config=None):
                     "state_measured": STATE_CODES[res.state],
                     "left_ground_after_end": float(samples.extra["separated_later"]),
                     "eps_package": float(pkg.eps),
-                    "e_n_package": _e_n(pkg),
+                    "e_n_package": float(pkg.e_n),
                     "seconds": samples.seconds,
                 }
                 for name, value in values.items():
