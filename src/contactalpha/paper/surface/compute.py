@@ -23,6 +23,7 @@ import xarray as xr
 from contactalpha.engine.codes import (
     CREEP,
     END_STATES,
+    N_SOLVE_OUT,
     NO_RESTITUTION,
     NONSEPARATION,
     OK,
@@ -202,14 +203,14 @@ def chunk_columns(xi, chunk, chunks):
 
 
 def _solve_blocks(eps, xi, solver, progress):
-    """Solve the grid column block by column block; returns the (n_eps, n_xi, 9) table."""
-    table = np.empty((eps.size, xi.size, 9))
+    """Solve the grid column block by column block; returns the (n_eps, n_xi, N_SOLVE_OUT) table."""
+    table = np.empty((eps.size, xi.size, N_SOLVE_OUT))
     cols = max(1, BLOCK_POINTS // eps.size) if progress else xi.size
     start = time.perf_counter()
     for j in range(0, xi.size, cols):
         e, x = np.meshgrid(eps, xi[j : j + cols], indexing="ij")
         flat, _ = solve_table(e, x, **solver)
-        table[:, j : j + cols] = flat.reshape(e.shape + (9,))
+        table[:, j : j + cols] = flat.reshape(e.shape + (N_SOLVE_OUT,))
         if progress:
             progress(eps.size * min(j + cols, xi.size), eps.size * xi.size, time.perf_counter() - start)
     return table
