@@ -12,9 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.engine.exact import alpha_exact
-from contactalpha.engine.table import alpha_tabulated
+from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.validation import check_eps, check_xi, plain_in
 
+from .closed_form import closed_form
 from .shen import eq25, shen_published, shen_refit
 
 
@@ -168,6 +169,14 @@ _REGISTRY.append(
 _REGISTRY += [
     Model("shen_published", "Shen et al., Eq. 40", "Shen et al., Eq. 40", "Eq. 40", True, shen_published),
     Model("shen_refit", "Shen et al., refit", "Eq. 40 refit to this surface", "Eq. 40", True, shen_refit),
+    Model(
+        "closed_form",
+        "closed form (exact at ξ = 0)",
+        "this package, issue 13: models/closed_form.py",
+        "(α_s^k + α_c^k)^(1/k), α_s = α₀(ε)·e^(…)",
+        True,
+        closed_form,
+    ),
 ]
 MODELS = {m.name: m for m in _REGISTRY}
 
@@ -242,8 +251,8 @@ def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
     -------
     alpha : float or ndarray
     """
-    if model == "exact" and restitution == "energetic" and plain_in("eps", eps) and plain_in("xi", xi):
-        return exact_tabulated(eps, xi)  # scalar fast path: no array checks on a valid float
+    if model == "exact" and plain_in("eps", eps) and plain_in("xi", xi) and eps >= EPS_MIN and xi <= XI_MAX:
+        return alpha_tabulated(eps, xi, restitution=restitution)  # scalar fast path: no array checks
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
     if restitution not in ("energetic", "kinematic"):

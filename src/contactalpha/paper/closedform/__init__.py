@@ -1,0 +1,1 @@
+"""Issue 13: the closed form for alpha(eps, xi), fitted and judged in delivered restitution."""
