@@ -1,5 +1,6 @@
 import copy
 import logging
+import re
 from pathlib import Path
 
 import numpy as np
@@ -8,9 +9,12 @@ import yaml
 
 import contactalpha
 from contactalpha.engine.codes import END_STATES, STATE_CODES
+from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
+from contactalpha.engine.solver import EPS_TOL
 from contactalpha.io import load_surface, load_surface_chunk, write_dataset_atomic, write_text_atomic
 from contactalpha.models import shen
 from contactalpha.paper.surface.compute import (
+    SOLVER_NAME,
     VARIABLES,
     check_surface_config,
     chunk_columns,
@@ -151,8 +155,20 @@ def test_surface_layout_units_and_codes(surface):
     assert {STATE_CODES["separation"], STATE_CODES["nonseparation"], STATE_CODES["creep"]} <= found
     # xi = 0 separates always and matches the exact relation.
     np.testing.assert_allclose(surface.alpha.sel(xi=0.0), contactalpha.alpha_exact(EPS), rtol=1e-12)
-    for key in ("solver", "tol", "rtol", "atol", "max_steps", "git_commit", "history", "compute_seconds"):
-        assert key in surface.attrs
+    attrs = surface.attrs
+    assert (attrs["tol"], attrs["rtol"], attrs["atol"], attrs["max_steps"]) == (
+        EPS_TOL,
+        RTOL,
+        ATOL,
+        MAX_STEPS,
+    )
+    assert attrs["solver"] == SOLVER_NAME and attrs["contactalpha_version"] == contactalpha.__version__
+    assert re.fullmatch(r"[0-9a-f]{40}(\+dirty)?|unknown", attrs["git_commit"])
+    assert re.fullmatch(
+        r"\S+Z compute_surface on 5 x 14 points in [0-9.]+ s \(contactalpha .+\)", attrs["history"]
+    )
+    assert 0 < attrs["compute_seconds"] == pytest.approx(attrs["finished"] - attrs["started"], abs=1e-6)
+    assert surface.x_max.attrs["units"] == "delta_star" and surface.alpha.attrs["units"] == "1"
 
 
 def test_compute_surface_keeps_the_grid_and_rejects_bad_ones():
