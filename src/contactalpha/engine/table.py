@@ -33,6 +33,8 @@ from pathlib import Path
 import numpy as np
 from numba import njit, prange
 
+from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
+
 from .bspline import eval_1d_uniform, eval_2d_uniform
 
 # Bumped whenever the meaning of the stored arrays changes.
@@ -245,6 +247,16 @@ def _lookup(restitution):
     raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
 
 
+# restitution -> (scalar evaluator, shipped table's arrays), for the scalar fast path.
+_SCALAR = {}
+
+
+def _scalar_lookup(restitution):
+    default, scalar, _, _, arrays = _lookup(restitution)
+    _SCALAR[restitution] = (scalar, arrays(default))
+    return _SCALAR[restitution]
+
+
 def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     """Exact alpha(eps, xi) from the shipped table: ~1e-7 relative, at formula speed.
 
@@ -261,15 +273,14 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     restitution : {"energetic", "kinematic"}
         Which coefficient ``eps`` is.
     """
-    from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
-
+    if path is None and type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
+        fast = _SCALAR.get(restitution) or _scalar_lookup(restitution)
+        value = fast[0](eps, xi, *fast[1])  # NaN outside the domain: then the checks below word it
+        if value == value:
+            return value
     default, scalar, serial, many, arrays = _lookup(restitution)
     tables = arrays(default if path is None else path)
     name = "e_N" if restitution == "kinematic" else "eps"
-    if type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
-        value = scalar(eps, xi, *tables)  # NaN outside the domain: then the checks below word it
-        if value == value:
-            return value
     e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
     e_flat = np.ascontiguousarray(e).ravel()
     x_flat = np.ascontiguousarray(x).ravel()
