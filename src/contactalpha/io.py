@@ -1,6 +1,5 @@
 """Reading and writing result files: atomically, so an interrupted run leaves no half-written file."""
 
-import fcntl
 import json
 import math
 import os
@@ -152,6 +151,8 @@ def claim_workdir(workdir="."):
     removed : list of Path
         Stale files removed.
     """
+    import fcntl  # POSIX only: imported here so that the package still imports elsewhere
+
     workdir = Path(workdir).resolve()
     lock = workdir / RUN_LOCK
     if lock in _HELD:
