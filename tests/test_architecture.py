@@ -14,6 +14,7 @@ RANKS = {
     "plotting": 0,
     "engine": 1,
     "models": 2,
+    "export": 2,
     "baselines": 3,
     "scene": 4,
     "adapters": 5,

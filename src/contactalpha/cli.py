@@ -80,6 +80,8 @@ def build_parser():
     f_load.add_argument("--force", type=_number, help="constant force into the contact, N")
     f.add_argument("--radius", type=_number, help="sphere radius, m (adds OpenSim's stiffness)")
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
+    x = sub.add_parser("export-c", help="write the exact-alpha tables and evaluator as C99 source")
+    x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     return p
 
 
@@ -107,6 +109,12 @@ def main(argv=None):
             kw = {"accel": args.accel} if args.accel is not None else {"force": args.force}
             adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
             print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
+            return 0
+        if args.command == "export-c":
+            from contactalpha.export.c_source import export_c
+
+            for path in export_c(args.directory):
+                print(path)
             return 0
         if args.command == "params":
             from dataclasses import asdict

@@ -1,0 +1,218 @@
+"""``contactalpha export-c``: the shipped tables and their evaluator as self-contained C99.
+
+Writes ``contactalpha.h`` (the API) and ``contactalpha.c`` (both tables' spline data, written as
+C99 hexadecimal floating constants so that every double is the table's own bit for bit, and the
+evaluator of ``c_template``).  The C code needs only ``<math.h>``; it gives alpha for Stronge's
+eps and Newton's e_N, and xi, alpha and the damping mu = alpha k / v- (paper Eq. 23) from a scene
+in SI units.  Outside the tables' domain it returns NaN, as ``jit_alpha_tabulated`` does (no
+solver is exported).
+"""
+
+import ctypes
+import hashlib
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+from contactalpha.engine.scaling import A_ROUNDS_TO_ONE
+from contactalpha.engine.table import (
+    ARRAY_NAMES,
+    DEFAULT_FILE,
+    EPS_MIN,
+    G_COUNT,
+    G_FIRST,
+    G_K_ETA,
+    G_K_Q,
+    G_N_ETA,
+    G_N_P,
+    G_S_ETA,
+    G_S_P,
+    G_STEP,
+    KINEMATIC_ARRAY_NAMES,
+    KINEMATIC_FILE,
+    U_MIN,
+    XI_MAX,
+    XI_SCALE,
+    read_table_file,
+)
+from contactalpha.io import write_text_atomic
+from contactalpha.provenance import git_commit
+from contactalpha.version import __version__
+
+from .c_template import EVALUATOR, HEADER
+
+HEADER_NAME = "contactalpha.h"
+SOURCE_NAME = "contactalpha.c"
+# Flags the export is tested with (tests/export/test_c_source.py): strict C99, every warning an error.
+C_FLAGS = ("-std=c99", "-Wall", "-Wextra", "-Werror", "-O2")
+# Newton steps of scaling._xi_of_load (its loop bound; converged long before for every A <= 1e30).
+NEWTON_STEPS = 60
+# Hexadecimal constants per line of the data arrays (keeps lines under 100 characters).
+PER_LINE = 4
+# C name prefix and Python array name of each exported array, energetic then kinematic.
+C_ARRAYS = {
+    "B_T": "b_t",
+    "B_C": "b_c",
+    "S_TX": "s_tx",
+    "S_TY": "s_ty",
+    "S_C": "s_c",
+    "N_TX": "n_tx",
+    "N_TY": "n_ty",
+    "N_C": "n_c",
+    "K_TX": "k_tx",
+    "K_TY": "k_ty",
+    "K_C": "k_c",
+}
+# C name of each uniform grid's (first node, spacing, node count), and where it sits in its geom array.
+C_GRIDS = {
+    ("S_ETA0", "S_DETA", "S_NETA"): ("geom", G_S_ETA),
+    ("S_P0", "S_DP", "S_NP"): ("geom", G_S_P),
+    ("N_ETA0", "N_DETA", "N_NETA"): ("geom", G_N_ETA),
+    ("N_P0", "N_DP", "N_NP"): ("geom", G_N_P),
+    ("K_ETA0", "K_DETA", "K_NETA"): ("k_geom", G_K_ETA),
+    ("K_Q0", "K_DQ", "K_NQ"): ("k_geom", G_K_Q),
+}
+
+
+def _hex(value):
+    """A double as a C99 hexadecimal floating constant (exact)."""
+    value = float(value)
+    if not np.isfinite(value):
+        raise ValueError(f"table value {value!r} is not finite; the table file is damaged")
+    return value.hex()
+
+
+def _array(name, values):
+    flat = np.ascontiguousarray(values, dtype=np.float64).ravel()
+    items = [_hex(v) for v in flat]
+    lines = [", ".join(items[i : i + PER_LINE]) for i in range(0, len(items), PER_LINE)]
+    body = ",\n    ".join(lines)
+    return f"/* {np.shape(values)} */\nstatic const double {name}[{flat.size}] = {{\n    {body}\n}};\n"
+
+
+def _sha256(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def c_export_text(energetic=DEFAULT_FILE, kinematic=KINEMATIC_FILE):
+    """``{file name: text}`` of the C export of the two table files.
+
+    Parameters
+    ----------
+    energetic, kinematic : path-like
+        Table files (default: the shipped ones); read with their format-version check.
+    """
+    arrays, _ = read_table_file(energetic, ARRAY_NAMES)
+    k_arrays, _ = read_table_file(kinematic, KINEMATIC_ARRAY_NAMES)
+    arrays.update(k_arrays)
+    provenance = (
+        f"contactalpha {__version__}, commit {git_commit()}; tables {Path(energetic).name} "
+        f"sha256 {_sha256(energetic)[:16]}, {Path(kinematic).name} sha256 {_sha256(kinematic)[:16]}"
+    )
+    header = HEADER.format(provenance=provenance, eps_min_dec=f"{EPS_MIN:g}", xi_max_dec=f"{XI_MAX:g}")
+    defines = [
+        f"#define EPS_MIN ({_hex(EPS_MIN)}) /* {EPS_MIN!r} */",
+        f"#define XI_MAX ({_hex(XI_MAX)}) /* {XI_MAX!r} */",
+        f"#define U_MIN ({_hex(U_MIN)}) /* ln EPS_MIN */",
+        f"#define XI_SCALE ({_hex(XI_SCALE)}) /* {XI_SCALE!r} */",
+        f"#define A_ROUNDS_TO_ONE ({_hex(A_ROUNDS_TO_ONE)}) /* {A_ROUNDS_TO_ONE!r} */",
+        f"#define NEWTON_STEPS {NEWTON_STEPS}",
+    ]
+    for (first, step, count), (geom, offset) in C_GRIDS.items():
+        g = arrays[geom]
+        n = float(g[offset + G_COUNT])
+        if n != int(n):
+            raise ValueError(f"node count {n!r} in {geom} is not an integer; the table file is damaged")
+        defines += [
+            f"#define {first} ({_hex(g[offset + G_FIRST])})",
+            f"#define {step} ({_hex(g[offset + G_STEP])})",
+            f"#define {count} {int(n)}",
+        ]
+    data = "\n".join(_array(c_name, arrays[py_name]) for c_name, py_name in C_ARRAYS.items())
+    source = (
+        f"/* {SOURCE_NAME} -- generated by `contactalpha export-c` ({provenance}).\n"
+        " * Do not edit: regenerate.  Constants are hexadecimal doubles, bit for bit the tables'. */\n"
+        f'#include "{HEADER_NAME}"\n\n#include <math.h>\n\n'
+        + "\n".join(defines)
+        + "\n\n"
+        + data
+        + EVALUATOR.format()
+    )
+    return {HEADER_NAME: header, SOURCE_NAME: source}
+
+
+def export_c(directory, energetic=DEFAULT_FILE, kinematic=KINEMATIC_FILE):
+    """Write ``contactalpha.h`` and ``contactalpha.c`` into ``directory`` (atomically); return their paths."""
+    directory = Path(directory)
+    return [
+        write_text_atomic(directory / name, text)
+        for name, text in c_export_text(energetic, kinematic).items()
+    ]
+
+
+def c_compiler():
+    """Path of the system C compiler (``cc``, ``gcc`` or ``clang``), or None."""
+    for name in ("cc", "gcc", "clang"):
+        found = shutil.which(name)
+        if found:
+            return found
+    return None
+
+
+def compile_shared(directory, output, compiler=None, flags=C_FLAGS):
+    """Compile the export in ``directory`` into the shared library ``output`` (for ctypes).
+
+    Raises ``RuntimeError`` with the compiler's messages if it fails.
+    """
+    compiler = compiler or c_compiler()
+    if compiler is None:
+        raise RuntimeError("no C compiler found (looked for cc, gcc, clang)")
+    cmd = [compiler, *flags, "-shared", "-fPIC", str(Path(directory) / SOURCE_NAME), "-o", str(output), "-lm"]
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    if run.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({run.returncode}):\n{run.stderr}")
+    return Path(output)
+
+
+def load_library(path):
+    """The compiled export as a ``ctypes.CDLL`` with the argument and result types of its API."""
+    lib = ctypes.CDLL(str(path))
+    d, i, p = ctypes.c_double, ctypes.c_int, ctypes.POINTER(ctypes.c_double)
+    signatures = {
+        "contactalpha_alpha_energetic": ([d, d], d),
+        "contactalpha_alpha_kinematic": ([d, d], d),
+        "contactalpha_alpha": ([i, d, d], d),
+        "contactalpha_alpha_many": ([i, ctypes.c_size_t, p, p, p], None),
+        "contactalpha_influence_factor": ([d, d, d, d], d),
+        "contactalpha_contact_parameters": ([i, d, d, d, d, d, p, p, p], i),
+    }
+    for name, (args, result) in signatures.items():
+        fn = getattr(lib, name)
+        fn.argtypes, fn.restype = args, result
+    return lib
+
+
+# Values of the C enum contactalpha_restitution.
+C_RESTITUTION = {"energetic": 0, "kinematic": 1}
+
+
+def alpha_many(lib, value, xi, restitution="energetic"):
+    """``contactalpha_alpha_many`` of the loaded library over two float64 arrays (same size)."""
+    value = np.ascontiguousarray(value, dtype=np.float64)
+    xi = np.ascontiguousarray(xi, dtype=np.float64)
+    if value.shape != xi.shape:
+        raise ValueError(f"value and xi have shapes {value.shape} and {xi.shape}; they must be equal")
+    if restitution not in C_RESTITUTION:
+        raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
+    out = np.empty_like(value)
+    ptr = ctypes.POINTER(ctypes.c_double)
+    lib.contactalpha_alpha_many(
+        C_RESTITUTION[restitution],
+        value.size,
+        value.ctypes.data_as(ptr),
+        xi.ctypes.data_as(ptr),
+        out.ctypes.data_as(ptr),
+    )
+    return out
