@@ -233,12 +233,10 @@ def scale(args):
             str(n): 1e6 / (points / compute) / (n * slots) + outside for n in (1, 4, 16, 64)
         },
     }
-    print(
-        f"cluster: {wall:.0f} s wall, {points / wall:.0f} points/s; solver {points / compute:.0f} points/CPU-s"
-    )
-    print(
-        f"per job outside the solver (median): {outside:.1f} s; break-even at {compute / outside:.0f} chunks"
-    )
+    print(f"cluster: {wall:.0f} s wall, {points / wall:.0f} points/s")
+    print(f"solver: {points / compute:.0f} points per job-second")
+    print(f"per job outside the solver (median): {outside:.1f} s")
+    print(f"break-even: {compute / outside:.0f} chunks")
     print(f"local, one thread: {rate_local:.0f} points/s")
     return save("scale", record, started)
 
