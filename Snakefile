@@ -1,4 +1,5 @@
-# contactalpha workflow: `snakemake -c2` rebuilds every result under results/.
+# contactalpha workflow: `snakemake -c2` rebuilds every result under results/ and writes nothing
+# else (`snakemake -c2 ship`, rules/ship.smk, updates the files shipped with the package).
 # Stages live in workflow/rules/<stage>.smk; each appends its default targets to ALL_TARGETS.
 # Every rule declares `conda: "../envs/contactalpha.yaml"`, so that `snakemake --lint` is clean.
 import os
@@ -36,6 +37,7 @@ include: "workflow/rules/models.smk"
 include: "workflow/rules/ball.smk"
 include: "workflow/rules/bench.smk"
 include: "workflow/rules/engines.smk"
+include: "workflow/rules/ship.smk"
 
 
 rule all:

@@ -1,5 +1,6 @@
 """End to end: the whole Snakemake workflow on workflow/test-config.yaml, in a temporary directory."""
 
+import hashlib
 import json
 import re
 import socket
@@ -42,12 +43,22 @@ def run(tmp_path_factory):
     host = re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())
     stale = work / "results" / f".surface.h5.{TMP_TAG}-{host}-{gone.pid}.x1y2z3.tmp"
     stale.write_bytes(b"\x89HDF half written")
+    package_before = _package_data()
     log = snakemake(work)
     return {
         "work": work,
         "log": log,
         "chunk0_resumed": chunk0.stat().st_mtime_ns == first_mtime,
         "stale_removed": not stale.exists(),
+        "package_unchanged": _package_data() == package_before,
+    }
+
+
+def _package_data():
+    """Digest of every file shipped in contactalpha/data/."""
+    folder = Path(contactalpha.__file__).parent / "data"
+    return {
+        p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()
     }
 
 
@@ -66,8 +77,8 @@ def test_a_figure_setting_reruns_only_what_uses_it(run):
     edited = run["work"] / "edited-config.yaml"
     edited.write_text(yaml.safe_dump(config, sort_keys=False))  # Snakemake compares params in key order
     plan = snakemake(run["work"], "--dry-run", configfile=edited)
-    assert "rule fig5_alpha_section" in plan and "rule surface_summary" in plan
-    for rule in ("surface_chunk", "surface_merge", "fig4_alpha_surface", "end_states_map"):
+    assert "rule surface_report:" in plan  # Fig. 5 and the summary
+    for rule in ("surface_chunk", "surface_merge", "surface_figures"):  # Fig. 4, end states
         assert f"rule {rule}:" not in plan, rule
 
 
@@ -138,6 +149,26 @@ def test_bad_config_fails_before_any_job(tmp_path):
     assert not (tmp_path / "results").exists()
 
 
+def test_a_run_writes_only_under_results(run):
+    """Issue 15, item 6: no file of the checkout (the shipped constants, the table) is touched."""
+    assert run["package_unchanged"], "the run rewrote a file shipped in contactalpha/data/"
+    written = {p.name for p in run["work"].iterdir()}
+    assert written <= {"results", "logs", ".snakemake"}, written
+    assert not list((run["work"] / "results").glob("*/*_package.*")), "a default run shipped"
+
+
+def test_the_default_config_checks_the_shipped_table_and_builds_none(tmp_path):
+    """The shipped table was built with config.yaml's models.table: the default run reuses it."""
+    from contactalpha.engine.table import DEFAULT_FILE
+
+    plan = snakemake(tmp_path, "--dry-run", "results/models/table_check.md", configfile=ROOT / "config.yaml")
+    assert "rule table_check:" in plan and str(DEFAULT_FILE) in plan
+    assert "rule table:" not in plan
+    # The tiny test config asks for another table: that one is built and checked, not shipped.
+    plan = snakemake(tmp_path, "--dry-run", "results/models/table_check.md")
+    assert "rule table:" in plan and str(DEFAULT_FILE) not in plan
+
+
 def test_lint_is_clean():
     cmd = [sys.executable, "-m", "snakemake", "--lint", "-s", str(ROOT / "Snakefile")]
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=ROOT)
@@ -156,3 +187,20 @@ def test_slurm_profile_is_accepted(tmp_path):
     # one job per chunk (test config: 2) and one merge
     assert re.search(r"^surface_chunk\s+2$", out, re.MULTILINE), out[-2000:]
     assert re.search(r"^surface_merge\s+1$", out, re.MULTILINE)
+
+
+def test_ship_copies_the_refit_and_a_checked_table_to_the_configured_files(run):
+    """`snakemake ship` (test config: the package files are under results/) copies the run's results."""
+    package_before = _package_data()
+    log = snakemake(run["work"], "ship")
+    results = run["work"] / "results"
+    assert "rule table_check_built:" in log
+    pairs = [("fit/shen_refit.json", "fit/shen_refit_package.json", "shen_refit")]
+    pairs += [("models/alpha_table.npz", "models/alpha_table_package.npz", "alpha_table")]
+    for source, destination, record in pairs:
+        data = (results / source).read_bytes()
+        assert (results / destination).read_bytes() == data
+        shipped = json.loads((results / "ship" / f"{record}.json").read_text())
+        assert shipped["sha256"] == hashlib.sha256(data).hexdigest()
+        assert shipped["destination"] == f"results/{destination}"
+    assert _package_data() == package_before

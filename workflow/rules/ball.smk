@@ -4,22 +4,20 @@
 # statements (results/ball/statements.md).
 
 BALL = config["ball"]
-# The shipped refit of Eq. 40 is rewritten by the fit stage; runs that may use shen_refit wait
-# for it, so they never read a copy that is about to change.
-BALL_MODEL_DATA = [config["fit"]["package_coefficients"]] if "fit" in config else []
+# Runs that may use model shen_refit read the shipped constants (rules/fit.smk): shipping new
+# ones reruns them. The default run never writes them, so nothing waits for the refit.
+BALL_MODEL_DATA = [SHIPPED_REFIT]
 # Figures 13-21: one per (kind, force); numbering as in the paper, kinds in this order.
 BALL_KINDS = ["deformation", "velocity", "hysteresis"]
 BALL_FIRST_FIG = 13
 BALL_N_FORCES = len(BALL["first_collision"]["forces"])
-BALL_FIGURES = [
-    "fig11_ball_motion",
-    "fig12_ball_energy",
-    *[
-        f"fig{BALL_FIRST_FIG + k * BALL_N_FORCES + i}_ball_{kind}"
-        for k, kind in enumerate(BALL_KINDS)
-        for i in range(BALL_N_FORCES)
-    ],
-]
+# name -> (kind, force index) of the first-collision figures.
+BALL_FIRST_FIGURES = {
+    f"fig{BALL_FIRST_FIG + k * BALL_N_FORCES + i}_ball_{kind}": (kind, i)
+    for k, kind in enumerate(BALL_KINDS)
+    for i in range(BALL_N_FORCES)
+}
+BALL_FIGURES = ["fig11_ball_motion", "fig12_ball_energy", *BALL_FIRST_FIGURES]
 
 ALL_TARGETS += [
     "results/ball/cases.md",
@@ -27,11 +25,6 @@ ALL_TARGETS += [
     "results/ball/statements.md",
     *expand("results/figures/{name}.{ext}", name=BALL_FIGURES, ext=["png", "pdf"]),
 ]
-
-
-wildcard_constraints:
-    num=r"\d+",
-    kind="|".join(BALL_KINDS),
 
 
 rule ball_cases:
@@ -73,63 +66,20 @@ rule ball_first_collision:
         "../scripts/ball_first.py"
 
 
-rule ball_statements:
+# The statements and every figure in one job: one Python start-up and one set of imports.
+rule ball_report:
     input:
         case_a="results/ball/case_A.nc",
         case_b="results/ball/case_B.nc",
         first="results/ball/first_collision.nc",
     output:
-        "results/ball/statements.md",
-    log:
-        "logs/ball/statements.log",
-    conda:
-        "../envs/contactalpha.yaml"
-    script:
-        "../scripts/ball_statements.py"
-
-
-rule fig11_ball_motion:
-    input:
-        case_a="results/ball/case_A.nc",
-        case_b="results/ball/case_B.nc",
-    output:
-        png="results/figures/fig11_ball_motion.png",
-        pdf="results/figures/fig11_ball_motion.pdf",
-    log:
-        "logs/ball/fig11_ball_motion.log",
-    conda:
-        "../envs/contactalpha.yaml"
-    script:
-        "../scripts/ball_fig_motion.py"
-
-
-rule fig12_ball_energy:
-    input:
-        case_a="results/ball/case_A.nc",
-        case_b="results/ball/case_B.nc",
-    output:
-        png="results/figures/fig12_ball_energy.png",
-        pdf="results/figures/fig12_ball_energy.pdf",
-    log:
-        "logs/ball/fig12_ball_energy.log",
-    conda:
-        "../envs/contactalpha.yaml"
-    script:
-        "../scripts/ball_fig_energy.py"
-
-
-rule ball_first_figure:
-    input:
-        "results/ball/first_collision.nc",
-    output:
-        png="results/figures/fig{num}_ball_{kind}.png",
-        pdf="results/figures/fig{num}_ball_{kind}.pdf",
+        statements="results/ball/statements.md",
+        **{name: multiext(f"results/figures/{name}", ".png", ".pdf") for name in BALL_FIGURES},
     params:
-        kind=lambda w: w.kind,
-        force_index=lambda w: int(w.num) - BALL_FIRST_FIG - BALL_KINDS.index(w.kind) * BALL_N_FORCES,
+        first_figures=BALL_FIRST_FIGURES,
     log:
-        "logs/ball/fig{num}_ball_{kind}.log",
+        "logs/ball/report.log",
     conda:
         "../envs/contactalpha.yaml"
     script:
-        "../scripts/ball_fig_first.py"
+        "../scripts/ball_report.py"

@@ -17,10 +17,8 @@ ALL_TARGETS += [
 # Light jobs: on a cluster they run on the submitting node, only the chunks are submitted.
 localrules:
     surface_merge,
-    fig4_alpha_surface,
-    fig5_alpha_section,
-    end_states_map,
-    surface_summary,
+    surface_figures,
+    surface_report,
 
 
 wildcard_constraints:
@@ -63,61 +61,35 @@ rule surface_merge:
         "../scripts/surface_merge.py"
 
 
-rule fig4_alpha_surface:
+# Several figures per job: one Python start-up and one set of imports for all of them. Fig. 5
+# and the summary use surface.figures, Fig. 4 and the end-state map do not: a figure setting
+# reruns only the job that uses it.
+rule surface_figures:
     input:
-        "results/surface.h5",
+        surface="results/surface.h5",
     output:
-        png="results/figures/fig4_alpha_surface.png",
-        pdf="results/figures/fig4_alpha_surface.pdf",
+        fig4=multiext("results/figures/fig4_alpha_surface", ".png", ".pdf"),
+        end_states=multiext("results/figures/end_states", ".png", ".pdf"),
     log:
-        "logs/surface/fig4_alpha_surface.log",
+        "logs/surface/figures.log",
     conda:
         "../envs/contactalpha.yaml"
     script:
-        "../scripts/fig4_alpha_surface.py"
+        "../scripts/surface_figures.py"
 
 
-rule fig5_alpha_section:
-    input:
-        "results/surface.h5",
-    output:
-        png="results/figures/fig5_alpha_section.png",
-        pdf="results/figures/fig5_alpha_section.pdf",
-    params:
-        figures=config["surface"]["figures"],
-    log:
-        "logs/surface/fig5_alpha_section.log",
-    conda:
-        "../envs/contactalpha.yaml"
-    script:
-        "../scripts/fig5_alpha_section.py"
-
-
-rule end_states_map:
-    input:
-        "results/surface.h5",
-    output:
-        png="results/figures/end_states.png",
-        pdf="results/figures/end_states.pdf",
-    log:
-        "logs/surface/end_states.log",
-    conda:
-        "../envs/contactalpha.yaml"
-    script:
-        "../scripts/end_states_map.py"
-
-
-rule surface_summary:
+rule surface_report:
     input:
         surface="results/surface.h5",
         chunks=expand("results/surface/chunks/chunk_{chunk}.h5", chunk=SURFACE_CHUNKS),
     output:
-        "results/summary.md",
+        summary="results/summary.md",
+        fig5=multiext("results/figures/fig5_alpha_section", ".png", ".pdf"),
     params:
         figures=config["surface"]["figures"],
     log:
-        "logs/surface/summary.log",
+        "logs/surface/report.log",
     conda:
         "../envs/contactalpha.yaml"
     script:
-        "../scripts/surface_summary.py"
+        "../scripts/surface_figures.py"

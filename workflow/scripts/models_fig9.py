@@ -1,19 +1,22 @@
-"""Fig. 9 data: post-restitution eps of each model at each load, the deviation table, the statements.
+"""Fig. 9: post-restitution eps of each model at each load, the deviation table, the statements, the figure.
 
 Settings (snakemake.params.fig9): xi (panels), models, new_model, reference, eps (start, stop, step),
 rtol, atol.
 Inputs: none.
-Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md, fig9_statements.md.
+Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md, fig9_statements.md,
+and the figure (png, pdf), drawn from the written file.
 """
 
 import time
 
 import numpy as np
 
-from contactalpha.io import json_text, script_logger, write_dataset_atomic, write_text_atomic
+from contactalpha.io import json_text, load_dataset, script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
 from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre
+from contactalpha.paper.fig9.figures import fig9
 from contactalpha.paper.statements import statements_markdown
+from contactalpha.plotting import save_figure
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.version import __version__
 
@@ -52,4 +55,5 @@ write_text_atomic(
     sm.output.statements,
     statements_markdown(statements, "The paper's conclusions about Fig. 9, checked on our numbers") + footer,
 )
-log.info("wrote %s, %s, %s", sm.output.data, sm.output.table, sm.output.statements)
+save_figure(fig9(load_dataset(sm.output.data)), [sm.output.png, sm.output.pdf])
+log.info("wrote %s", ", ".join(sm.output))

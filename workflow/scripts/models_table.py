@@ -21,5 +21,13 @@ start = time.perf_counter()
 s = TableSettings(**p)
 table = build_table(s.n_eta, s.n_p, s.refine_n, tol=s.tol, rtol=s.rtol, atol=s.atol, progress=log.info)
 wall = time.perf_counter() - start
-save_table(table, sm.output[0], wall_time_s=wall, contactalpha_version=__version__, git_commit=git_commit())
+# refine_n is not part of the table's own metadata: recorded so that a run can tell the settings.
+save_table(
+    table,
+    sm.output[0],
+    refine_n=s.refine_n,
+    wall_time_s=wall,
+    contactalpha_version=__version__,
+    git_commit=git_commit(),
+)
 log.info(f"table built in {wall:.1f} s: {sm.output[0]}")
