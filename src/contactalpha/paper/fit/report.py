@@ -121,7 +121,7 @@ def refit_report(ds, **settings):
     report = {
         "generated": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "contactalpha_version": __version__,
-        "surface": _surface_info(ds),
+        "surface": surface_info(ds),
         "settings": cfg,
         "points": {"fitted": len(loaded), "zero_load": len(unloaded), "excluded": _exclusions(excluded)},
         "reading": {"used": reading, "text": shen.READINGS[reading], "evidence": evidence},
@@ -147,7 +147,8 @@ def refit_report(ds, **settings):
     return jsonable(report), fits
 
 
-def _surface_info(ds):
+def surface_info(ds):
+    """The surface's provenance and grid size, as the report and the shipped constants record them."""
     keys = ("git_commit", "solver", "tol", "rtol", "atol", "contactalpha_version")
     info = {k: ds.attrs[k] for k in keys if k in ds.attrs}
     info.update(n_epsilon=int(ds.sizes["epsilon"]), n_xi=int(ds.sizes["xi"]))
