@@ -5,6 +5,13 @@ identity of the scaled equation (docs/science.md, "The restitution identity"), e
 
     eps^2 = (v_e^2 / 2 + A (x_m - x_e)) / (1/2 + A x_m).
 
+Next to the onset of no restitution ``x_m - x_e`` is a tiny difference of two
+compressions close to ``x_eq`` (~ eps^2 x_eq).  The kernel therefore carries
+the restitution phase's displacement from the maximum compression, ``drop =
+x_m - x_e``, measured from ``x_eq`` where the linearised end gives both sides
+(``u_m - u_e``), so that eps^2 keeps its relative accuracy instead of the
+rounding of ``x_eq + u`` (1e-16 x_eq absolute).
+
 Its derivative with respect to alpha comes from the sensitivities ``p, q``
 integrated along the trajectory, so a Newton step costs no extra impact.
 Newton's kinematic coefficient ``e_N = -v_e`` (separation speed over approach
@@ -71,10 +78,14 @@ FIRST_STEP = 1e-4
 
 
 @njit(cache=True, error_model="numpy")
-def stronge(A, x_m, x_e, v_e, dxm, dxe, dve):
-    """Return ``(eps^2, d eps^2 / d alpha)`` from the end state and its sensitivities."""
+def stronge(A, x_m, drop, v_e, dxm, dxe, dve):
+    """Return ``(eps^2, d eps^2 / d alpha)`` from the end state and its sensitivities.
+
+    ``drop = x_m - x_e`` is the restitution phase's displacement, computed by the caller
+    without cancellation.
+    """
     wc = 0.5 + A * x_m
-    wr = 0.5 * v_e * v_e + A * (x_m - x_e)
+    wr = 0.5 * v_e * v_e + A * drop
     e2 = wr / wc
     de2 = ((v_e * dve + A * (dxm - dxe)) * wc - wr * A * dxm) / (wc * wc)
     return e2, de2
@@ -126,6 +137,8 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     state = FAILED
     status = OK
     x_m = np.nan
+    u_m = np.nan  # x_m - x_eq, kept apart from x_m (see the module docstring)
+    drop = np.nan  # x_m - x_e
     dxm = 0.0
     t_m = np.nan
     x_e = np.nan
@@ -199,6 +212,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
             if compressing:
                 compressing = False
                 x_m = y[1]
+                u_m = x_m - xeq
                 dxm = y[3]
                 t_m = y[0]
                 y[2] = 0.0
@@ -209,6 +223,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 state = SEPARATION
                 y[1] = 0.0
                 x_e = 0.0
+                drop = x_m
                 v_e = y[2]
                 acc = contact_acceleration(0.0, v_e, A, alpha)
                 dxe = 0.0
@@ -216,6 +231,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
             else:
                 state = NONSEPARATION
                 x_e = y[1]
+                drop = x_m - x_e
                 v_e = 0.0
                 dxe = y[3]
                 dve = 0.0
@@ -237,12 +253,14 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                     state = NO_RESTITUTION
                     break
                 x_m = xeq + u_turn
+                u_m = u_turn
                 dxm = y[3]
                 t_m = np.nan
                 turns, u_turn = linear_turn(u_turn, 0.0, kl, cl)
             if turns:
                 state = NONSEPARATION
                 x_e = xeq + u_turn
+                drop = u_m - u_turn
                 v_e = 0.0
                 t_e = np.inf
                 dxe = y[3]
@@ -261,6 +279,8 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     if state == NO_RESTITUTION:
         x_m = xeq
         t_m = np.inf
+    if state == CREEP:
+        drop = u_m
     if state == NO_RESTITUTION or state == CREEP:
         x_e = xeq
         v_e = 0.0
@@ -271,7 +291,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
             out[OUT_EPS2] = 0.0
             out[OUT_DEPS2] = 0.0
         else:
-            e2, de2 = stronge(A, x_m, x_e, v_e, dxm, dxe, dve)
+            e2, de2 = stronge(A, x_m, drop, v_e, dxm, dxe, dve)
             out[OUT_EPS2] = e2
             out[OUT_DEPS2] = de2
     out[OUT_STATE] = state
