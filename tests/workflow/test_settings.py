@@ -7,11 +7,21 @@ from pathlib import Path
 import pytest
 import yaml
 
-from contactalpha.engine.table_build import TableCheckSettings, TableSettings, build_table, check_table
+from contactalpha.engine.table import KINEMATIC_FILE
+from contactalpha.engine.table_build import (
+    KinematicTableSettings,
+    TableCheckSettings,
+    TableSettings,
+    build_kinematic_table,
+    build_table,
+    built_with,
+    check_table,
+)
 from contactalpha.paper.fig9.compute import Fig9Settings
 from contactalpha.paper.fit.report import FitSettings
 from contactalpha.paper.surface.compute import SolverSettings, compute_surface
 from contactalpha.scene.ball import ContactNumerics, Scene, simulate
+from contactalpha.studies.restitution.curves import RestitutionCurveSettings, restitution_curves
 
 SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
 
@@ -23,6 +33,9 @@ OWNERS = {
     ("models", "fig9"): (Fig9Settings, set(), set()),
     ("fit",): (FitSettings, {"package_coefficients"}, {"max_nfev", "coarse_stride"}),
     ("ball", "numerics"): (ContactNumerics, set(), set()),
+    ("restitution", "curves"): (RestitutionCurveSettings, set(), set()),
+    ("restitution", "table"): (KinematicTableSettings, set(), set()),
+    ("restitution", "check"): (TableCheckSettings, set(), set()),
 }
 
 
@@ -80,6 +93,17 @@ def test_library_defaults_are_the_settings_defaults():
     assert {f.name: d[f.name] for f in fields(SolverSettings)} == asdict(SolverSettings())
     d = _kwdefaults(simulate)
     assert {f.name: d[f.name] for f in fields(ContactNumerics)} == asdict(ContactNumerics())
+    d = _kwdefaults(build_kinematic_table)
+    assert {f.name: d[f.name] for f in fields(KinematicTableSettings)} == asdict(KinematicTableSettings())
+    d = _kwdefaults(restitution_curves)
+    assert {f.name: d[f.name] for f in fields(RestitutionCurveSettings)} == asdict(RestitutionCurveSettings())
+
+
+def test_shipped_kinematic_table_has_the_default_settings():
+    # The default run checks the shipped table instead of building one only while this holds.
+    assert built_with(KINEMATIC_FILE, asdict(KinematicTableSettings()))
+    assert not built_with(KINEMATIC_FILE, dict(asdict(KinematicTableSettings()), n_q=50))
+    assert not built_with(KINEMATIC_FILE.with_name("missing.npz"), {})
 
 
 def test_unknown_settings_are_refused():

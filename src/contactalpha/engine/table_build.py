@@ -6,6 +6,7 @@ interpolating quintic tensor splines, re-expressed on uniform knots so that the
 jitted evaluator needs no knot search.
 """
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -322,6 +323,19 @@ def save_table(table, path, **extra_meta):
     return write_atomic(Path(path), write)
 
 
+def built_with(path, settings):
+    """Whether the table file at ``path`` records every key of ``settings`` (grid, tolerances) as given.
+
+    False for a missing or unreadable file: the workflow then builds a table with ``settings``.
+    """
+    try:
+        with np.load(path) as z:
+            meta = json.loads(str(z["meta"]))
+    except (OSError, KeyError, ValueError):
+        return False
+    return all(meta.get(k) == v for k, v in settings.items())
+
+
 def random_points(n, seed):
     """``n`` random (eps, xi) in the table's domain: half log-uniform in xi (the ridge), half uniform."""
     rng = np.random.default_rng(seed)
@@ -332,8 +346,18 @@ def random_points(n, seed):
     return eps, xi
 
 
-def check_table(path, *, n=TableCheckSettings.points, seed=TableCheckSettings.seed, shipped=DEFAULT_FILE):
+def check_table(
+    path,
+    *,
+    n=TableCheckSettings.points,
+    seed=TableCheckSettings.seed,
+    shipped=None,
+    restitution="energetic",
+):
     """Accuracy of the table at ``path`` against ``solve_alpha``, and its distance to the shipped table.
+
+    ``restitution="kinematic"`` checks a kinematic table (the random points' eps read as e_N);
+    ``shipped`` defaults to the package's table of that definition.
 
     Returns
     -------
@@ -341,15 +365,19 @@ def check_table(path, *, n=TableCheckSettings.points, seed=TableCheckSettings.se
         ``max_rel_err``, ``median_rel_err``, ``worst`` (eps, xi), ``n``, and
         ``max_rel_diff_shipped`` (NaN when no shipped table can be read).
     """
+    if shipped is None:
+        shipped = KINEMATIC_FILE if restitution == "kinematic" else DEFAULT_FILE
     eps, xi = random_points(n, seed)
-    ref = solve_alpha(eps, xi, tol=1e-13, guess="formula")
+    ref = solve_alpha(eps, xi, tol=1e-13, guess="formula", restitution=restitution)
     if not np.all(ref.ok):
         raise RuntimeError(f"check_table: {int((~np.asarray(ref.ok)).sum())} reference solves failed")
-    got = alpha_tabulated(eps, xi, path=path)
+    got = alpha_tabulated(eps, xi, path=path, restitution=restitution)
     rel = np.abs(got / ref.alpha - 1.0)
     i = int(np.argmax(rel))
     try:
-        diff = float(np.max(np.abs(alpha_tabulated(eps, xi, path=shipped) / got - 1.0)))
+        diff = float(
+            np.max(np.abs(alpha_tabulated(eps, xi, path=shipped, restitution=restitution) / got - 1.0))
+        )
     except (FileNotFoundError, ValueError):
         diff = float("nan")
     return dict(
