@@ -192,3 +192,25 @@ def test_the_paper_surface_costs_about_1_6_impacts_per_point():
     assert np.all(s.ok)
     assert s.impacts.mean() <= 1.65  # 1.634 measured (12276 points with xi > 0)
     assert s.impacts.max() <= 2
+
+
+def test_slow_marker_is_registered_and_left_out_of_the_default_run(tmp_path):
+    # README: "Slow studies are marked `slow` and stay out of the default run (`pytest -m slow`)".
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    probe = tmp_path / "test_probe.py"
+    probe.write_text(
+        "import pytest\n\n@pytest.mark.slow\ndef test_a():\n    pass\n\ndef test_b():\n    pass\n"
+    )
+    cmd = [sys.executable, "-m", "pytest", "-c", str(root / "pyproject.toml"), "--rootdir", str(tmp_path)]
+    run = subprocess.run(
+        [*cmd, "--strict-markers", "--collect-only", "-q", str(probe)], capture_output=True, text=True
+    )
+    assert "test_b" in run.stdout and "test_a" not in run.stdout and "1 deselected" in run.stdout, run.stdout
+    run = subprocess.run(
+        [*cmd, "-m", "slow", "--collect-only", "-q", str(probe)], capture_output=True, text=True
+    )
+    assert "test_a" in run.stdout and "test_b" not in run.stdout, run.stdout
