@@ -37,6 +37,7 @@ include: "workflow/rules/models.smk"
 include: "workflow/rules/ball.smk"
 include: "workflow/rules/bench.smk"
 include: "workflow/rules/engines.smk"
+include: "workflow/rules/adequacy.smk"
 include: "workflow/rules/restitution.smk"
 include: "workflow/rules/ship.smk"
 

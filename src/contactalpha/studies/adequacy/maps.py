@@ -9,13 +9,18 @@ surface's own alpha (not solved again).  Ignoring the load means the exact alpha
 adequate at every grid column.
 """
 
+import json
+import time
+
 import numpy as np
 import xarray as xr
 
 from contactalpha import models
 from contactalpha.engine.codes import FAILED, STATE_CODES
-from contactalpha.engine.driver import impact
+from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL, impact
 from contactalpha.engine.exact import alpha_exact
+from contactalpha.provenance import result_attrs
+from contactalpha.scene import advisor
 from contactalpha.scene.advisor import cheapest, is_adequate
 
 # The registry name whose alpha is the surface itself.
@@ -37,6 +42,40 @@ def delivered(alpha, xi):
         eps[ok] = np.where(r.ok, r.eps, np.nan)
         state[ok] = [STATE_CODES[s] for s in np.atleast_1d(r.state)]
     return eps, state
+
+
+def delivered_all(alpha, xi):
+    """``delivered`` of every (alpha, xi) pair in one parallel call; equal pairs integrated once.
+
+    One call keeps both threads busy over all models and points together (the per-model
+    calls left a thread idle at each call's tail), and models that give the same alpha (the
+    unloaded exact alpha is both ``exact_unloaded`` and "ignore the load") cost one impact.
+    The kernel's result for a pair does not depend on the others, so this is bit for bit
+    the same as ``delivered`` point by point.
+    """
+    alpha = np.asarray(alpha, dtype=float)
+    pairs = np.stack([alpha.ravel(), np.asarray(xi, dtype=float).ravel()], axis=1)
+    unique, back = np.unique(pairs, axis=0, return_inverse=True)
+    eps, state = delivered(unique[:, 0], unique[:, 1])
+    back = back.ravel()
+    return eps[back].reshape(alpha.shape), state[back].reshape(alpha.shape)
+
+
+def subgrid(surface, eps_stride=1, xi_stride=1, keep_xi_below=0.0):
+    """The surface on every ``eps_stride``-th eps row and every ``xi_stride``-th xi column.
+
+    Columns with ``xi <= keep_xi_below`` are all kept (the log-spaced small-xi columns that
+    resolve the ridge near xi = 0); the stride applies to the columns above.  Strides of 1
+    keep the whole grid.
+    """
+    for name, value in (("eps_stride", eps_stride), ("xi_stride", xi_stride)):
+        if int(value) != value or value < 1:
+            raise ValueError(f"{name} = {value!r} is outside the valid range: an integer >= 1")
+    xi = surface["xi"].values
+    fine = np.flatnonzero(xi <= keep_xi_below)
+    coarse = np.flatnonzero(xi > keep_xi_below)[:: int(xi_stride)]
+    columns = np.union1d(fine, coarse)
+    return surface.isel(epsilon=slice(None, None, int(eps_stride)), xi=columns)
 
 
 def model_alpha(name, surface):
@@ -79,18 +118,10 @@ def compute_maps(surface, tols, costs):
     xi = surface["xi"].values
     E, X = np.meshgrid(eps, xi, indexing="ij")
     exact_state = surface["state"].values
-    alphas, deliv, states = [], [], []
-    for name in [*names, IGNORE]:
-        a = (
-            np.broadcast_to(alpha_exact(eps)[:, None], E.shape)
-            if name == IGNORE
-            else model_alpha(name, surface)
-        )
-        d, s = delivered(a, X)
-        alphas.append(a)
-        deliv.append(d)
-        states.append(s)
-    alphas, deliv, states = np.array(alphas), np.array(deliv), np.array(states)
+    alphas = np.array(
+        [model_alpha(name, surface) for name in names] + [np.broadcast_to(alpha_exact(eps)[:, None], E.shape)]
+    )
+    deliv, states = delivered_all(alphas, np.broadcast_to(X, alphas.shape))
     adequate = np.array([is_adequate(deliv, states, E, exact_state, tol) for tol in tols])
     errors = np.abs(deliv - E)
     n = len(names)
@@ -147,3 +178,48 @@ def _area_weights(xi):
     w[:-1] += d
     w[1:] += d
     return w
+
+
+def run_maps(surface, tols, stride, config=None):
+    """``compute_maps`` on ``subgrid(surface, **stride)`` with measured costs, provenance and run time.
+
+    Parameters
+    ----------
+    surface : xarray.Dataset
+        ``io.load_surface`` of ``results/surface.h5``.
+    tols : sequence of float
+    stride : mapping
+        ``epsilon``, ``xi`` and ``keep_xi_below`` of ``subgrid``.
+    config : dict, optional
+        The settings that made the maps, stored as JSON in ``attrs["config"]``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``compute_maps``'s, with attrs: provenance (``provenance.result_attrs``), the impact
+        integrator's ``rtol``/``atol``/``max_steps``, the cost measurement (``cost_points``,
+        ``cost_repeats``, ``cost_tie``; the costs themselves are ``cost_seconds``, so the
+        cheapest-model map is reproducible from the file), the surface's commit and config,
+        ``grid_fraction`` (points mapped over the surface's) and ``compute_seconds``.
+    """
+    start = time.perf_counter()
+    sub = subgrid(surface, stride["epsilon"], stride["xi"], stride["keep_xi_below"])
+    costs = advisor.measure_costs()
+    ds = compute_maps(sub, tols, costs)
+    ds.attrs.update(
+        {
+            **result_attrs(config or {}, "adequacy maps"),
+            "rtol": RTOL,
+            "atol": ATOL,
+            "max_steps": MAX_STEPS,
+            "cost_points": advisor.COST_POINTS,
+            "cost_repeats": advisor.COST_REPEATS,
+            "cost_tie": advisor.COST_TIE,
+            "stride": json.dumps(dict(stride), sort_keys=True),
+            "surface_git_commit": str(surface.attrs.get("git_commit", "unknown")),
+            "surface_config": str(surface.attrs.get("config", "")),
+            "grid_fraction": sub["alpha"].size / surface["alpha"].size,
+            "compute_seconds": time.perf_counter() - start,
+        }
+    )
+    return ds

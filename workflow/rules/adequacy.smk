@@ -1,0 +1,96 @@
+# Stage "adequacy": which model a scene needs (issue 12). Where each registered model is adequate
+# over the surface's (eps, xi) grid at each tol (results/adequacy/maps.h5, one figure per tol and
+# the cheapest adequate model), xi_ignore(eps; tol) and the paper's "small xi" claim judged
+# (results/adequacy/statements.md, summary.md), and the physical bounce threshold of typical
+# scenes next to PhysX's 2 m/s default (results/adequacy/thresholds.md and the v_crit figure).
+
+from importlib.resources import files
+
+from contactalpha.models.shen import REFIT_FILE
+from contactalpha.provenance import source_hash
+
+ADEQUACY = config["adequacy"]
+ADEQUACY_TOLS = [f"{t:g}" for t in ADEQUACY["tols"]]
+# Model shen_refit reads the refit constants shipped in the package: shipping new ones reruns the maps.
+ADEQUACY_MODEL_DATA = [str(files("contactalpha") / "data" / REFIT_FILE)]
+ADEQUACY_FIGURES = [
+    *[f"adequacy_tol{t}" for t in ADEQUACY_TOLS],
+    "adequacy_cheapest",
+    "adequacy_xi_ignore",
+    "critical_speed",
+]
+
+ALL_TARGETS += [
+    "results/adequacy/maps.h5",
+    "results/adequacy/statements.md",
+    "results/adequacy/summary.md",
+    "results/adequacy/thresholds.md",
+    *expand("results/figures/{name}.{ext}", name=ADEQUACY_FIGURES, ext=["png", "pdf"]),
+]
+
+
+rule adequacy_maps:
+    input:
+        surface="results/surface.h5",
+        model_data=ADEQUACY_MODEL_DATA,
+    output:
+        "results/adequacy/maps.h5",
+    params:
+        tols=ADEQUACY["tols"],
+        stride=ADEQUACY["stride"],
+        code_version=source_hash("contactalpha.studies.adequacy.maps"),
+    log:
+        "logs/adequacy/maps.log",
+    # One parallel pass over every model x point impact.
+    threads: 2
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/adequacy_maps.py"
+
+
+rule adequacy_thresholds:
+    output:
+        data="results/adequacy/thresholds.nc",
+        table="results/adequacy/thresholds.md",
+    params:
+        scenes=ADEQUACY["scenes"],
+        vcrit_eps=ADEQUACY["vcrit_eps"],
+        code_version=source_hash("contactalpha.studies.adequacy.report"),
+    log:
+        "logs/adequacy/thresholds.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/adequacy_thresholds.py"
+
+
+rule adequacy_report:
+    input:
+        "results/adequacy/maps.h5",
+    output:
+        statements="results/adequacy/statements.md",
+        summary="results/adequacy/summary.md",
+    params:
+        report_eps=ADEQUACY["report_eps"],
+    log:
+        "logs/adequacy/report.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/adequacy_report.py"
+
+
+rule adequacy_figures:
+    input:
+        maps="results/adequacy/maps.h5",
+        thresholds="results/adequacy/thresholds.nc",
+    output:
+        expand("results/figures/{name}.{ext}", name=ADEQUACY_FIGURES, ext=["png", "pdf"]),
+    log:
+        "logs/adequacy/figures.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/adequacy_figures.py"
