@@ -31,6 +31,12 @@ _EXPORTS = {
     "load_surface": "io",
     "ContactParameters": "scene.parameters",
     "contact_parameters": "scene.parameters",
+    "Advice": "scene.advisor",
+    "advise": "scene.advisor",
+    "critical_speed": "scene.threshold",
+    "Scene": "scene.ball",
+    "BouncePrediction": "scene.bounces",
+    "predict_bounces": "scene.bounces",
 }
 __all__ = sorted(_EXPORTS)
 

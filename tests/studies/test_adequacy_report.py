@@ -114,7 +114,8 @@ def test_hertz_stiffness():
 
 
 def test_scene_thresholds_are_the_critical_speed():
-    scene = {"name": "s", "eps": 0.6, "mass": 0.2, "radius": 0.01, "modulus": 1e8, "accel": 9.81, "source": "x"}
+    scene = {"name": "s", "eps": 0.6, "mass": 0.2, "radius": 0.01, "modulus": 1e8, "accel": 9.81}
+    scene["source"] = "x"
     (row,) = report.scene_thresholds([scene])
     k = 4.0 / 3.0 * 1e8 * 0.1
     assert row.stiffness == pytest.approx(k, rel=1e-15)
