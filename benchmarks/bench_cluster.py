@@ -45,8 +45,9 @@ SUBMITTED = re.compile(r"Job (\d+) has been submitted with SLURM jobid (\d+)")
 PROBE_REPEATS = 3
 # Chunks of the fault runs: enough that some finish before Snakemake is killed.
 FAULT_CHUNKS = 6
-# How long the sacct-status run may wait on a cancelled job before we call it hung (seconds).
-HANG_LIMIT_S = 150
+# A run still alive this long after the queue emptied waits on a job that no longer exists: hung
+# (seconds; longer than the plugin's longest pause between status checks, 180 s).
+HANG_LIMIT_S = 240
 # Stop any single Snakemake run after this long (seconds).
 RUN_LIMIT_S = 5400
 PROBE_SCRIPT = """#!/bin/sh
@@ -279,16 +280,25 @@ def scancel_run(configfile, status_command):
     cmd = [sys.executable, "-m", "snakemake", "results/surface.h5", "-s", str(ROOT / "Snakefile"), "-d", work]
     cmd += [*cluster_args(configfile), "--slurm-status-command", status_command]
     t = time.time()
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    logfile = open(Path(work).parent / f"{Path(work).name}.log", "w+")  # a pipe could fill and block
+    proc = subprocess.Popen(cmd, stdout=logfile, stderr=subprocess.STDOUT, text=True)
     job = wait_for(running_chunk_job, 600)
     subprocess.run(["scancel", job], check=True)
-    try:
-        log, _ = proc.communicate(timeout=HANG_LIMIT_S)
-        hung = False
-    except subprocess.TimeoutExpired:
-        proc.send_signal(signal.SIGINT)  # Snakemake cancels its jobs and stops
-        log, _ = proc.communicate(timeout=300)
-        hung = True
+    hung, empty_since = False, None
+    while proc.poll() is None:
+        if sh(["squeue", "-h", "-o", "%i"]).split():
+            empty_since = None
+        elif empty_since is None:
+            empty_since = time.time()
+        elif time.time() - empty_since > HANG_LIMIT_S:
+            hung = True
+            proc.send_signal(signal.SIGINT)  # Snakemake cancels its jobs and stops
+            break
+        time.sleep(1.0)
+    proc.wait(timeout=300)
+    logfile.seek(0)
+    log = logfile.read()
+    logfile.close()
     return (
         work,
         {
