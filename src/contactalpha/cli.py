@@ -56,7 +56,9 @@ def build_parser():
     i.add_argument("alpha", type=_number, help="hysteresis damping factor, ALPHA >= 0")
     i.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
     s = sub.add_parser("scene", help="which contact model a scene needs (scene advisor)")
-    s.add_argument("eps", type=_number, help="requested restitution (Stronge), 0 < EPS <= 1")
+    s.add_argument(
+        "eps", type=_number, help="requested restitution (Stronge's eps; e_N with --kinematic), 0 < EPS <= 1"
+    )
     s.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
     s.add_argument("--stiffness", type=_number, required=True, help="Hertz stiffness k, N/m^1.5")
     s.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
@@ -64,6 +66,9 @@ def build_parser():
     load.add_argument("--accel", type=_number, help="constant acceleration into the contact, m/s^2")
     load.add_argument("--force", type=_number, help="constant force into the contact, N")
     s.add_argument("--tol", type=_number, default=0.01, help="tolerance on the delivered eps (default 0.01)")
+    s.add_argument(
+        "--kinematic", action="store_true", help="EPS is Newton's kinematic e_N (default: Stronge's eps)"
+    )
     s.add_argument("--json", action="store_true", help="print the advice as JSON")
     c = sub.add_parser("check-config", help="check workflow config files as `snakemake -n` would")
     c.add_argument("files", nargs="+", help="YAML config files (e.g. one given to --configfile)")
@@ -107,6 +112,7 @@ def main(argv=None):
             from contactalpha.scene.advisor import advise
 
             kw = {"accel": args.accel} if args.accel is not None else {"force": args.force}
+            kw["restitution"] = "kinematic" if args.kinematic else "energetic"
             adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
             print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
             return 0

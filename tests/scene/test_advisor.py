@@ -7,6 +7,7 @@ import pytest
 
 from contactalpha import cli, models
 from contactalpha.engine.driver import impact
+from contactalpha.engine.exact import alpha_exact
 from contactalpha.scene import advisor as adv
 
 # The paper's ball at F = 60 N (xi = 0.2325): docs' check values.
@@ -62,7 +63,8 @@ def test_small_eps_needs_the_load():
 
 
 def test_adequacy_rule_and_recommendation():
-    ok = adv.is_adequate([0.501, 0.519, np.nan, 0.51], ["separation"] * 3 + ["creep"], 0.51, "separation", 0.01)
+    states = ["separation"] * 3 + ["creep"]
+    ok = adv.is_adequate([0.501, 0.519, np.nan, 0.51], states, 0.51, "separation", 0.01)
     assert ok.tolist() == [True, True, False, False]
     names = ["a", "b", "c"]
     costs = {"a": 1.0, "b": 1.4, "c": 10.0}
@@ -85,3 +87,46 @@ def test_command_line(capsys):
     assert "cheapest adequate model" in capsys.readouterr().out
     assert cli.main([*args[:-2], "--force", "-1"]) == 2
     assert "force" in capsys.readouterr().err
+
+
+def test_kinematic_request_is_judged_in_e_n():
+    """e_N = 0.5 at xi = 0.2325: the exact alpha delivers it; models fed 0.5 are judged by their e_N."""
+    from contactalpha.engine.solver import solve_alpha
+
+    a = adv.advise(0.5, accel=129.81, restitution="kinematic", costs=COSTS, **SCENE)
+    e = adv.advise(0.5, accel=129.81, costs=COSTS, **SCENE)
+    assert a.restitution == "kinematic" and a.xi == e.xi
+    assert a.exact_alpha == solve_alpha(0.5, a.xi, restitution="kinematic").alpha
+    r = impact(a.exact_alpha, a.xi)
+    assert abs(r.e_n - 0.5) < 1e-8 and a.exact_e_n == pytest.approx(r.e_n, abs=1e-12)
+    assert a.exact_eps == pytest.approx(r.eps, abs=1e-12) and a.exact_eps > 0.6  # eps != e_N under load
+    # Energetic advice: its exact impact's e_N is the kinematic one, not 0.5.
+    assert e.exact_eps == pytest.approx(0.5, abs=1e-8) and abs(e.exact_e_n - 0.5) > 0.1
+    by = {m.name: m for m in a.models}
+    hc = by["hunt_crossley"]
+    assert hc.delivered_eps == pytest.approx(float(impact(0.75, a.xi).e_n), abs=1e-14)
+    # The load-aware models are formulas in Stronge's eps: fed e_N = 0.5 they miss it by > 0.2.
+    assert not by["exact"].adequate and by["exact"].delivered_eps == pytest.approx(e.exact_e_n, abs=1e-6)
+    assert a.ignore_load_eps == pytest.approx(float(impact(float(alpha_exact(0.5)), a.xi).e_n), abs=1e-14)
+    assert a.cheapest is None and not a.ignore_load
+    # At xi = 0 the definitions agree: the same alpha and every delivered number equal.
+    k0 = adv.advise(0.5, accel=0.0, restitution="kinematic", costs=COSTS, **SCENE)
+    e0 = adv.advise(0.5, accel=0.0, costs=COSTS, **SCENE)
+    assert k0.exact_alpha == pytest.approx(e0.exact_alpha, rel=1e-9)
+    for mk, me in zip(k0.models, e0.models, strict=True):
+        assert mk.delivered_eps == pytest.approx(me.delivered_eps, abs=1e-12) and mk.adequate == me.adequate
+
+
+def test_command_line_kinematic(capsys):
+    from contactalpha.engine.solver import solve_alpha
+
+    args = ["scene", "0.5", "--mass", "0.5", "--stiffness", "1.4e8", "--speed", "0.5", "--accel", "129.81"]
+    assert cli.main([*args, "--kinematic", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["restitution"] == "kinematic"
+    exact = solve_alpha(0.5, data["xi"], restitution="kinematic")
+    assert data["exact_alpha"] == pytest.approx(float(exact.alpha))
+    assert abs(data["exact_e_n"] - 0.5) < 1e-8
+    assert cli.main([*args, "--kinematic"]) == 0
+    out = capsys.readouterr().out
+    assert "e_N = 0.5 (kinematic)" in out and f"{data['exact_alpha']:.10g}" in out

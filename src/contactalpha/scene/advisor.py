@@ -9,7 +9,15 @@ evaluation and whether it is **adequate**: delivered eps within ``tol`` of the r
 eps and the same end state as the exact alpha.  The load may be ignored when the exact
 alpha at ``xi = 0`` is adequate.
 
-Restitution is Stronge's energetic eps (Eq. 17).
+Restitution is Stronge's energetic eps (Eq. 17) or, with ``restitution="kinematic"``,
+Newton's kinematic e_N = v_out / v_in.  Then the requested number is e_N: the exact alpha
+is the one that delivers it, every model is given it as its restitution coefficient (the
+classical models were derived without a load, where e_N = eps), and what each delivers
+is compared as e_N.  Ignoring the load means the exact alpha at xi = 0 for this number,
+the same in both definitions.  The registry's load-aware models (and ``exact``) are
+formulas in Stronge's eps, so given e_N they miss it; the advice also gives both
+restitutions of the exact impact (``exact_eps``, ``exact_e_n``): a model fed
+``exact_eps`` delivers the requested e_N as well as it delivers eps.
 """
 
 import functools
@@ -22,7 +30,7 @@ from contactalpha import models
 from contactalpha.engine.driver import impact
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.scaling import influence_factor
-from contactalpha.engine.solver import solve_alpha
+from contactalpha.engine.solver import RESTITUTIONS, solve_alpha
 from contactalpha.validation import check_positive, check_range
 
 # The paper's three levels of xi (Sect. 3): small 0-0.1, moderate 0.1-0.5, large 0.5-1.
@@ -39,8 +47,8 @@ COST_XI = (0.0, 0.9)
 # Adequate models within this factor of the cheapest adequate one cost the same (timings of the
 # closed forms spread by ~1.2x from run to run); among them the most accurate is recommended.
 COST_TIE = 1.5
-# Restitution definitions accepted.
-RESTITUTIONS = ("energetic",)
+# Symbol of the restitution each definition (engine.solver.RESTITUTIONS) requests, for the text output.
+RESTITUTION_SYMBOL = {"energetic": "eps", "kinematic": "e_N"}
 
 
 def xi_level(xi):
@@ -143,6 +151,8 @@ class Advice:
     xi_level: str
     exact_alpha: float
     exact_state: str
+    exact_eps: float
+    exact_e_n: float
     models: tuple
     cheapest: str | None
     ignore_load: bool
@@ -154,9 +164,11 @@ class Advice:
         return asdict(self)
 
 
-def _deliver(alpha, xi):
+def _deliver(alpha, xi, restitution):
+    """Restitution delivered in the definition requested (e_N = 0 without separation), end state, status."""
     r = impact(alpha, xi)
-    return float(r.eps), str(r.state), str(r.status)
+    delivered = r.eps if restitution == "energetic" else r.e_n
+    return float(delivered), str(r.state), str(r.status)
 
 
 def advise(
@@ -176,7 +188,7 @@ def advise(
     Parameters
     ----------
     eps : float
-        Requested restitution, 0 < eps <= 1.
+        Requested restitution, 0 < eps <= 1, in the definition ``restitution`` names.
     mass : float
         Effective mass m_e, kg (> 0).
     stiffness : float
@@ -188,8 +200,9 @@ def advise(
         gravity included if it acts), or the constant force (N, >= 0; ``accel = force / mass``).
     tol : float
         Tolerance on the delivered restitution, > 0.
-    restitution : str
-        "energetic" (Stronge's eps).
+    restitution : {"energetic", "kinematic"}
+        Stronge's energetic eps (Eq. 17) or Newton's kinematic e_N; the delivered restitution
+        of every model is reported and judged in the same definition.
     costs : mapping name -> seconds, optional
         Cost per evaluation of each model; default ``measure_costs()`` (once per process).
 
@@ -213,7 +226,7 @@ def advise(
     )
     tol = float(check_range("tol", tol, 0.0, 1.0, lo_open=True))
     xi = float(influence_factor(m, k, v, a))
-    sol = solve_alpha(e, xi)
+    sol = solve_alpha(e, xi, restitution=restitution)
     if not sol.ok:
         raise RuntimeError(f"exact alpha not found at eps = {e!r}, xi = {xi!r}: {sol.status}")
     exact_state = str(sol.state)
@@ -252,7 +265,7 @@ def advise(
                 )
             )
             continue
-        delivered, state, status = _deliver(alpha, xi)
+        delivered, state, status = _deliver(alpha, xi, restitution)
         good = bool(is_adequate(delivered, state, e, exact_state, tol))
         note = "" if status == "ok" else status
         verdicts.append(
@@ -268,7 +281,7 @@ def advise(
                 note,
             )
         )
-    ignore_eps, ignore_state, _ = _deliver(float(alpha_exact(e)), xi)
+    ignore_eps, ignore_state, _ = _deliver(float(alpha_exact(e)), xi, restitution)
     best = cheapest(
         [mv.name for mv in verdicts],
         [mv.adequate for mv in verdicts],
@@ -287,6 +300,8 @@ def advise(
         xi_level=xi_level(xi),
         exact_alpha=float(sol.alpha),
         exact_state=exact_state,
+        exact_eps=float(sol.eps_reached),
+        exact_e_n=float(sol.e_n_reached),
         models=tuple(verdicts),
         cheapest=best,
         ignore_load=bool(is_adequate(ignore_eps, ignore_state, e, exact_state, tol)),
@@ -297,14 +312,18 @@ def advise(
 
 def format_advice(adv):
     """The advice as a text table (the command line's output)."""
+    sym = RESTITUTION_SYMBOL[adv.restitution]
     lines = [
+        f"restitution  {sym} = {adv.eps:g} ({adv.restitution})",
         f"xi           {adv.xi:.6g} ({adv.xi_level}: small < 0.1 <= moderate < 0.5 <= large)",
-        f"exact alpha  {adv.exact_alpha:.10g} ({adv.exact_state})",
-        f"ignore load  {'yes' if adv.ignore_load else 'no'}: alpha at xi = 0 delivers eps = "
+        f"exact alpha  {adv.exact_alpha:.10g} ({adv.exact_state}; eps = {adv.exact_eps:.6g}, "
+        f"e_N = {adv.exact_e_n:.6g})",
+        f"ignore load  {'yes' if adv.ignore_load else 'no'}: alpha at xi = 0 delivers {sym} = "
         f"{adv.ignore_load_eps:.6g} ({adv.ignore_load_state})",
-        f"cheapest adequate model (|eps - {adv.eps:g}| <= {adv.tol:g}, same end state): {adv.cheapest}",
+        f"cheapest adequate model (|{sym} - {adv.eps:g}| <= {adv.tol:g}, same end state): {adv.cheapest}",
         "",
-        f"{'model':22s} {'alpha':>12s} {'delivered eps':>14s} {'end state':15s} {'ns/eval':>10s}  adequate",
+        f"{'model':22s} {'alpha':>12s} {'delivered ' + sym:>14s} {'end state':15s} {'ns/eval':>10s}"
+        "  adequate",
     ]
     for mv in adv.models:
         verdict = ("yes" if mv.adequate else "no") + (f"  {mv.note}" if mv.note else "")
