@@ -5,9 +5,10 @@ Prints, measured side by side in this run (best of several repeats, one thread):
 - the lookup, vectorised, in evaluations per second, for Stronge's eps and Newton's e_N, and its
   largest relative error against the solver at random points;
 - per scalar call of ``impact``, ``solve_alpha``, ``alpha`` and ``contact_parameters``: its time,
-  the time of the jitted kernel it wraps called directly from Python, the overhead (the difference)
-  and the ratio overhead / kernel (the target is < 1); and the full array path on a 0-d array
-  (what a scalar call cost before the fast paths) beside it.
+  the time of the jitted kernel it wraps called directly from Python (for the lookup, the packed
+  evaluator the scalar path runs; the nine-array evaluator's time is printed after the table),
+  the overhead (the difference) and the ratio overhead / kernel (the target is < 1); and the full
+  array path on a 0-d array (what a scalar call cost before the fast paths) beside it.
 """
 
 import argparse
@@ -43,10 +44,11 @@ def main(argv=None):
     from contactalpha.engine.scaling import scaled_load
     from contactalpha.engine.solver import EPS_TOL, _guess_arrays, solve_point
     from contactalpha.engine.table import (
+        alpha_from_packed,
         alpha_from_table,
         alpha_tabulated,
-        kinematic_alpha_from_table,
-        kinematic_table_arrays,
+        kinematic_alpha_from_packed,
+        scalar_lookup,
         table_arrays,
     )
     from contactalpha.engine.table_build import random_points
@@ -82,14 +84,16 @@ def main(argv=None):
     A = float(scaled_load(x_))
     _, tb, _ = _guess_arrays(True, False)
     _, _, tk = _guess_arrays(True, True)
-    tbl, ktbl = table_arrays(), kinematic_table_arrays()
+    tbl = table_arrays()
+    # The evaluators the scalar paths run: one packed array instead of nine array arguments.
+    flat, kflat = scalar_lookup("energetic")[1], scalar_lookup("kinematic")[1]
     ball = dict(mass=0.5, stiffness=1.4e8, approach_speed=0.5, accel=9.81)
     xi_ball = ca.influence_factor(0.5, 1.4e8, 0.5, 9.81)
     alpha_ball = ca.alpha(0.8, xi_ball)
     A_ball = float(scaled_load(xi_ball))
 
     def front_door_kernels():
-        alpha_from_table(0.8, xi_ball, *tbl)
+        alpha_from_packed(0.8, xi_ball, flat)
         impact_kernel(alpha_ball, A_ball, RTOL, ATOL, MAX_STEPS, rec)
 
     rows = [
@@ -114,13 +118,13 @@ def main(argv=None):
         (
             "alpha exact",
             lambda: ca.alpha(e_, x_),
-            lambda: alpha_from_table(e_, x_, *tbl),
+            lambda: alpha_from_packed(e_, x_, flat),
             lambda: ca.alpha(np.asarray(e_), np.asarray(x_)),
         ),
         (
             "alpha exact kinematic",
             lambda: ca.alpha(e_, x_, restitution="kinematic"),
-            lambda: kinematic_alpha_from_table(e_, x_, *ktbl),
+            lambda: kinematic_alpha_from_packed(e_, x_, kflat),
             lambda: ca.alpha(np.asarray(e_), np.asarray(x_), restitution="kinematic"),
         ),
         (
@@ -139,6 +143,12 @@ def main(argv=None):
         over = tc - tk_
         cells = (tc * 1e6, tk_ * 1e6, over * 1e6, over / tk_, tf * 1e6)
         print(f"{name:24s} " + " ".join(f"{c:12.2f}" for c in cells))
+    nine = best_per_call(lambda: alpha_from_table(e_, x_, *tbl), calls, repeat)
+    packed = best_per_call(lambda: alpha_from_packed(e_, x_, flat), calls, repeat)
+    print(
+        f"energetic lookup kernel from Python: nine table arrays {nine * 1e6:.2f} us,"
+        f" packed {packed * 1e6:.2f} us"
+    )
 
 
 if __name__ == "__main__":

@@ -55,3 +55,18 @@ def test_influence_factor_is_stable_at_extreme_speeds_and_loads():
     assert ca.load_for(xi, 5.0, 5.4e9, 1.0) == pytest.approx(1e12, rel=0.05)
     with np.errstate(all="raise"):  # no overflow or invalid operation anywhere
         assert ca.influence_factor(5.0, 5.4e9, 1e-150, 1e-280) < 1.0
+
+
+def test_scalar_length_scale_is_the_array_one_bit_for_bit():
+    rng = np.random.default_rng(3)
+    for m, k, v in zip(
+        10 ** rng.uniform(-3, 3, 200),
+        10 ** rng.uniform(3, 12, 200),
+        10 ** rng.uniform(-3, 2, 200),
+        strict=True,
+    ):
+        got = ca.length_scale(float(m), float(k), float(v))
+        assert type(got) is float
+        assert got == ca.length_scale(np.array([m]), np.array([k]), np.array([v]))[0]
+    with pytest.raises(ValueError, match="k = 0.0"):
+        ca.length_scale(1.0, 0.0, 1.0)

@@ -84,3 +84,20 @@ def test_opensim_dissipation_round_trip_and_units():
 def test_bad_inputs_name_the_value(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_scalar_fast_paths_are_the_array_paths_bit_for_bit():
+    # alpha on both impactModel-2 branches (8/3 is the switch) and at 0.
+    alphas = np.array([0.0, 1e-9, 0.3721473105581984, 1.0, 8.0 / 3.0, 2.7, 50.0, 1e6])
+    speeds = np.array([1e-3, 0.5, 3.7])
+    for a in alphas:
+        assert exudyn_restitution_input(float(a)) == exudyn_restitution_input(np.array([a]))[0]
+        for v in speeds:
+            assert (
+                opensim_dissipation(float(a), float(v))
+                == opensim_dissipation(np.array([a]), np.array([v]))[0]
+            )
+    with pytest.raises(ValueError, match="alpha"):
+        exudyn_restitution_input(-1.0)
+    with pytest.raises(ValueError, match="approach_speed"):
+        opensim_dissipation(0.3, 0.0)

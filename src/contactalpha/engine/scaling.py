@@ -18,6 +18,16 @@ from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range, c
 
 def length_scale(m_e, k, v0):
     """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s."""
+    if (
+        type(m_e) in PLAIN_FLOATS
+        and type(k) in PLAIN_FLOATS
+        and type(v0) in PLAIN_FLOATS
+        and 0.0 < m_e < math.inf
+        and 0.0 < k < math.inf
+        and 0.0 < v0 < math.inf
+    ):
+        # Scalar fast path, no array checks: numpy squares v0 as v0 * v0 and powers with the same libm.
+        return (1.25 * m_e * (v0 * v0) / k) ** 0.4
     m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
     return (1.25 * m_e * v0**2 / k) ** 0.4
 

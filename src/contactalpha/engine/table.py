@@ -179,6 +179,62 @@ def kinematic_alpha_from_table_serial(e_n, xi, tx, ty, c, g):
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN_LOOKUPS = 4096
 
+# A table packed into one float64 array for the scalar path: a numba call unboxes each array
+# argument (~0.7 us apiece), so nine arrays cost more than the spline itself.  Slots
+# 3k, 3k+1, 3k+2 of the header hold array k's (offset, rows, columns); the data follow.
+PACK_SLOTS = 3
+
+
+def pack_table(arrays):
+    """One contiguous float64 array holding ``arrays`` (1-D or 2-D), for ``*_from_packed``."""
+    header = PACK_SLOTS * len(arrays)
+    parts, offset, head = [], header, []
+    for a in arrays:
+        a = np.ascontiguousarray(a, dtype=np.float64)
+        rows, cols = (1, a.size) if a.ndim == 1 else a.shape
+        head += [offset, rows, cols]
+        parts.append(a.ravel())
+        offset += a.size
+    return np.concatenate([np.asarray(head, dtype=np.float64), *parts])
+
+
+@njit(cache=True, error_model="numpy")
+def packed_vector(flat, k):
+    """Array ``k`` of a packed table, 1-D (a view)."""
+    start = int(flat[PACK_SLOTS * k])
+    return flat[start : start + int(flat[PACK_SLOTS * k + 1]) * int(flat[PACK_SLOTS * k + 2])]
+
+
+@njit(cache=True, error_model="numpy")
+def packed_matrix(flat, k):
+    """Array ``k`` of a packed table, 2-D (a view)."""
+    rows, cols = int(flat[PACK_SLOTS * k + 1]), int(flat[PACK_SLOTS * k + 2])
+    start = int(flat[PACK_SLOTS * k])
+    return flat[start : start + rows * cols].reshape((rows, cols))
+
+
+@njit(cache=True, error_model="numpy")
+def alpha_from_packed(eps, xi, flat):
+    """``alpha_from_table`` on a table packed by ``pack_table``: the same arithmetic, bit for bit."""
+    v = packed_vector
+    return alpha_from_table(
+        eps, xi, v(flat, 0), v(flat, 1), v(flat, 2), v(flat, 3), packed_matrix(flat, 4),
+        v(flat, 5), v(flat, 6), packed_matrix(flat, 7), v(flat, 8),
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def kinematic_alpha_from_packed(e_n, xi, flat):
+    """``kinematic_alpha_from_table`` on a table packed by ``pack_table``, bit for bit."""
+    return kinematic_alpha_from_table(
+        e_n,
+        xi,
+        packed_vector(flat, 0),
+        packed_vector(flat, 1),
+        packed_matrix(flat, 2),
+        packed_vector(flat, 3),
+    )
+
 
 def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
     """``(arrays, meta)`` of a table file written by ``table_build``; refuse a different format version."""
@@ -247,14 +303,22 @@ def _lookup(restitution):
     raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
 
 
-# restitution -> (scalar evaluator, shipped table's arrays), for the scalar fast path.
+# restitution -> (packed scalar evaluator, shipped table packed once per process).
 _SCALAR = {}
 
 
-def _scalar_lookup(restitution):
-    default, scalar, _, _, arrays = _lookup(restitution)
-    _SCALAR[restitution] = (scalar, arrays(default))
-    return _SCALAR[restitution]
+def scalar_lookup(restitution):
+    """``(f, flat)`` with ``f(eps, xi, flat)`` the shipped table's alpha of ``restitution``.
+
+    The scalar fast path of ``alpha_tabulated`` and ``alpha(model="exact")``: plain floats in,
+    NaN outside the table's domain (the caller then runs the full checks, which word the error).
+    """
+    fast = _SCALAR.get(restitution)
+    if fast is None:
+        default, _, _, _, arrays = _lookup(restitution)
+        evaluator = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
+        fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
+    return fast
 
 
 def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
@@ -274,8 +338,8 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
         Which coefficient ``eps`` is.
     """
     if path is None and type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
-        fast = _SCALAR.get(restitution) or _scalar_lookup(restitution)
-        value = fast[0](eps, xi, *fast[1])  # NaN outside the domain: then the checks below word it
+        fast = _SCALAR.get(restitution) or scalar_lookup(restitution)
+        value = fast[0](eps, xi, fast[1])  # NaN outside the domain: then the checks below word it
         if value == value:
             return value
     default, scalar, serial, many, arrays = _lookup(restitution)

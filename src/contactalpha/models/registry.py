@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.engine.exact import alpha_exact
-from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
-from contactalpha.validation import check_eps, check_xi, plain_in
+from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated, scalar_lookup
+from contactalpha.validation import PLAIN_FLOATS, check_eps, check_xi
 
 from .closed_form import closed_form
 from .shen import eq25, shen_published, shen_refit
@@ -91,8 +91,6 @@ def exact_tabulated(eps, xi):
 
 def _solvable_off_table(eps, xi):
     """True when some valid target ``(eps, xi)`` lies outside the table only, so ``exact_solve`` covers it."""
-    from contactalpha.engine.table import EPS_MIN, XI_MAX
-
     try:
         e, x = np.broadcast_arrays(check_eps(eps), check_xi(xi))
     except ValueError:
@@ -251,8 +249,12 @@ def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
     -------
     alpha : float or ndarray
     """
-    if model == "exact" and plain_in("eps", eps) and plain_in("xi", xi) and eps >= EPS_MIN and xi <= XI_MAX:
-        return alpha_tabulated(eps, xi, restitution=restitution)  # scalar fast path: no array checks
+    if model == "exact" and type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
+        # Scalar fast path: the packed table, no array checks; NaN (outside) takes the full path.
+        fast = scalar_lookup(restitution)
+        value = fast[0](eps, xi, fast[1])
+        if value == value:
+            return value
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
     if restitution not in ("energetic", "kinematic"):

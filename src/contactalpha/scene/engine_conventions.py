@@ -41,14 +41,21 @@ falls from inf to 0 on (0, 1], continuous at 1/3 where both branches give 8/3), 
 alpha < 3/2.  ``contactDamping`` must stay 0: it adds a *linear* damper, not Hunt-Crossley's.
 """
 
+import math
+
 import numpy as np
 
-from contactalpha.validation import check_alpha, check_positive, check_range
+from contactalpha.validation import PLAIN_FLOATS, check_alpha, check_positive, check_range
 
 # Restitution at which Exudyn's impactModel 2 switches from Gonthier et al. to Carvalho-Martins.
 EXUDYN_SWITCH = 1.0 / 3.0
 # Exudyn's impact models that have a restitution -> damping mapping.
 EXUDYN_IMPACT_MODELS = (1, 2)
+
+
+def _plain(value, lo):
+    """True for a plain finite float >= ``lo``: the scalar fast paths' whole check."""
+    return type(value) in PLAIN_FLOATS and lo <= value < math.inf
 
 
 def _out(arr):
@@ -97,6 +104,8 @@ def opensim_dissipation(alpha, approach_speed):
 
     ``c = 2 alpha / (3 v_minus)``: valid for the one impact with that approach speed.
     """
+    if _plain(alpha, 0.0) and _plain(approach_speed, 0.0) and approach_speed > 0.0:
+        return 2.0 * alpha / (3.0 * approach_speed)  # scalar fast path, same arithmetic
     a = check_alpha(alpha)
     v = check_positive("approach_speed", approach_speed)
     return _out(2.0 * a / (3.0 * v))
@@ -141,17 +150,28 @@ def exudyn_restitution_input(alpha, impact_model=2):
         For ``alpha`` outside [0, inf) (model 2) or [0, 3/2) (model 1, whose restitution must
         stay > 0).
     """
+    if impact_model == 2 and _plain(alpha, 0.0):
+        # Scalar fast path: the same expressions in floats (sqrt is correctly rounded in both).
+        gonthier, cm = _model2_branches(alpha, math.sqrt, max)
+        return gonthier if alpha >= 8.0 / 3.0 else cm
     _check_model(impact_model)
     if impact_model == 1:
         a = check_range("alpha", alpha, 0.0, 1.5, hi_open=True)
         return _out(1.0 - 2.0 * a / 3.0)
     a = check_alpha(alpha)
+    gonthier, cm = _model2_branches(a, np.sqrt, np.maximum)
+    return _out(np.where(a >= 8.0 / 3.0, gonthier, cm))
+
+
+def _model2_branches(a, sqrt, maximum):
+    """Restitution input of Exudyn's impactModel 2 on its Gonthier and its Carvalho-Martins branch.
+
+    ``sqrt``, ``maximum``: numpy's for arrays, math's and ``max`` for a float.
+    """
     b = 36.0 + 18.0 * a
     # The smaller root, written without cancellation: (b - sqrt(b^2 - 4ac)) / 6 = 2c' / (b + sqrt(...)).
     c0 = 33.0 - 2.0 * a
-    cm = 2.0 * c0 / (b + np.sqrt(np.maximum(b * b - 12.0 * c0, 0.0)))
-    gonthier = 2.0 / (a + np.sqrt(a * a + 4.0))
-    return _out(np.where(a >= 8.0 / 3.0, gonthier, cm))
+    return 2.0 / (a + sqrt(a * a + 4.0)), 2.0 * c0 / (b + sqrt(maximum(b * b - 12.0 * c0, 0.0)))
 
 
 def _check_model(impact_model):
