@@ -29,6 +29,13 @@ ALL_TARGETS += [
 ]
 
 
+# Light jobs: on a cluster they run on the submitting node; only the maps are submitted.
+localrules:
+    adequacy_thresholds,
+    adequacy_report,
+    adequacy_figures,
+
+
 rule adequacy_maps:
     input:
         surface="results/surface.h5",
