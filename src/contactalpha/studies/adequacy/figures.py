@@ -15,17 +15,22 @@ MAP_COLUMNS = 4
 # The maps are drawn against the xi column's index, so the log-spaced small-xi columns get as
 # much room as the linear ones (and an image draws far faster than a mesh on a symlog axis);
 # the ticks name these xi values, at the nearest column.
-XI_TICKS = (0.0, 1e-4, 1e-3, 1e-2, 0.2, 0.5, 0.9)
+XI_TICKS = (0.0, 1e-4, 1e-2, 0.5, 0.9)
+EPS_TICKS = (0.1, 0.3, 0.5, 0.7, 0.9)
 
 
 def _grid_image(ax, values, ds, **kwargs):
-    """``values`` (eps x xi) as an image over the column index, ticks at ``XI_TICKS``; xi = 0.1 dotted."""
+    """``values`` (eps x xi) as an image over the row and column index; xi = 0.1 dotted.
+
+    Ticks name the grid values nearest ``XI_TICKS`` and ``EPS_TICKS`` (the index axes stay right
+    on a non-uniform grid, e.g. one with extra ``values``).
+    """
     xi, eps = ds["xi"].values, ds["epsilon"].values
-    half = (eps[-1] - eps[0]) / max(eps.size - 1, 1) / 2 if eps.size > 1 else 0.5
-    extent = (-0.5, xi.size - 0.5, eps[0] - half, eps[-1] + half)
-    image = ax.imshow(values, origin="lower", aspect="auto", interpolation="nearest", extent=extent, **kwargs)
+    image = ax.imshow(values, origin="lower", aspect="auto", interpolation="nearest", **kwargs)
     ticks = sorted({int(np.argmin(np.abs(xi - t))) for t in XI_TICKS if xi.min() <= t <= xi.max()})
     ax.set_xticks(ticks, [f"{xi[i]:.0e}" if 0 < xi[i] < 0.01 else f"{xi[i]:g}" for i in ticks], fontsize=6)
+    rows = sorted({int(np.argmin(np.abs(eps - t))) for t in EPS_TICKS if eps.min() <= t <= eps.max()})
+    ax.set_yticks(rows, [f"{eps[i]:g}" for i in rows])
     ax.axvline(int(np.argmin(np.abs(xi - SMALL_XI))), color="k", lw=0.6, ls=":")
     return image
 
