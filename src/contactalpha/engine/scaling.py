@@ -68,7 +68,7 @@ def _xi_of_load(A):
 
 # The same iteration compiled, for the scalar fast path of ``influence_factor`` (60 Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
-_xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
+xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
 
 
 def _influence_factor_plain(m_e, k, v0, a):
@@ -91,7 +91,7 @@ def _influence_factor_plain(m_e, k, v0, a):
     log_A = math.log(a) + 0.4 * (math.log(1.25) + math.log(m_e) - math.log(k)) - 1.2 * math.log(v0)
     if not (0.0 < A < A_ROUNDS_TO_ONE and abs(math.log(A) - log_A) <= 1e-9 * max(1.0, abs(log_A))):
         return None  # under- or overflow, or a load at the top: the full path's logarithms decide
-    xi = _xi_of_load_scalar(A)
+    xi = xi_of_load_scalar(A)
     return xi if xi < 1.0 else None
 
 
