@@ -143,11 +143,28 @@ def _as_result(table, shape):
 NO_RECORD = np.empty((0, N_REC))
 
 
+def frozen_instance(cls, **values):
+    """``cls(**values)`` for a frozen dataclass ``cls``, built without its ``__init__``.
+
+    A frozen dataclass's ``__init__`` sets each field through ``object.__setattr__`` (~0.3 us a
+    field); the scalar fast paths build one result per call, so they fill ``__dict__`` at once.
+    The object is the same: equal to ``cls(**values)``, still frozen.  ``values`` must name
+    every field (checked: a missing one would surface later as an AttributeError).
+    """
+    if values.keys() != cls.__dataclass_fields__.keys():
+        fields = sorted(cls.__dataclass_fields__)
+        raise TypeError(f"{cls.__name__} takes the fields {fields}; got {sorted(values)}")
+    obj = object.__new__(cls)
+    obj.__dict__.update(values)
+    return obj
+
+
 def _scalar_result(out):
     """``_as_result`` of one kernel row, as Python scalars (the scalar fast path, same numbers)."""
     eps2, de2, code, status = out[OUT_EPS2], out[OUT_DEPS2], out[OUT_STATE], out[OUT_STATUS]
     eps = math.sqrt(eps2) if eps2 > 0.0 else (0.0 if eps2 <= 0.0 else math.nan)
-    return ImpactResult(
+    return frozen_instance(
+        ImpactResult,
         eps=eps,
         state=END_STATES[int(code)],
         x_max=float(out[OUT_X_MAX]),

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.engine.driver import impact
+from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
@@ -179,7 +179,8 @@ def contact_parameters(
     }
     if radius is not None:
         engines["opensim"]["stiffness"] = opensim_stiffness(k, _positive("radius", radius))
-    return ContactParameters(
+    return frozen_instance(
+        ContactParameters,
         xi=xi,
         alpha=alpha,
         damping=alpha * k / v,
