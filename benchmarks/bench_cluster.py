@@ -11,12 +11,14 @@ scale     the surface of a config (default workflow/configs/fine.yaml) through t
           (sacct start/end vs the chunk's own compute time); local points/s from one chunk solved
           in this process; the chunk count where overhead stops paying; a 1000 x 1000 estimate.
                                                                         -> scale.json
+local     the same surface with local `snakemake -c2` (use --chunks 2): wall, points/s
+                                                                        -> local_<K>chunks.json
 faults    on the test config in 6 chunks: (a) scancel a running chunk job, with the profile
           (squeue status) and with the plugin's default sacct status; (b) kill -9 Snakemake while
           chunk jobs run, then rerun: which chunks were recomputed, temporaries left, bits equal
           to an uninterrupted run.                                       -> faults.json
 
-Usage:  python benchmarks/bench_cluster.py overhead|scale|faults [--config PATH] [--chunks K]
+Usage:  python benchmarks/bench_cluster.py overhead|scale|local|faults [--config PATH] [--chunks K]
 Run with NUMBA_NUM_THREADS=1; timings depend on the machine's load (recorded).
 """
 
@@ -164,15 +166,40 @@ def local_rate(section, chunk, chunks):
     return ds.alpha.size / (time.perf_counter() - t), int(ds.alpha.size)
 
 
+def surface_section(args):
+    """The surface section of config.yaml updated by the --config file (and --chunks)."""
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    section = {**config["surface"], **yaml.safe_load(Path(args.config).read_text())["surface"]}
+    if args.chunks:
+        section["chunks"] = args.chunks
+    return section
+
+
+def local(args):
+    """The same surface with local `snakemake -c2` (no cluster): wall time and points/s."""
+    from contactalpha.paper.surface.compute import grid_from_config
+
+    started = time.time()
+    section = surface_section(args)
+    eps, xi = grid_from_config(section)
+    with tempfile.TemporaryDirectory(prefix="bench_cluster_local_") as work:
+        configfile = Path(work, "config.yaml")
+        configfile.write_text(yaml.safe_dump({"surface": section}, sort_keys=False))
+        code, log, wall = snakemake(work, ["results/surface.h5"], "-c2", "--configfile", str(configfile))
+        if code:
+            sys.exit(f"local run failed:\n{log[-4000:]}")
+    points = eps.size * xi.size
+    print(f"local snakemake -c2, {section['chunks']} chunks: {wall:.1f} s wall, {points / wall:.0f} points/s")
+    record = {"config": {"surface": section}, "points": points, "wall_s": wall, "points_per_s": points / wall}
+    return save(f"local_{section['chunks']}chunks", record, started)
+
+
 def scale(args):
     from contactalpha.io import load_surface, load_surface_chunk
     from contactalpha.paper.surface.compute import grid_from_config
 
     started = time.time()
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
-    section = {**config["surface"], **yaml.safe_load(Path(args.config).read_text())["surface"]}
-    if args.chunks:
-        section["chunks"] = args.chunks
+    section = surface_section(args)
     chunks = section["chunks"]
     eps, xi = grid_from_config(section)
     points = eps.size * xi.size
@@ -391,11 +418,11 @@ def faults(args):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("part", choices=["overhead", "scale", "faults"])
-    parser.add_argument("--config", default=str(FINE_CONFIG), help="scale: config with a surface section")
-    parser.add_argument("--chunks", type=int, default=None, help="scale: override surface.chunks")
+    parser.add_argument("part", choices=["overhead", "scale", "local", "faults"])
+    parser.add_argument("--config", default=str(FINE_CONFIG), help="scale, local: surface config")
+    parser.add_argument("--chunks", type=int, default=None, help="scale, local: override surface.chunks")
     args = parser.parse_args()
-    {"overhead": overhead, "scale": scale, "faults": faults}[args.part](args)
+    {"overhead": overhead, "scale": scale, "local": local, "faults": faults}[args.part](args)
 
 
 if __name__ == "__main__":
