@@ -1,5 +1,6 @@
 # Stage "ship" (issue 15, item 6): a maintainer's explicit command, NOT in ALL_TARGETS.
-#   snakemake -c2 ship          # both; or ship_fit (refit constants), ship_table (the table)
+#   snakemake -c2 ship          # all; or ship_fit (refit constants), ship_table (the table),
+#                               # closedform_ship (closed-form constants, rules/closedform.smk)
 # A default run writes only under results/. Shipping copies the Eq. 40 refit of this run's
 # surface (results/fit/shen_refit.json) and a freshly built, checked exact-alpha table
 # (results/models/alpha_table.npz, results/models/alpha_table_check.md) over the package's
@@ -12,6 +13,7 @@ rule ship:
     input:
         "results/ship/shen_refit.json",
         "results/ship/alpha_table.json",
+        "results/ship/closed_form.json",
 
 
 rule ship_fit:

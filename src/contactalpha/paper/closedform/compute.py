@@ -43,20 +43,12 @@ def surface_targets(ds):
     -------
     dict of flat ndarrays: ``eps``, ``xi``, ``alpha``, ``state``, ``slope``, ``holdout``.
     """
-    eps, xi = ds["epsilon"].values, ds["xi"].values
-    E, X = np.meshgrid(eps, xi, indexing="ij")
-    row, col = np.meshgrid(np.arange(eps.size), np.arange(xi.size), indexing="ij")
-    alpha = ds["alpha"].values.astype(float)
-    ok = (ds["status"].values == 0) & np.isfinite(alpha) & (E > 0) & (E < 1)
-    r = impact(alpha[ok], X[ok])
-    return {
-        "eps": E[ok],
-        "xi": X[ok],
-        "alpha": alpha[ok],
-        "state": ds["state"].values[ok].astype(int),
-        "slope": np.asarray(r.deps_dalpha) * alpha[ok],
-        "holdout": ((row + col) % HOLDOUT_EVERY == 0)[ok],
-    }
+    t = grid_targets(ds)
+    row, col = np.unravel_index(t.pop("index"), ds["alpha"].shape)
+    r = impact(t["alpha"], t["xi"])
+    t["slope"] = np.asarray(r.deps_dalpha) * t["alpha"]
+    t["holdout"] = (row + col) % HOLDOUT_EVERY == 0
+    return t
 
 
 def _take(t, mask):
@@ -145,24 +137,7 @@ def judge(alpha, t, mask=None):
     mask = np.ones(t["eps"].size, bool) if mask is None else mask
     eps, state = delivered(np.asarray(alpha, dtype=float)[mask], t["xi"][mask])
     err = eps - t["eps"][mask]
-    ok = np.isfinite(err)
-    i = int(np.argmax(np.where(ok, np.abs(err), -1.0)))
-    stats = {
-        "n": int(mask.sum()),
-        "n_failed": int(np.count_nonzero(~ok)),
-        "eps_abs_max": float(np.max(np.abs(err[ok]))) if ok.any() else np.nan,
-        "eps_abs_rms": float(np.sqrt(np.mean(err[ok] ** 2))) if ok.any() else np.nan,
-        "state_agreement": float(np.mean(state == t["state"][mask])),
-        "worst": [float(t["eps"][mask][i]), float(t["xi"][mask][i])],
-    }
-    # A failed point counts against the max: it delivered nothing usable.
-    if stats["n_failed"]:
-        stats["eps_abs_max"] = np.inf
-    stats["meets"] = {
-        "eps_abs_max": bool(stats["eps_abs_max"] <= TARGETS["eps_abs_max"]),
-        "eps_abs_rms": bool(stats["eps_abs_rms"] <= TARGETS["eps_abs_rms"]),
-        "state_agreement": bool(stats["state_agreement"] >= TARGETS["state_agreement"]),
-    }
+    stats = _scores(err, state, t["state"][mask], t["eps"][mask], t["xi"][mask])
     stats["error"] = err
     stats["state"] = state
     return stats
@@ -203,3 +178,89 @@ def constants_record(fit, scores, surface_attrs):
         "surface": {k: surface_attrs.get(k) for k in ("git_commit", "solver", "tol", "rtol", "atol")},
         **result_attrs({}, "closedform_fit"),
     }
+
+
+def grid_targets(ds):
+    """Flat targets of a surface for judging models: ``eps``, ``xi``, ``alpha``, ``state``, ``index``.
+
+    ``index`` is the flat grid position of each target (``compare_models`` maps errors back).
+
+    Points with a nonzero status, no finite alpha, eps = 1 or eps = 0 are left out.
+    """
+    eps, xi = ds["epsilon"].values, ds["xi"].values
+    E, X = np.meshgrid(eps, xi, indexing="ij")
+    alpha = ds["alpha"].values.astype(float)
+    ok = (ds["status"].values == 0) & np.isfinite(alpha) & (E > 0) & (E < 1)
+    return {
+        "eps": E[ok],
+        "xi": X[ok],
+        "alpha": alpha[ok],
+        "state": ds["state"].values[ok].astype(int),
+        "index": np.flatnonzero(ok),
+    }
+
+
+def _scores(err, state, target_state, eps, xi):
+    """Max, RMS, failures, end-state agreement, worst point (eps, xi) and targets met of errors ``err``."""
+    ok = np.isfinite(err)
+    i = int(np.argmax(np.where(ok, np.abs(err), -1.0)))
+    stats = {
+        "n": int(err.size),
+        "n_failed": int(np.count_nonzero(~ok)),
+        "eps_abs_max": float(np.max(np.abs(err[ok]))) if ok.any() else np.nan,
+        "eps_abs_rms": float(np.sqrt(np.mean(err[ok] ** 2))) if ok.any() else np.nan,
+        "state_agreement": float(np.mean(state == target_state)),
+        "worst": [float(eps[i]), float(xi[i])],
+    }
+    if stats["n_failed"]:  # a failed point delivered nothing usable
+        stats["eps_abs_max"] = np.inf
+    stats["meets"] = {
+        "eps_abs_max": bool(stats["eps_abs_max"] <= TARGETS["eps_abs_max"]),
+        "eps_abs_rms": bool(stats["eps_abs_rms"] <= TARGETS["eps_abs_rms"]),
+        "state_agreement": bool(stats["state_agreement"] >= TARGETS["state_agreement"]),
+    }
+    return stats
+
+
+def compare_models(ds, models):
+    """Delivered-eps errors and end-state agreement of registered models on a surface's points.
+
+    All models' alphas go through one vectorised pass of impacts (``delivered``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The surface (``load_surface``).
+    models : sequence of str
+        Registered model names (``contactalpha.models.MODELS``).
+
+    Returns
+    -------
+    scores : dict
+        Per model: ``n``, ``n_failed``, ``eps_abs_max`` (inf if a point failed),
+        ``eps_abs_rms``, ``state_agreement``, ``worst`` (eps, xi of the largest error),
+        ``meets`` (each target of ``TARGETS``).
+    maps : dict
+        Per model: delivered eps minus eps on the surface grid, shape (n_eps, n_xi), NaN where
+        the surface failed or the model's alpha could not be integrated.
+    """
+    from contactalpha.models import MODELS
+    from contactalpha.models import alpha as model_alpha
+
+    unknown = [m for m in models if m not in MODELS]
+    if unknown:
+        raise ValueError(f"unknown models {unknown}; registered: {sorted(MODELS)}")
+    t = grid_targets(ds)
+    n = t["eps"].size
+    with np.errstate(all="ignore"):
+        alphas = [np.asarray(model_alpha(t["eps"], t["xi"], model=m), dtype=float) for m in models]
+    eps, state = delivered(np.concatenate(alphas), np.tile(t["xi"], len(models)))
+    shape = ds["alpha"].shape
+    scores, maps = {}, {}
+    for k, m in enumerate(models):
+        err = eps[k * n : (k + 1) * n] - t["eps"]
+        scores[m] = _scores(err, state[k * n : (k + 1) * n], t["state"], t["eps"], t["xi"])
+        grid = np.full(int(np.prod(shape)), np.nan)
+        grid[t["index"]] = err
+        maps[m] = grid.reshape(shape)
+    return scores, maps
