@@ -5,7 +5,10 @@ Prints, measured in this run on the same random points of the table's domain:
 - evaluations per second of ``alpha(..., model="exact")`` (vectorised, and the jitted scalar
   form in a user's numba loop), of the published Eq. 40 and of ``solve_alpha``;
 - the accuracy of each against ``solve_alpha`` (max and median relative error in alpha);
-- the cost ratio exact / Eq. 40 (the target is at most 3).
+- the cost ratio exact / Eq. 40 (the target is at most 3);
+- the closed form (model ``closed_form``, issue 13), vectorised and its jitted scalar in the
+  same numba loop, and its cost ratio over Eq. 40 (the target is at most 1; Eq. 40 has no
+  jitted scalar, so both closed-form rows are set against Eq. 40 vectorised).
 """
 
 import argparse
@@ -77,6 +80,26 @@ def main(argv=None):
     else:
         eq40_rate = float("nan")
         print(f"note: model {eq40!r} not registered; Eq. 40 row skipped")
+    from contactalpha.models.closed_form import jit_alpha_closed_form
+
+    ca.alpha(eps[:10], xi[:10], model="closed_form")
+    closed_rate = rate(lambda: ca.alpha(eps, xi, model="closed_form"), n)
+    g = jit_alpha_closed_form()
+
+    @njit
+    def closed_loop(e, x):
+        s = 0.0
+        for i in range(e.size):
+            s += g(e[i], x[i])
+        return s
+
+    closed_loop(eps[:10], xi[:10])
+    closed_jit_rate = rate(lambda: closed_loop(eps, xi), n)
+    closed_alpha = ca.alpha(eps[:n_solve], xi[:n_solve], model="closed_form")
+    rows += [
+        ("closed form (vectorised)", closed_rate, closed_alpha),
+        ("closed form (jitted, user loop, 1 thread)", closed_jit_rate, None),
+    ]
 
     print(f"{'method':45s} {'evals/s':>12s} {'max rel err':>12s} {'median':>10s}")
     out = {"n": n, "n_solve": n_solve, "rows": []}
@@ -94,6 +117,12 @@ def main(argv=None):
         f"{exact_rate / solve_rate:.0f}x"
     )
     out.update(cost_ratio_exact_over_eq40=ratio, speedup_over_solve=exact_rate / solve_rate)
+    closed_ratio, closed_jit_ratio = eq40_rate / closed_rate, eq40_rate / closed_jit_rate
+    print(
+        f"cost ratio closed form / Eq. 40: vectorised {closed_ratio:.2f}, jitted loop {closed_jit_ratio:.2f} "
+        "(target <= 1)"
+    )
+    out.update(cost_ratio_closed_over_eq40=closed_ratio, cost_ratio_closed_jit_over_eq40=closed_jit_ratio)
     if args.out:
         from contactalpha.io import write_json_atomic
         from contactalpha.provenance import result_attrs
