@@ -36,7 +36,7 @@ class Fig9Settings:
     """
 
     xi: tuple = (0.0, 0.016, 0.227, 0.429, 0.665, 0.91)
-    models: tuple = (*CLASSICAL, "shen_published", "shen_refit")
+    models: tuple = (*CLASSICAL, "shen_published", "shen_refit", "closed_form")
     new_model: str = "shen_published"
     reference: str = "exact"
     eps: dict = field(default_factory=lambda: {"start": 0.01, "stop": 0.99, "step": 0.01})
