@@ -50,6 +50,8 @@ FAULT_CHUNKS = 6
 # A run still alive this long after the queue emptied waits on a job that no longer exists: hung
 # (seconds; longer than the plugin's longest pause between status checks, 180 s).
 HANG_LIMIT_S = 240
+# How long a hung run gets to stop after each signal (seconds).
+STOP_WAIT_S = 30
 # Stop any single Snakemake run after this long (seconds).
 RUN_LIMIT_S = 5400
 PROBE_SCRIPT = """#!/bin/sh
@@ -319,10 +321,19 @@ def scancel_run(configfile, status_command):
             empty_since = time.time()
         elif time.time() - empty_since > HANG_LIMIT_S:
             hung = True
-            proc.send_signal(signal.SIGINT)  # Snakemake cancels its jobs and stops
             break
         time.sleep(1.0)
-    proc.wait(timeout=300)
+    stopped_by = None
+    if hung:  # Ctrl-C first (Snakemake would cancel its jobs), then SIGTERM, then SIGKILL
+        for stop in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+            proc.send_signal(stop)
+            try:
+                proc.wait(timeout=STOP_WAIT_S)
+                stopped_by = stop.name
+                break
+            except subprocess.TimeoutExpired:
+                continue
+    proc.wait()
     logfile.seek(0)
     log = logfile.read()
     logfile.close()
@@ -335,6 +346,7 @@ def scancel_run(configfile, status_command):
             "reported": f"SLURM-job '{job}' failed" in log,
             "retried": "Trying to restart job" in log,
             "hung_past_s": HANG_LIMIT_S if hung else None,
+            "hung_run_stopped_by": stopped_by,
             "returncode": proc.returncode,
             "wall_s": time.time() - t,
         },
