@@ -52,12 +52,13 @@ def test_engine_root_tolerance_not_reached_when_the_integrator_is_too_loose():
     assert np.isnan(s.alpha)
 
 
-def test_engine_no_root_bracketed_beyond_its_alpha_limit():
-    # eps(5e8) = 2e-6 at xi = 1e-8 (cheap: the impact ends in a proved creep),
-    # so eps = 1e-6 needs alpha > ALPHA_MAX = 1e9.
+def test_engine_solves_where_the_old_alpha_limit_gave_no_bracket():
+    # eps(5e8) = 2e-6 at xi = 1e-8: eps = 1e-6 needs alpha ~ 1.9e10, beyond the old
+    # ALPHA_MAX = 1e9 that reported 'no root bracketed' although a root exists (issue 15).
     s = ca.solve_alpha(1e-6, 1e-8)
-    assert s.status == "no root bracketed"
-    assert np.isnan(s.alpha)
+    assert s.status == "ok"
+    assert 1e9 < s.alpha < 1e12
+    assert abs(s.eps_reached - 1e-6) <= 1e-6 * 1e-6
 
 
 # --- Brent's method and the budgeted SciPy impact --------------------------------

@@ -107,6 +107,10 @@ STEEP = 4.0
 # alpha counts as found when a Newton step or the bracket shrinks below this (relative, a few
 # ulp): a double alpha cannot resolve eps to EPS_TOL next to the onset.
 ALPHA_RESOLVED = 4e-16
+# When alpha cannot move further, the target counts as met only within max(tol, this / eps):
+# the energy identity's own resolution.  Beyond it the status stays 'root tolerance not
+# reached' (a loose integrator's noise is not a root).
+EPS_RESOLUTION = 3e-16
 # Below this target, next to the onset, the energy identity's own resolution ends the iteration
 # when it is coarser than tol: eps^2 = A (x_m - x_e) / (1/2 + A x_m) is known to
 # A (rtol x_m + atol) / (1/2 + A x_m) at best, while eps^2 itself is ~ onset - alpha.
@@ -240,7 +244,9 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
                     # Newton on ln eps versus ln alpha.
                     new = alpha * np.exp(-(np.log(eps) - np.log(eps_t)) / slope)
                 if abs(new - alpha) <= ALPHA_RESOLVED * alpha:
-                    status = OK  # the root is this alpha to a few ulp
+                    # the root is this alpha to a few ulp: met if eps is within resolution
+                    if abs(eps - eps_t) <= max(tol, EPS_RESOLUTION / eps_t):
+                        status = OK
                     break
                 prev_alpha = alpha
                 prev_e2 = e2
@@ -255,7 +261,8 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
             new = ALPHA_MAX
         if new == alpha or (np.isfinite(hi) and hi - lo <= ALPHA_RESOLVED * hi):
             # The bracket cannot shrink further: alpha is the root to double precision.
-            status = OK if not onset else status
+            if not onset and abs(eps - eps_t) <= max(tol, EPS_RESOLUTION / eps_t):
+                status = OK
             break
         alpha = new
     out[SOL_ALPHA] = alpha
