@@ -1,7 +1,7 @@
 """Fixed-step classical RK4 for one impact: the baseline of the benchmarks.
 
 This is what a user would write without an adaptive engine: the scaled
-impact equation (SCIENCE.md Sect. 2; paper Eq. 24 after scaling)
+impact equation (docs/science.md, "Scaling"; paper Eq. 24 after scaling)
 
     x'' = A - (5/4) x^{3/2} (1 + alpha x'),   x(0) = 0,  x'(0) = 1,
 
