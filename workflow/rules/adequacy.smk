@@ -4,15 +4,10 @@
 # (results/adequacy/statements.md, summary.md), and the physical bounce threshold of typical
 # scenes next to PhysX's 2 m/s default (results/adequacy/thresholds.md and the v_crit figure).
 
-from importlib.resources import files
-
-from contactalpha.models.shen import REFIT_FILE
 from contactalpha.provenance import source_hash
 
 ADEQUACY = config["adequacy"]
 ADEQUACY_TOLS = [f"{t:g}" for t in ADEQUACY["tols"]]
-# Model shen_refit reads the refit constants shipped in the package: shipping new ones reruns the maps.
-ADEQUACY_MODEL_DATA = [str(files("contactalpha") / "data" / REFIT_FILE)]
 ADEQUACY_FIGURES = [
     *[f"adequacy_tol{t}" for t in ADEQUACY_TOLS],
     "adequacy_cheapest",
@@ -39,10 +34,12 @@ localrules:
 rule adequacy_maps:
     input:
         surface="results/surface.h5",
-        model_data=ADEQUACY_MODEL_DATA,
     output:
         "results/adequacy/maps.h5",
     params:
+        # Model shen_refit reads the shipped refit constants (rules/fit.smk): shipping new ones
+        # reruns the maps; a digest, not a path, so a clone elsewhere plans nothing new.
+        shipped_refit=SHIPPED_REFIT_DIGEST,
         tols=ADEQUACY["tols"],
         stride=ADEQUACY["stride"],
         code_version=source_hash("contactalpha.studies.adequacy.maps"),

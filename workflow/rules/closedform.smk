@@ -5,12 +5,18 @@
 # refits them to this run's surface (results/closedform/constants.json); copying that file into
 # the package (closedform.package_constants) is the maintainer's `snakemake -c2 closedform_ship`.
 
+import hashlib
+
 from contactalpha.models.closed_form import CONSTANTS_FILE as CLOSED_FORM_FILE
 from contactalpha.models.shen import REFIT_FILE as SHEN_REFIT_FILE
 from contactalpha.provenance import PACKAGE_DIR
 
-# The shipped constants the judged models read: shipping new ones reruns the comparison.
-CLOSED_FORM_SHIPPED = [str(PACKAGE_DIR / "data" / f) for f in (CLOSED_FORM_FILE, SHEN_REFIT_FILE)]
+# The shipped constants the judged models read, by content digest (as rules/fit.smk does for the
+# refit): shipping new ones reruns the comparison; a clone elsewhere plans nothing new.
+CLOSED_FORM_SHIPPED = [
+    hashlib.sha256((PACKAGE_DIR / "data" / f).read_bytes()).hexdigest()
+    for f in (CLOSED_FORM_FILE, SHEN_REFIT_FILE)
+]
 
 ALL_TARGETS += [
     "results/closedform/comparison.json",
@@ -21,11 +27,11 @@ ALL_TARGETS += [
 rule closedform_compare:
     input:
         surface="results/surface.h5",
-        shipped=CLOSED_FORM_SHIPPED,
     output:
         comparison="results/closedform/comparison.json",
         figure=multiext("results/figures/closedform_error_map", ".png", ".pdf"),
     params:
+        shipped=CLOSED_FORM_SHIPPED,
         models=config["closedform"]["models"],
     log:
         "logs/closedform/compare.log",
