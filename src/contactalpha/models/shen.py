@@ -48,7 +48,8 @@ EQ26_PUBLISHED = {"tau": 0.01, "sigma": 0.011, "beta": 0.113}
 # Absolute tolerance of the s1 quadrature (Eq. 31); s1 is about 0.2.
 S1_QUAD_EPSABS = 1e-13
 
-# Refit constants shipped with the package, written by the workflow (rule fit_refit).
+# Refit constants shipped with the package: the workflow refits them (rule fit_refit, results/ only)
+# and `snakemake -c2 ship_fit` copies them here.
 REFIT_FILE = "shen_refit.json"
 
 # Every numeric constant of Eq. 40 (0 < xi < 1), as printed, with its role.
@@ -381,12 +382,12 @@ def load_refit():
     Raises
     ------
     FileNotFoundError
-        If the package was built without the file (run the workflow's ``fit_refit`` rule).
+        If the package was built without the file (``snakemake -c2 ship_fit`` ships it).
     """
     path = files("contactalpha") / "data" / REFIT_FILE
     if not path.is_file():
         raise FileNotFoundError(
-            f"{path} is missing: run `snakemake -c2 fit_refit` to write the refit constants"
+            f"{path} is missing: run `snakemake -c2 ship_fit` to refit and ship the constants"
         )
     return json.loads(path.read_text(encoding="utf-8"))
 
