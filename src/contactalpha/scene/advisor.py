@@ -33,6 +33,8 @@ from contactalpha.engine.scaling import influence_factor
 from contactalpha.engine.solver import RESTITUTIONS, solve_alpha
 from contactalpha.validation import check_positive, check_range
 
+from .parameters import scene_accel
+
 # The paper's three levels of xi (Sect. 3): small 0-0.1, moderate 0.1-0.5, large 0.5-1.
 XI_LEVELS = (("small", 0.0, 0.1), ("moderate", 0.1, 0.5), ("large", 0.5, 1.0))
 # Default tolerance on the delivered restitution.
@@ -217,13 +219,7 @@ def advise(
         float(check_positive(n, x))
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
-    if (accel is None) == (force is None):
-        raise ValueError("give exactly one of accel (m/s^2) and force (N)")
-    a = (
-        float(check_range("accel", accel, 0.0, np.inf, hi_open=True))
-        if force is None
-        else float(check_range("force", force, 0.0, np.inf, hi_open=True)) / m
-    )
+    a = float(scene_accel(m, accel=accel, force=force))
     tol = float(check_range("tol", tol, 0.0, 1.0, lo_open=True))
     xi = float(influence_factor(m, k, v, a))
     sol = solve_alpha(e, xi, restitution=restitution)
