@@ -50,6 +50,9 @@ def scaled_load_unchecked(xi):
 # Scaled load beyond which xi rounds to 1 for certain (1 - xi ~ (2A)^(-5/3) < 1e-50); capping A
 # there also keeps x_m^(5/2) in the Newton iteration far from overflow (near A ~ 1e185).
 A_ROUNDS_TO_ONE = 1e30
+# Newton steps of Eq. 10's x_m solve: a fixed count (no data-dependent exit, so the compiled, the
+# Python and the exported C forms take the same steps); converged long before for every A <= 1e30.
+XI_NEWTON_STEPS = 60
 
 
 def _xi_of_load(A):
@@ -59,14 +62,14 @@ def _xi_of_load(A):
     # (1 + 2A)^(2/3) bounds the root from above; Newton on a convex function
     # started right of its root converges monotonically.
     xm = (1.0 + 2.0 * A) ** (2.0 / 3.0)
-    for _ in range(60):
+    for _ in range(XI_NEWTON_STEPS):
         g = 0.5 * (xm**2.5 - 1.0) - A * xm
         dg = 1.25 * xm**1.5 - A
         xm = xm - g / dg
     return A * xm / (0.5 + A * xm)
 
 
-# The same iteration compiled, for the scalar fast path of ``influence_factor`` (60 Newton
+# The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
 xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
 

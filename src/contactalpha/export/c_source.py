@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contactalpha.engine.scaling import A_ROUNDS_TO_ONE
+from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, XI_NEWTON_STEPS
 from contactalpha.engine.table import (
     ARRAY_NAMES,
     DEFAULT_FILE,
@@ -47,8 +47,6 @@ HEADER_NAME = "contactalpha.h"
 SOURCE_NAME = "contactalpha.c"
 # Flags the export is tested with (tests/export/test_c_source.py): strict C99, every warning an error.
 C_FLAGS = ("-std=c99", "-Wall", "-Wextra", "-Werror", "-O2")
-# Newton steps of scaling._xi_of_load (its loop bound; converged long before for every A <= 1e30).
-NEWTON_STEPS = 60
 # Hexadecimal constants per line of the data arrays (keeps lines under 100 characters).
 PER_LINE = 4
 # C name prefix and Python array name of each exported array, energetic then kinematic.
@@ -118,7 +116,7 @@ def c_export_text(energetic=DEFAULT_FILE, kinematic=KINEMATIC_FILE):
         f"#define U_MIN ({_hex(U_MIN)}) /* ln EPS_MIN */",
         f"#define XI_SCALE ({_hex(XI_SCALE)}) /* {XI_SCALE!r} */",
         f"#define A_ROUNDS_TO_ONE ({_hex(A_ROUNDS_TO_ONE)}) /* {A_ROUNDS_TO_ONE!r} */",
-        f"#define NEWTON_STEPS {NEWTON_STEPS}",
+        f"#define NEWTON_STEPS {XI_NEWTON_STEPS}",
     ]
     for (first, step, count), (geom, offset) in C_GRIDS.items():
         g = arrays[geom]
