@@ -141,6 +141,46 @@ def test_no_root_bracketed_is_not_reported_where_a_root_exists():
     assert onset.ok and s.alpha < onset.alpha
 
 
+# The solver's search bracket is [0, ALPHA_MAX]; every valid target has a root inside it
+# (docs/science.md, "Shape of the surface"), so 'no root bracketed' can only be seen by moving
+# the bracket's end below a known root.  ALPHA_MAX is compiled into the kernel: the probe runs
+# the same algorithm uncompiled (NUMBA_DISABLE_JIT=1), with the constant lowered.
+NO_ROOT_PROBE = """
+import json, sys
+import contactalpha as ca
+from contactalpha.engine import solver
+solver.ALPHA_MAX = float(sys.argv[1])
+s = ca.solve_alpha(0.5, 0.2, guess="formula")
+print(json.dumps([s.status, s.alpha, s.eps_reached, s.state]))
+"""
+
+
+@pytest.mark.parametrize("where", [1 - 1e-6, 1 + 1e-6])
+def test_no_root_bracketed_exactly_when_the_bracket_excludes_the_root(where):
+    import json
+    import os
+    import subprocess
+    import sys
+
+    root = float(ca.solve_alpha(0.5, 0.2).alpha)  # 1.5384855..., restitutes 0.5 in SciPy (test_cli)
+    alpha_max = root * where
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    run = subprocess.run(
+        [sys.executable, "-c", NO_ROOT_PROBE, repr(alpha_max)], capture_output=True, text=True, env=env
+    )
+    assert run.returncode == 0, run.stderr
+    status, alpha, eps_reached, state = json.loads(run.stdout.replace("NaN", "null"))
+    if where < 1:
+        # The root lies beyond the bracket: NaN and the status, and the eps it reached is the
+        # bracket end's eps (the solver tried ALPHA_MAX itself before giving up), above 0.5.
+        assert status == "no root bracketed" and alpha is None and state == "separation"
+        assert eps_reached == pytest.approx(float(ca.impact(alpha_max, 0.2).eps), abs=1e-13)
+        assert eps_reached > 0.5
+    else:
+        assert status == "ok" and alpha == pytest.approx(root, rel=1e-13)
+        assert eps_reached == pytest.approx(0.5, abs=1e-12)
+
+
 def _eps_at_max_compression_scipy(alpha, xi):
     """Stronge's eps of a creeping impact from SciPy's compression phase alone (x_e = x_eq)."""
     from scipy.integrate import solve_ivp
