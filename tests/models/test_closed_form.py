@@ -7,6 +7,7 @@ import pytest
 
 import contactalpha as ca
 from contactalpha.engine.exact import alpha_exact
+from contactalpha.engine.unloaded import alpha_unloaded_scalar
 from contactalpha.models import closed_form as cf
 from contactalpha.paper.closedform import compute as cc
 
@@ -14,9 +15,15 @@ EPS = np.linspace(0.01, 0.99, 99)
 
 
 def test_exact_on_the_unloaded_column():
-    eps = np.r_[np.geomspace(1e-4, 0.01, 20), EPS, 1 - np.geomspace(1e-2, 1e-8, 20)]
+    eps = np.r_[np.geomspace(1e-4, 0.01, 20), EPS]
     a = cf.alpha_closed_form(eps, 0.0)
-    np.testing.assert_allclose(a, alpha_exact(eps), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(a, alpha_exact(eps), rtol=2e-15, atol=0)
+    # towards eps = 1 the Newton solver loses digits (eps^n - 1); the explicit root keeps them
+    # (tests/engine/test_unloaded.py checks it against a 50-digit root there)
+    near_one = 1 - np.geomspace(1e-2, 1e-8, 20)
+    expected = [alpha_unloaded_scalar(e) for e in near_one]
+    np.testing.assert_array_equal(cf.alpha_closed_form(near_one, 0.0), expected)
+    np.testing.assert_allclose(expected, alpha_exact(near_one), rtol=1e-9, atol=0)
 
 
 def test_asymptotes():

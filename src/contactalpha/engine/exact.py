@@ -21,14 +21,6 @@ SERIES_LIMIT = 0.5
 SERIES_TERMS = 64
 # Newton iterations before giving up (bisection keeps each one safe).
 MAX_ITER = 200
-# alpha_exact_fast_scalar: below this alpha the series of G needs only FAST_TERMS terms
-# (0.1^20 ~ 1e-20), which makes it ~3x cheaper than the general solver at the same accuracy.
-FAST_SERIES_LIMIT = 0.1
-FAST_TERMS = 22
-# Below this eps the start is one fixed-point step from 1/eps (1 - alpha eps is exponentially small).
-FAST_SMALL_EPS = 0.25
-# Above it the start is 3 (1 - eps) / (2 eps^FAST_START_EXP), within a few % of the root.
-FAST_START_EXP = 0.9
 
 
 @njit(cache=True, error_model="numpy")
@@ -86,33 +78,6 @@ def alpha_exact_scalar(eps):
             hi = alpha
         new = _safeguarded_newton(g, ga, alpha, lo, hi)
         if abs(new - alpha) <= 2e-16 * alpha or new == lo or new == hi:
-            return new
-        alpha = new
-    return alpha
-
-
-@njit(cache=True, error_model="numpy")
-def alpha_exact_fast_scalar(eps):
-    """``alpha_exact_scalar`` from a close start with a short series: same root to ~1e-13, faster.
-
-    For formulas that carry the exact unloaded alpha as a factor (``models.closed_form``).
-    """
-    if eps >= 1.0:
-        return 0.0
-    if eps < FAST_SMALL_EPS:
-        alpha = (1.0 - (1.0 + 1.0 / eps) * np.exp(-(1.0 + eps) / eps)) / eps
-    else:
-        alpha = 1.5 * (1.0 - eps) / eps**FAST_START_EXP
-    lo = 0.0
-    hi = 1.0 / eps
-    for _ in range(MAX_ITER):
-        g, ga, _ = _g_and_slopes(alpha, eps, FAST_SERIES_LIMIT, FAST_TERMS)
-        if g < 0.0:
-            lo = alpha
-        else:
-            hi = alpha
-        new = _safeguarded_newton(g, ga, alpha, lo, hi)
-        if abs(new - alpha) <= 4e-16 * alpha or new == lo or new == hi:
             return new
         alpha = new
     return alpha

@@ -10,7 +10,8 @@ The formula (``alpha_closed_form``; 17 constants, ``CONSTANT_NAMES``), with
               c = exp(c_0 + c_1 L + c_2 L^2),  q = exp(q_0 + q_1 L + q_2 L^2)
     alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1
 
-``alpha_0`` is the exact unloaded alpha, the root of ln((1+a)/(1-a eps)) = a (1+eps).
+``alpha_0`` is the exact unloaded alpha, the root of ln((1+a)/(1-a eps)) = a (1+eps), written
+explicitly to rounding (``engine.unloaded``: one exp or one log and a degree-13 polynomial).
 Why this shape: when an impact creeps, its end is the static equilibrium, and the energy
 identity of Stronge's eps (docs/science.md Sect. 3) gives the maximum compression exactly,
 ``x_m = x_eq (1 + z)``.  ``alpha_c`` is the damping that stops the compression there: it is
@@ -36,8 +37,8 @@ from importlib.resources import files
 import numpy as np
 from numba import njit
 
-from contactalpha.engine.exact import alpha_exact_fast_scalar
 from contactalpha.engine.scaling import scaled_load_unchecked
+from contactalpha.engine.unloaded import alpha_unloaded_scalar
 
 # Constants shipped with the package (written by ``snakemake -c1 closedform_ship``).
 CONSTANTS_FILE = "closed_form.json"
@@ -70,7 +71,7 @@ _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 @njit(cache=True, error_model="numpy")
 def log_branches(eps, xi, c):
     """``(ln alpha_s, ln alpha_c, k)`` of the closed form at one point with 0 < eps < 1, 0 < xi < 1."""
-    a0 = alpha_exact_fast_scalar(eps)
+    a0 = alpha_unloaded_scalar(eps)
     log_s = np.log(a0) + xi * (c[0] + c[1] * eps) + c[2] * eps ** c[3] * np.log1p(-xi)
     A = _scaled_load(xi)
     L = np.log(A)
@@ -100,7 +101,7 @@ def alpha_closed_form_scalar(eps, xi, c):
     if eps == 1.0:
         return 0.0
     if xi == 0.0:
-        return alpha_exact_fast_scalar(eps)
+        return alpha_unloaded_scalar(eps)
     log_s, log_c, k = log_branches(eps, xi, c)
     top = max(log_s, log_c)
     return np.exp(top + np.log(np.exp(k * (log_s - top)) + np.exp(k * (log_c - top))) / k)
