@@ -171,17 +171,6 @@ def test_physical_scales_reject_non_positive_inputs():
         ca.influence_factor(1.0, 1e8, 1.0, np.array([10.0 + 0j]))
 
 
-def test_public_names_resolve_to_functions_after_submodule_imports():
-    import importlib
-
-    for mod in ("engine.driver", "models", "engine.table", "engine.solver", "engine.exact", "engine.scaling"):
-        importlib.import_module(f"contactalpha.{mod}")
-    for name in ("impact", "alpha", "alpha_tabulated", "solve_alpha", "alpha_exact", "scaled_load"):
-        assert callable(getattr(ca, name)), name
-    with pytest.raises(AttributeError, match="no attribute 'nope'"):
-        ca.nope  # noqa: B018
-
-
 @pytest.mark.parametrize(
     "alpha, xi",
     [

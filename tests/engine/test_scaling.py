@@ -31,8 +31,29 @@ def test_scaled_load_matches_eq_10_and_11():
     np.testing.assert_allclose(0.5 * (xm**2.5 - 1), A * xm, rtol=1e-14)  # Eq. 8
 
 
-def test_time_scale_is_length_over_speed():
-    assert ca.time_scale(1.0, 1e8, 2.0) == pytest.approx(ca.length_scale(1.0, 1e8, 2.0) / 2.0)
+def test_length_and_time_scales_are_those_of_the_undamped_hertz_impact():
+    # An undamped, unloaded Hertz impact in SI units (SciPy), m d'' = -k d^(3/2): it reaches
+    # delta_star, and lasts 2 sqrt(pi) Gamma(7/5) / Gamma(9/10) = 2.9433 t_star.
+    from scipy.integrate import solve_ivp
+    from scipy.special import gamma
+
+    m, k, v0 = 2.0, 1e9, 0.7
+
+    def touch(t, y):
+        return y[0]
+
+    def turn(t, y):
+        return y[1]
+
+    touch.terminal, touch.direction = True, -1
+    run = solve_ivp(
+        lambda t, y: [y[1], -k / m * max(y[0], 0.0) ** 1.5], (0.0, 1.0), [0.0, v0],
+        method="DOP853", rtol=1e-13, atol=1e-20, events=[touch, turn], first_step=1e-9,
+    )  # fmt: skip
+    assert run.y_events[1][0][0] == pytest.approx(ca.length_scale(m, k, v0), rel=1e-9)
+    duration = 2 * np.sqrt(np.pi) * gamma(1.4) / gamma(0.9)
+    assert run.t_events[0][0] == pytest.approx(duration * ca.time_scale(m, k, v0), rel=1e-9)
+    assert ca.impact(0.0, 0.0).t_end == pytest.approx(duration, rel=1e-10)
 
 
 @pytest.mark.parametrize("a, v0", [(1e30, 1.0), (1e250, 1.0), (9.81, 1e-30), (9.81, 1e-200), (1e300, 1e200)])

@@ -63,9 +63,11 @@ def test_alpha_grows_as_eps_falls():
 def test_onset_alpha_for_zero_restitution():
     s = ca.solve_alpha(0.0, 0.2)
     assert s.ok and s.state == "no_restitution"
-    just_below = ca.impact(s.alpha * (1 - 1e-9), 0.2)
-    assert just_below.state != "no_restitution"
-    assert just_below.eps < 1e-3
+    just_below = ca.impact(s.alpha * (1 - np.array([1e-9, 4e-9, 1.6e-8])), 0.2)
+    assert np.all(just_below.state == "creep")
+    # Next to the onset eps ~ sqrt(onset - alpha): four times closer, half the eps (not a quarter).
+    np.testing.assert_allclose(just_below.eps[1:] / just_below.eps[:-1], 2.0, rtol=1e-2)
+    assert just_below.eps[0] == pytest.approx(3.93e-6, rel=1e-2)  # eps^2 ~ 1.5e-2 (1 - alpha/onset)
     assert ca.impact(s.alpha * (1 + 1e-9), 0.2).state == "no_restitution"
 
 

@@ -1,19 +1,25 @@
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from numba import njit
 
 import contactalpha as ca
 from contactalpha.engine.table import (
     DEFAULT_FILE,
+    DEGREE,
     EPS_MIN,
     TABLE_FORMAT_VERSION,
     XI_MAX,
+    XI_SCALE,
     eta_of_xi,
     load_table,
 )
 from contactalpha.engine.table_build import save_table, xi_of_eta
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _random_points(n, seed):
@@ -81,7 +87,11 @@ def test_jitted_form_is_finite_on_the_edges_of_its_domain():
     f = ca.jit_alpha_tabulated()
     for eps, xi in [(EPS_MIN, 0.0), (EPS_MIN, XI_MAX), (1.0, XI_MAX), (1.0, 0.0)]:
         assert f(eps, xi) == ca.alpha_tabulated(eps, xi)
-    assert f(1.0, 0.3) == 0.0 and f(EPS_MIN, XI_MAX) > 0.0
+    # The corners hold the solver's alpha, not merely a finite number.
+    corners = ca.solve_alpha([EPS_MIN, EPS_MIN, 1.0 - 1e-9], [0.0, XI_MAX, XI_MAX], tol=1e-13)
+    got = [f(EPS_MIN, 0.0), f(EPS_MIN, XI_MAX), f(1.0 - 1e-9, XI_MAX)]
+    np.testing.assert_allclose(got, corners.alpha, rtol=1e-6)
+    assert f(1.0, 0.3) == 0.0
 
 
 def test_eta_coordinate_round_trips():
@@ -90,10 +100,20 @@ def test_eta_coordinate_round_trips():
 
 
 def test_table_records_its_grid_and_tolerances():
-    meta = load_table().meta
+    # The metadata must describe the arrays and the settings the table was built with (config.yaml's
+    # models.table), not merely hold the keys: each spline of degree d on n rows has n + 2 d knots.
+    t = load_table()
+    meta = t.meta
+    built = yaml.safe_load((ROOT / "config.yaml").read_text())["models"]["table"]
     assert meta["format_version"] == TABLE_FORMAT_VERSION
-    for key in ("n_eta", "n_p", "rtol", "atol", "tol", "eps_min", "xi_max"):
-        assert key in meta
+    assert {k: meta[k] for k in ("n_eta", "n_p", "tol", "rtol", "atol")} == {
+        k: built[k] for k in ("n_eta", "n_p", "tol", "rtol", "atol")
+    }
+    assert (meta["eps_min"], meta["xi_max"], meta["xi_scale"]) == (EPS_MIN, XI_MAX, XI_SCALE)
+    d = meta["degree"]
+    assert d == DEGREE and (t.s_tx.size, t.s_ty.size) == (meta["n_eta"] + 2 * d, meta["n_p"] + 2 * d)
+    assert meta["n_p_region_n"] == built["refine_n"] * (meta["n_p"] - 1) + 1
+    assert (t.n_tx.size, t.n_ty.size) == (meta["n_eta_region_n"] + 2 * d, meta["n_p_region_n"] + 2 * d)
 
 
 def test_table_with_other_version_is_refused(tmp_path):
