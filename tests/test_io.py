@@ -1,5 +1,6 @@
 import json
 import os
+import re
 import signal
 import stat
 import subprocess
@@ -19,7 +20,7 @@ from contactalpha.io import (
     stale_temporaries,
     write_json_atomic,
 )
-from contactalpha.provenance import result_attrs
+from contactalpha.provenance import git_commit, result_attrs
 from contactalpha.version import __version__
 
 
@@ -52,7 +53,9 @@ def test_result_attrs_name_the_package_version_and_keep_the_config():
     assert attrs["contactalpha_version"] == __version__
     assert json.loads(attrs["config"]) == {"a": [0.1, 2], "b": 1}
     assert attrs["config"].index('"a"') < attrs["config"].index('"b"')
-    assert "a step" in attrs["history"] and attrs["git_commit"]
+    commit = git_commit()  # this checkout's HEAD (+dirty), tested in test_provenance.py
+    assert attrs["git_commit"] == commit and re.fullmatch(r"[0-9a-f]{40}(\+dirty)?|unknown", commit)
+    assert re.fullmatch(rf"\S+Z a step \(contactalpha {re.escape(__version__)}\)", attrs["history"])
 
 
 def _killed_inside_a_write(path):

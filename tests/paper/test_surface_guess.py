@@ -1,8 +1,12 @@
 """The surface says which starting guess made it; the solver warns when it cannot use the table."""
 
+import hashlib
+
 import pytest
 
 import contactalpha
+from contactalpha.engine.table import DEFAULT_FILE, load_table
+from contactalpha.engine.table_build import save_table
 from contactalpha.paper.surface.compute import compute_surface, guess_record
 
 
@@ -10,9 +14,16 @@ def test_surface_records_its_starting_guess_and_table(tmp_path):
     record = guess_record()
     assert record["guess"] == "table"
     name, word, digest = record["guess_table"].split()
-    assert (name, word, len(digest)) == ("alpha_table.npz", "sha256", 64)
+    # The digest is the shipped table's, so a surface says which table steered its Newton paths.
+    assert (name, word) == (DEFAULT_FILE.name, "sha256")
+    assert digest == hashlib.sha256(DEFAULT_FILE.read_bytes()).hexdigest()
+    copy = save_table(load_table(), tmp_path / "copy.npz", note="same arrays, other bytes")
+    other = guess_record(copy)
+    assert other["guess"] == "table" and digest not in other["guess_table"]
+    assert other["guess_table"] == f"copy.npz sha256 {hashlib.sha256(copy.read_bytes()).hexdigest()}"
     missing = guess_record(tmp_path / "none.npz")
     assert missing["guess"] == "formula" and "not found" in missing["guess_table"]
+    assert str(tmp_path / "none.npz") in missing["guess_table"]
     ds = compute_surface([0.5], [0.1])
     assert (ds.attrs["guess"], ds.attrs["guess_table"]) == (record["guess"], record["guess_table"])
 
