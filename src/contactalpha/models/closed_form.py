@@ -1,6 +1,6 @@
 """A closed form for alpha(eps, xi) that is exact at xi = 0 and fitted in delivered restitution.
 
-The formula (``alpha_closed_form``; 17 constants, ``CONSTANT_NAMES``), with
+The formula (``alpha_closed_form``; 19 constants, ``CONSTANT_NAMES``), with
 ``A = xi (1 - xi)^(-3/5) / 2`` the scaled load, ``L = ln A`` and
 ``x_eq = (4 A / 5)^(2/3)`` the static compression (docs/science.md, Sects. 2-4):
 
@@ -8,7 +8,7 @@ The formula (``alpha_closed_form``; 17 constants, ``CONSTANT_NAMES``), with
     z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
     alpha_c = 2 x_eq^(-5/2) exp(n_0 + n_1 L + n_2 L^2 + n_3 L^3 + n_4 L^4) (1 + c z)^(-q),
               c = exp(c_0 + c_1 L + c_2 L^2),  q = exp(q_0 + q_1 L + q_2 L^2)
-    alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1
+    alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps))
 
 ``alpha_0`` is the exact unloaded alpha, the root of ln((1+a)/(1-a eps)) = a (1+eps), written
 explicitly to rounding (``engine.unloaded``: one exp or one log and a degree-13 polynomial).
@@ -61,9 +61,11 @@ CONSTANT_NAMES = (
     "q_2",
     "k_0",
     "k_1",
+    "k_xi",
+    "k_xi_eps",
 )
 # The constants' layout version; a shipped file of another version is refused.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 
 _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 
@@ -81,7 +83,7 @@ def log_branches(eps, xi, c):
     rate = np.exp(c[9] + L * (c[10] + L * c[11]))
     power = np.exp(c[12] + L * (c[13] + L * c[14]))
     log_c = log_nr - power * np.log1p(rate * z)
-    k = c[15] * eps ** c[16]
+    k = c[15] * eps ** c[16] * np.exp(xi * (c[17] + c[18] * eps))
     return log_s, log_c, k
 
 
@@ -93,7 +95,7 @@ def alpha_closed_form_scalar(eps, xi, c):
     ----------
     eps, xi : float
         Restitution and influence factor.
-    c : ndarray, shape (17,)
+    c : ndarray, shape (19,)
         Constants in the order of ``CONSTANT_NAMES``.
     """
     if not (0.0 < eps <= 1.0 and 0.0 <= xi < 1.0):
