@@ -7,10 +7,11 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from contactalpha.baselines.reference import impact_physical
+from contactalpha.baselines.reference import impact_physical, impact_scipy
 from contactalpha.engine.codes import NONSEPARATION, SEPARATION
 from contactalpha.engine.exact import restitution_exact
 from contactalpha.engine.scaling import length_scale, time_scale
+from contactalpha.models import alpha as model_alpha
 from contactalpha.paper.ball.report import cases_markdown, statements, statements_markdown
 from contactalpha.paper.ball.study import first_collision, resolve_model, run_dataset
 from contactalpha.scene.ball import (
@@ -276,12 +277,34 @@ def test_statements_report_every_claim(first, runs):
     a, b = (run_dataset(runs[c]) for c in ("A", "B"))
     rows = statements(first, a, b, "shen_zero_load", ["hunt_crossley", "flores", "hu_guo"])
     text = statements_markdown(rows)
-    assert all(r.verdict in ("holds", "does not hold") for r in rows)
-    by_text = {r.claim: r for r in rows}
-    xi_row = next(r for t, r in by_text.items() if t.startswith("The forces"))
-    assert xi_row.verdict == "holds"
-    assert "nan" not in text.lower()
-    assert len(rows) >= 12
+    assert "nan" not in text.lower() and len(rows) == 16
+
+    def verdict_of(start):
+        (row,) = [r for r in rows if r.claim.startswith(start)]
+        return row.verdict
+
+    def says(holds):
+        return "holds" if holds else "does not hold"
+
+    # Each verdict recomputed from sources the report does not read: the raw simulations, the
+    # scene's own xi, and the SciPy oracle's end state at each model's alpha.
+    ra, rb = runs["A"], runs["B"]
+    assert verdict_of("10 collisions occur") == says(10 in (ra.count, ra.rebounds))
+    dw = ra.collisions["damping_work"][0] - rb.collisions["damping_work"][0]
+    assert verdict_of("The first collision loses more") == says(dw > 0)
+    xi = [Scene(force=f).influence(0.5) for f in (0.1, 60.0, 495.0)]
+    assert verdict_of("The forces") == says(np.allclose(xi, [0.021, 0.233, 0.799], rtol=0, atol=1e-3))
+
+    def separates(model, eps):
+        return impact_scipy(float(model_alpha(eps, xi[1], model=model)), xi[1]).state == "separation"
+
+    others = ("flores", "hu_guo", "shen_zero_load")
+    hc_only = separates("hunt_crossley", 0.3) and not any(separates(m, 0.3) for m in others)
+    assert verdict_of("At ξ = 0.233, ε = 0.3 every model") == says(hc_only)
+    new_only = not separates("shen_zero_load", 0.5) and all(
+        separates(m, 0.5) for m in ("hunt_crossley", "flores", "hu_guo")
+    )
+    assert verdict_of("At ξ = 0.233, ε = 0.5 only the new") == says(new_only) == "does not hold"
 
 
 def test_resolve_model_falls_back_in_order():

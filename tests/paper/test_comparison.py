@@ -3,6 +3,7 @@ import pytest
 
 from contactalpha.baselines.reference import impact_scipy
 from contactalpha.engine.codes import END_STATES
+from contactalpha.engine.exact import restitution_exact
 from contactalpha.paper.fig9.compute import (
     deviation_table,
     fig9_statements,
@@ -53,6 +54,14 @@ def test_statements_carry_verdicts(ds):
     assert all(s.verdict in ("holds", "partly", "does not hold") for s in st)
     fixed = [s for s in st if "fixed when" in s.claim][0]
     assert fixed.verdict == "holds"
+    # At xi = 0 the post-impact eps of a model is the exact unloaded relation at its alpha (no
+    # integrator): the claim's evidence and verdict must be those numbers'.
+    low = EPS[EPS <= 0.3]
+    hc = np.max(abs(restitution_exact(1.5 * (1 - low)) - low))
+    hg = np.max(abs(restitution_exact(1.5 * (1 - low) / low) - low))
+    (row,) = [s for s in st if s.claim.startswith("Fig. 9(a, b)")]
+    assert f"Hunt–Crossley ξ=0: {hc:.3f}" in row.evidence and f"Hu–Guo ξ=0: {hg:.3f}" in row.evidence
+    assert row.verdict == verdict([hc > 0.05, hg > 0.05]) == PARTLY  # 0.451 and 0.029
 
 
 def test_no_evidence_is_not_checked_never_holds():

@@ -28,7 +28,8 @@ def study(opensim, exudyn, tmp_path_factory):
     work = tmp_path_factory.mktemp("engines")
     out = {}
     for engine in compute.ENGINES:
-        ds = compute.round_trip(engine, scene, [0.5], [5.1, 495.0], SETTINGS[engine], {"test": True})
+        settings = compute.ENGINE_SETTINGS[engine](**SETTINGS[engine])
+        ds = compute.round_trip(engine, scene, [0.5], [5.1, 495.0], settings, {"test": True})
         write_dataset_atomic(ds, work / f"{engine}.nc")
         out[engine] = load_dataset(work / f"{engine}.nc")
     out["static"] = compute.static_checks(scene, [5.1])
@@ -89,11 +90,26 @@ def test_summary_tables_hold_every_grid_point_and_the_verdicts(study):
 
 
 def test_figure_draws_every_run(study):
-    from contactalpha.studies.engines.figures import roundtrip_figure
+    from contactalpha.studies.engines.figures import ERROR_FLOOR, RUN_HEADS, roundtrip_figure
 
-    fig = roundtrip_figure([study["opensim"], study["exudyn"]])
-    labels = fig.axes[0].get_legend_handles_labels()[1]
-    assert len(labels) == 6
+    rounds = [study["opensim"], study["exudyn"]]
+    fig = roundtrip_figure(rounds)
+    runs = [str(r) for ds in rounds for r in ds["run"].values]
+    assert fig.axes[0].get_legend_handles_labels()[1] == [RUN_HEADS[r] for r in runs] and len(runs) == 6
+    # Each column draws every run's delivered eps (top) and its error (bottom) at the target eps.
+    forces = rounds[0]["force"].values
+    for k in range(forces.size):
+        top, bottom = fig.axes[k], fig.axes[forces.size + k]
+        want_top, want_bottom = [], []
+        for ds in rounds:
+            for run in ds["run"].values:
+                y = ds["eps_measured"].sel(run=run).isel(force=k).values
+                eps = ds["epsilon"].values
+                want_top += list(zip(eps, y, strict=True))
+                want_bottom += list(zip(eps, np.maximum(abs(y - eps), ERROR_FLOOR), strict=True))
+        for ax, want in ((top, want_top), (bottom, want_bottom)):
+            drawn = [tuple(p) for c in ax.collections for p in np.asarray(c.get_offsets())]
+            assert sorted(drawn) == sorted(want), (k, ax.get_title())
 
 
 def test_engines_config_defaults_have_one_owner():

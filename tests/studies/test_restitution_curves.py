@@ -1,5 +1,8 @@
 """The e_N-versus-eps data: values against the SciPy oracle and the figure's content."""
 
+import json
+import re
+
 import numpy as np
 import pytest
 
@@ -50,8 +53,12 @@ def test_separating_points_match_the_scipy_oracle(curves, xi, k):
 
 
 def test_curves_record_their_settings_and_refuse_a_bad_grid(curves):
-    assert '"n_eps": 20' in curves.attrs["config"]
-    assert curves.attrs["compute_time_s"] > 0
+    # The settings that made the curves (defaults included), the grid they describe, the version.
+    assert json.loads(curves.attrs["config"]) == {"xi": [0.0, 0.3, 0.8], "n_eps": 20, "tol": 1e-12}
+    np.testing.assert_array_equal(curves["eps"].values, np.linspace(0.05, 1.0, 20))
+    assert curves.attrs["contactalpha_version"] == ca.__version__
+    assert re.fullmatch(r"\S+Z restitution_curves \(contactalpha .+\)", curves.attrs["history"])
+    assert 0 < curves.attrs["compute_time_s"] < 600
     with pytest.raises(ValueError, match="n_eps = 1 "):
         restitution_curves(n_eps=1)
 
