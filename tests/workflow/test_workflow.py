@@ -13,8 +13,9 @@ import pytest
 import yaml
 
 import contactalpha
+from contactalpha.baselines.reference import impact_scipy
 from contactalpha.engine.codes import END_STATES
-from contactalpha.io import TMP_TAG
+from contactalpha.io import TMP_TAG, load_dataset
 from contactalpha.paper.surface.compute import grid_from_config
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -132,10 +133,16 @@ def test_surface_file_contents_match_the_library(run):
         point = ds.sel(epsilon=e, xi=x)
         assert float(point.alpha) == float(sol.alpha)  # same code path: the same bits
         assert END_STATES[int(point.state)] == sol.state
+        # and a value that could be wrong: the SciPy oracle, fed the file's alpha, restitutes eps
+        assert impact_scipy(float(point.alpha), x, rtol=1e-12, atol=1e-14).eps == pytest.approx(e, abs=1e-9)
     attrs = ds.attrs
     assert json.loads(attrs["config"])["surface"]["epsilon"] == config["epsilon"]
     assert attrs["contactalpha_version"] == contactalpha.__version__
-    assert attrs["chunks"] == 2 and attrs["rtol"] == 1e-12 and attrs["compute_seconds"] > 0
+    assert attrs["chunks"] == 2 and attrs["rtol"] == 1e-12
+    chunks = sorted((run["work"] / "results" / "surface" / "chunks").glob("chunk_*.h5"))
+    assert len(chunks) == 2  # the merge's compute time is the chunks' CPU time
+    seconds = sum(load_dataset(c).attrs["compute_seconds"] for c in chunks)
+    assert attrs["compute_seconds"] == pytest.approx(seconds, rel=1e-12)
     assert len(attrs["history"].splitlines()) == 3  # two chunks and the merge
 
 
