@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import contactalpha as ca
+from contactalpha.engine.codes import END_STATES
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.unloaded import alpha_unloaded_scalar
 from contactalpha.models import closed_form as cf
@@ -89,17 +90,51 @@ def test_shipped_file_records_its_scores():
     assert held["eps_abs_max"] <= 0.025 and held["eps_abs_rms"] <= 0.006
 
 
+def _table_targets(seed, n):
+    """Fit targets (``paper.closedform.compute.surface_targets`` layout) at random points, alpha
+    from the shipped exact table (1e-8): ~1/5 on the small-xi ridge, the rest uniform."""
+    rng = np.random.default_rng(seed)
+    eps = rng.uniform(0.01, 0.99, n)
+    xi = np.r_[10 ** rng.uniform(-5, -2, n // 5), rng.uniform(0.0, 0.99, n - n // 5)]
+    alpha = ca.alpha(eps, xi, model="exact")
+    r = ca.impact(alpha, xi)
+    code = {name: c for c, name in END_STATES.items()}
+    state = np.array([code[s] for s in np.atleast_1d(r.state)])
+    slope = np.asarray(r.deps_dalpha) * alpha
+    held = np.zeros(n, bool)
+    return {"eps": eps, "xi": xi, "alpha": alpha, "state": state, "slope": slope, "holdout": held}
+
+
+# A fresh refit may beat the shipped constants off its points by this much RMS in delivered eps
+# (measured 0.00405 shipped vs 0.00402 refit; shipping n_0 10 % off gives 0.0143 vs 0.0040,
+# s_log 20 % off 0.0083 vs 0.0040).
+REFIT_RMS_MARGIN = 5e-4
+
+
 def test_refit_on_the_coarse_test_surface_agrees_with_the_shipped_constants(coarse_surface):
-    """CI: a refit from the shipped constants on workflow/test-config.yaml's grid is no worse,
-    and the shipped constants deliver the coarse surface's restitution within the shipped level."""
-    t = cc.surface_targets(coarse_surface)
-    t["holdout"][:] = False
+    """CI: the shipped constants are what this code's fit gives.
+
+    The coarse test surface (workflow/test-config.yaml, solved afresh) is delivered within the
+    issue's max target with every end state; a refit from the shipped constants on it plus 400
+    random points (12 grid points cannot pin 19 constants) is no better than the shipped
+    constants, by ``REFIT_RMS_MARGIN``, on 400 other random points held out of the fit.
+    """
+    coarse = cc.surface_targets(coarse_surface)
+    coarse["holdout"][:] = False
     shipped = cf.load_constants()["constants"]
-    fit = cc.fit_closed_form(t, shipped, max_nfev=50)
-    before = cc.judge(cf.alpha_closed_form(t["eps"], t["xi"], shipped), t)
-    after = cc.judge(cf.alpha_closed_form(t["eps"], t["xi"], fit.values()), t)
-    assert before["eps_abs_max"] <= 0.025 and before["state_agreement"] >= 0.9
-    assert after["eps_abs_rms"] <= before["eps_abs_rms"] + 1e-4
+    on_grid = cc.judge(cf.alpha_closed_form(coarse["eps"], coarse["xi"], shipped), coarse)
+    assert on_grid["eps_abs_max"] <= cc.TARGETS["eps_abs_max"] and on_grid["state_agreement"] == 1.0
+
+    extra = _table_targets(1, 400)
+    fit_set = {k: np.r_[coarse[k], extra[k]] for k in coarse}
+    fit = cc.fit_closed_form(fit_set, shipped, max_nfev=40)
+    held = _table_targets(2, 400)
+    scores = [
+        cc.judge(cf.alpha_closed_form(held["eps"], held["xi"], c), held)
+        for c in (shipped, fit.extra["constants"])
+    ]
+    assert scores[0]["eps_abs_rms"] <= scores[1]["eps_abs_rms"] + REFIT_RMS_MARGIN
+    assert scores[0]["state_agreement"] >= scores[1]["state_agreement"] - 0.01
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +143,6 @@ def coarse_surface():
     import xarray as xr
     import yaml
 
-    from contactalpha.engine.codes import END_STATES
     from contactalpha.paper.surface.compute import grid_from_config
 
     root = Path(__file__).resolve().parents[2]
@@ -126,3 +160,15 @@ def coarse_surface():
         },
         coords={"epsilon": eps, "xi": xi},
     )
+
+
+def test_a_fit_with_some_constants_free_keeps_the_others(coarse_surface):
+    t = cc.surface_targets(coarse_surface)
+    t["holdout"][:] = False
+    shipped = cf.load_constants()["constants"]
+    fit = cc.fit_closed_form(t, shipped, free=("s_xi", "n_0"), max_nfev=20)
+    assert fit.names == ["s_xi", "n_0"]
+    moved = {n for n, v in fit.extra["constants"].items() if v != shipped[n]}
+    assert moved <= {"s_xi", "n_0"} and moved
+    with pytest.raises(ValueError, match="free"):
+        cc.fit_closed_form(t, shipped, free=("s_xi", "nope"))

@@ -85,7 +85,7 @@ def delivered_residuals(t, x):
     return np.clip(np.nan_to_num(eps - t["eps"], nan=RESIDUAL_CLIP), -RESIDUAL_CLIP, RESIDUAL_CLIP)
 
 
-def fit_closed_form(t, start, *, polish_steps=0, max_nfev=MAX_NFEV):
+def fit_closed_form(t, start, *, polish_steps=0, max_nfev=MAX_NFEV, free=None):
     """Fit the closed form's constants to the targets ``t`` not held out.
 
     Parameters
@@ -96,31 +96,50 @@ def fit_closed_form(t, start, *, polish_steps=0, max_nfev=MAX_NFEV):
         Starting constants ``{name: value}`` (e.g. the shipped ones).
     polish_steps : int
         Evaluation budget of the polish on true delivered eps (0: linearised fit only).
+    free : sequence of str, optional
+        The constants fitted (default all ``CONSTANT_NAMES``); the others stay at ``start``.
 
     Returns
     -------
     FitResult
-        ``extra["stage"]`` says which loss gave the constants.
+        ``extra["stage"]`` says which loss gave the constants; ``x`` and ``names`` hold the
+        free constants only, ``extra["constants"]`` all of them (``{name: value}``).
     """
     fit_t = _take(t, ~t["holdout"])
-    x0 = cf.constants_vector(start)
-    names = list(cf.CONSTANT_NAMES)
+    full = cf.constants_vector(start)
+    names = list(cf.CONSTANT_NAMES) if free is None else list(free)
+    unknown = [n for n in names if n not in cf.CONSTANT_NAMES]
+    if unknown or not names:
+        raise ValueError(f"free = {names!r}: not a non-empty list of {list(cf.CONSTANT_NAMES)}")
+    index = np.array([cf.CONSTANT_NAMES.index(n) for n in names])
+
+    def constants(x):
+        c = full.copy()
+        c[index] = x
+        return c
+
+    x0 = full[index]
     fit = least_squares_fit(
-        lambda x: linearised_residuals(fit_t, x), x0, names, "closed form (linearised)", max_nfev=max_nfev
+        lambda x: linearised_residuals(fit_t, constants(x)),
+        x0,
+        names,
+        "closed form (linearised)",
+        max_nfev=max_nfev,
     )
     fit.extra["stage"] = "linearised delivered eps"
     if polish_steps > 0:
         polish = least_squares_fit(
-            lambda x: delivered_residuals(fit_t, x),
+            lambda x: delivered_residuals(fit_t, constants(x)),
             fit.x,
             names,
             "closed form (delivered)",
             max_nfev=polish_steps,
         )
-        if polish.cost < 0.5 * float(np.sum(delivered_residuals(fit_t, fit.x) ** 2)):
+        if polish.cost < 0.5 * float(np.sum(delivered_residuals(fit_t, constants(fit.x)) ** 2)):
             polish.x0 = x0
             polish.extra["stage"] = "delivered eps (polished)"
-            return polish
+            fit = polish
+    fit.extra["constants"] = dict(zip(cf.CONSTANT_NAMES, constants(fit.x).tolist(), strict=True))
     return fit
 
 
@@ -164,7 +183,7 @@ def constants_record(fit, scores, surface_attrs):
     return {
         "format_version": cf.FORMAT_VERSION,
         "description": "closed form for alpha(eps, xi), exact at xi = 0 (models/closed_form.py)",
-        "constants": fit.values(),
+        "constants": fit.extra["constants"],
         "standard_errors": dict(zip(fit.names, fit.se.tolist(), strict=True)),
         "fit": {
             "stage": fit.extra.get("stage"),
