@@ -1,6 +1,7 @@
 """The adequacy stage on workflow/test-config.yaml: its files hold the library's numbers."""
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -9,9 +10,11 @@ import numpy as np
 import pytest
 import yaml
 
-from contactalpha.engine.driver import impact
+import contactalpha
+from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL, impact
 from contactalpha.io import load_dataset, load_surface
 from contactalpha.paper.statements import statements_markdown
+from contactalpha.scene import advisor
 from contactalpha.scene.advisor import cheapest, is_adequate
 from contactalpha.scene.threshold import critical_speed
 from contactalpha.studies.adequacy import maps, report
@@ -73,10 +76,22 @@ def test_cheapest_map_is_reproducible_from_the_file(work):
 
 def test_maps_carry_provenance(work, config):
     attrs = load_dataset(work / "results" / "adequacy" / "maps.h5").attrs
+    surface = load_surface(work / "results" / "surface.h5").attrs
     assert json.loads(attrs["config"]) == {"adequacy": {"tols": config["tols"], "stride": config["stride"]}}
-    assert attrs["git_commit"] and attrs["contactalpha_version"] and "adequacy maps" in attrs["history"]
-    assert attrs["compute_seconds"] > 0 and attrs["grid_fraction"] == 1.0 and attrs["cost_tie"] > 1
-    assert attrs["rtol"] > 0 and attrs["atol"] > 0
+    # The version, commit and history of the run that made them, not merely non-empty strings.
+    assert attrs["contactalpha_version"] == contactalpha.__version__
+    assert attrs["surface_git_commit"] == surface["git_commit"]
+    assert re.fullmatch(r"[0-9a-f]{40}(\+dirty)?|unknown", attrs["git_commit"])
+    assert re.fullmatch(r"\S+Z adequacy maps \(contactalpha .+\)", attrs["history"])
+    assert attrs["surface_config"] == surface["config"] and attrs["grid_fraction"] == 1.0
+    # The integrator and cost settings the maps were made with: the engine's and the advisor's.
+    assert (attrs["rtol"], attrs["atol"], attrs["max_steps"]) == (RTOL, ATOL, MAX_STEPS)
+    assert (attrs["cost_points"], attrs["cost_repeats"], attrs["cost_tie"]) == (
+        advisor.COST_POINTS,
+        advisor.COST_REPEATS,
+        advisor.COST_TIE,
+    )
+    assert attrs["compute_seconds"] > 0
 
 
 def test_statements_and_summary_are_the_maps_verdicts(work, config):
