@@ -1,5 +1,8 @@
 """Shen et al.'s closed form and its building blocks (shen.py): identities, oracles, bad input."""
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -100,15 +103,20 @@ def test_damped_sa_is_below_undamped_s1(solved):
 
 
 def test_shen_refit_uses_the_shipped_constants():
-    data = shen.load_refit()
+    # The file itself (read here, not through load_refit), and the model's alpha to the bit.
+    shipped = Path(shen.__file__).parents[1] / "data" / shen.REFIT_FILE
+    data = json.loads(shipped.read_text(encoding="utf-8"))
+    assert shen.load_refit() == data
     assert set(data["constants"]) == set(shen.PUBLISHED)
     assert data["reading"] in shen.READINGS
     c = {**shen.PUBLISHED, **data["constants"]}
-    assert models.alpha(0.4, 0.3, model="shen_refit") == pytest.approx(
-        shen.eq40(0.4, 0.3, c, data["reading"])
-    )
-    assert models.alpha(0.4, 0.0, model="shen_refit") == pytest.approx(
-        shen.zero_load(0.4, data["zero_load_exp"])
+    assert c != shen.PUBLISHED  # the refit moved the constants: a model on PUBLISHED would differ
+    eps = np.array([0.05, 0.4, 0.9])
+    refit = models.alpha(eps, 0.3, model="shen_refit")
+    assert np.array_equal(refit, shen.eq40(eps, 0.3, c, data["reading"]))
+    assert not np.array_equal(refit, models.alpha(eps, 0.3, model="shen_published"))
+    assert np.array_equal(
+        models.alpha(eps, 0.0, model="shen_refit"), shen.zero_load(eps, data["zero_load_exp"])
     )
 
 
