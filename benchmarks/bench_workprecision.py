@@ -19,6 +19,7 @@ from pathlib import Path
 
 import yaml
 
+from contactalpha.config import settings_from
 from contactalpha.paper.bench import report as br
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -37,7 +38,7 @@ def main(argv=None):
     )
     args = p.parse_args(argv)
     config = ROOT / ("workflow/test-config.yaml" if args.quick else "config.yaml")
-    cfg = yaml.safe_load(config.read_text())["bench"]
+    settings = settings_from(br.BenchSettings, yaml.safe_load(config.read_text())["bench"])
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
@@ -47,15 +48,15 @@ def main(argv=None):
 
     log(f"settings from {config.relative_to(ROOT)}; machine: {br.machine_info()}")
     if args.only in (None, "workprecision"):
-        br.run_workprecision(cfg, out / "reference.csv", out / "workprecision.csv", log=log)
+        br.run_workprecision(settings, out / "reference.csv", out / "workprecision.csv", log=log)
     if args.only in (None, "failures"):
-        br.run_failures(cfg, out / "failure_map.csv", out / "failure_counts.csv", log=log)
+        br.run_failures(settings, out / "failure_map.csv", out / "failure_counts.csv", log=log)
     if args.only in (None, "scaling"):
-        br.run_scaling(cfg, out / "scaling.json", log=log)
+        br.run_scaling(settings, out / "scaling.json", log=log)
     if args.only in (None, "report"):
         br.run_figures(out)
         text = br.run_summary(
-            cfg,
+            settings,
             out / "reference.csv",
             out / "workprecision.csv",
             out / "failure_counts.csv",

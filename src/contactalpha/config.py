@@ -9,6 +9,9 @@ off the surface grid, and model names that are not registered.
 """
 
 import math
+import typing
+from collections.abc import Mapping
+from dataclasses import fields, is_dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +22,45 @@ from contactalpha.paper.surface.compute import check_surface_config, grid_from_c
 
 # Section name -> check of that section alone; stages add theirs here.
 SECTION_CHECKS = {"surface": check_surface_config}
+
+
+def settings_from(cls, section, ignore=()):
+    """The settings object ``cls`` (a dataclass) of one config section: what a workflow script calls.
+
+    A key absent from ``section`` takes the class's default (which is the schema's); a sub-section
+    whose field is itself a settings dataclass is built the same way; lists become tuples.
+
+    Parameters
+    ----------
+    cls : type
+        A dataclass whose fields are the section's keys.
+    section : Mapping
+        The config section, or Snakemake's ``params`` (anything with ``items()``).
+    ignore : sequence of str
+        Keys of ``section`` that are not settings (e.g. a rule's ``code_version``).
+
+    Raises
+    ------
+    ValueError
+        Naming the keys that ``cls`` does not have, and the valid ones.
+    """
+    section = dict(section.items())
+    names = [f.name for f in fields(cls)]
+    unknown = sorted(set(section) - set(names) - set(ignore))
+    if unknown:
+        raise ValueError(f"{cls.__name__}: unknown setting(s) {unknown}; valid: {', '.join(names)}")
+    hints = typing.get_type_hints(cls)
+    kwargs = {}
+    for name in names:
+        if name not in section:
+            continue
+        value = section[name]
+        if is_dataclass(hints[name]) and isinstance(value, Mapping):
+            value = settings_from(hints[name], value)
+        elif isinstance(value, list):
+            value = tuple(value)
+        kwargs[name] = value
+    return cls(**kwargs)
 
 
 def read_yaml(path):

@@ -2,25 +2,26 @@
 
 Settings (snakemake.params): scene (mass, radius, stiffness, approach_speed, gravity),
 cases (eps, force, t_end, variants), new_model (preference list), numerics (rtol, atol,
-max_step, flight_samples).
+max_step, flight_samples). Built into paper.ball.study.BallSettings.
 Inputs: none.
 Outputs: case_a, case_b (netCDF4/HDF5 runs with time series and per-contact ledger),
 summary (markdown: counts, end states, counting rule, skipped models); all written atomically.
 """
 
-from dataclasses import replace
+from dataclasses import asdict, replace
 
+from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.paper.ball.report import cases_markdown
-from contactalpha.paper.ball.study import default_scene, run_cases
+from contactalpha.paper.ball.study import BallSettings, default_scene, run_cases
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("ball_cases", sm.log[0])
 p = sm.params
-cases = p.cases
-scene = replace(default_scene(p.scene), force=cases["force"], eps=cases["eps"], t_end=cases["t_end"])
-config = {"ball": {"scene": p.scene, "cases": cases, "new_model": p.new_model, "numerics": p.numerics}}
-out = run_cases(scene, p.new_model, cases["variants"], config=config, **p.numerics)
+s = settings_from(BallSettings, p, ignore=["shipped_refit"])
+scene = replace(default_scene(s.scene), force=s.cases.force, eps=s.cases.eps, t_end=s.cases.t_end)
+config = {"ball": {"scene": p.scene, "cases": p.cases, "new_model": p.new_model, "numerics": p.numerics}}
+out = run_cases(scene, list(s.new_model), list(s.cases.variants), config=config, **asdict(s.numerics))
 write_dataset_atomic(out["A"], sm.output.case_a)
 write_dataset_atomic(out["B"], sm.output.case_b)
 write_text_atomic(sm.output.summary, cases_markdown([out["A"], out["B"], *out["variants"]], out["skipped"]))

@@ -2,31 +2,38 @@
 
 Settings (snakemake.params): scene (mass, radius, stiffness, approach_speed, gravity),
 first_collision (forces, eps, classical, reference), new_model (preference list),
-numerics (rtol, atol, max_step).
+numerics (rtol, atol, max_step). Built into paper.ball.study.BallSettings.
 Inputs: none.
 Outputs: data (netCDF4/HDF5: per-run results and contact paths), table (markdown: post-restitution
 eps and end state of every combination); written atomically.
 """
 
+from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.paper.ball.report import first_collision_table
-from contactalpha.paper.ball.study import default_scene, run_first_collision
+from contactalpha.paper.ball.study import BallSettings, default_scene, run_first_collision
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("ball_first", sm.log[0])
 p = sm.params
-first = p.first_collision
-numerics = {k: p.numerics[k] for k in ("rtol", "atol", "max_step")}
+s = settings_from(BallSettings, p, ignore=["shipped_refit"])
+first = s.first_collision
+numerics = {k: getattr(s.numerics, k) for k in ("rtol", "atol", "max_step")}
 config = {
-    "ball": {"scene": p.scene, "first_collision": first, "new_model": p.new_model, "numerics": numerics}
+    "ball": {
+        "scene": p.scene,
+        "first_collision": p.first_collision,
+        "new_model": p.new_model,
+        "numerics": numerics,
+    }
 }
 ds = run_first_collision(
-    default_scene(p.scene),
-    first["forces"],
-    first["eps"],
-    first["classical"],
-    p.new_model,
-    first["reference"],
+    default_scene(s.scene),
+    list(first.forces),
+    list(first.eps),
+    list(first.classical),
+    list(s.new_model),
+    list(first.reference),
     config=config,
     **numerics,
 )

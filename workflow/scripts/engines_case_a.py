@@ -2,14 +2,16 @@
 
 Settings (snakemake.params): scene (the ball), cases (eps, force, t_end of Sect. 6), model
 (alpha model per impact), settings (OpenSim drop keywords: accuracy, per_tstar, window).
+Built into studies.engines.compute.EnginesSettings.
 Inputs: none.
 Outputs: case_A_opensim.nc (per-contact ledgers, counts and rest times in the attributes).
 """
 
 from dataclasses import replace
 
+from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic
-from contactalpha.studies.engines.compute import case_a, scene_from_config
+from contactalpha.studies.engines.compute import EnginesSettings, case_a, scene_from_config
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("engines_case_a", sm.log[0])
@@ -21,7 +23,8 @@ config = {
     "ball": {"scene": p.scene, "cases": p.cases},
     "engines": {"case_a_model": p.model, "opensim": p.settings},
 }
-ds = case_a(scene, p.model, dict(p.settings), config)
+s = settings_from(EnginesSettings, config["engines"])
+ds = case_a(scene, s.case_a_model, s.opensim, config)
 write_dataset_atomic(ds, sm.output[0])
 a = ds.attrs
 log.info(

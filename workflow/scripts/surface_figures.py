@@ -2,7 +2,8 @@
 
 Each named figure output (fig4, fig5, end_states) is a (png, pdf) pair; one job draws several,
 so that they share one Python start-up and one set of imports.
-Settings (snakemake.params.figures, for fig5 and summary): section_xi, eq26 (tau, sigma, beta).
+Settings (snakemake.params.figures, for fig5 and summary): section_xi, eq26 (tau, sigma, beta)
+(paper.surface.compute.SurfaceFigureSettings).
 Inputs: surface (results/surface.h5); chunks (the chunk files, for the summary's timings).
 Outputs: the figures and, if named, summary (markdown: grid, timings, end states, failures),
 written atomically.
@@ -10,7 +11,9 @@ written atomically.
 
 from functools import cache
 
+from contactalpha.config import settings_from
 from contactalpha.io import load_surface, load_surface_chunk, script_logger, write_text_atomic
+from contactalpha.paper.surface.compute import SurfaceFigureSettings
 from contactalpha.paper.surface.figures import plot_alpha_surface, plot_end_states, plot_section
 from contactalpha.paper.surface.report import surface_summary
 from contactalpha.plotting import save_figure
@@ -24,9 +27,12 @@ def surface():
     return load_surface(sm.input.surface)
 
 
+def figures():
+    return settings_from(SurfaceFigureSettings, sm.params.figures)
+
+
 def section():
-    figures = sm.params.figures
-    return plot_section(surface(), figures["section_xi"], **figures["eq26"])
+    return plot_section(surface(), figures().section_xi, **figures().eq26)
 
 
 DRAW = {
@@ -36,9 +42,8 @@ DRAW = {
 }
 for name in sm.output.keys():
     if name == "summary":
-        figures = sm.params.figures
         chunks = [load_surface_chunk(p) for p in sm.input.chunks]
-        text = surface_summary(surface(), chunks, section_xi=figures["section_xi"], eq26=figures["eq26"])
+        text = surface_summary(surface(), chunks, section_xi=figures().section_xi, eq26=figures().eq26)
         write_text_atomic(sm.output.summary, text)
         log.info(f"wrote {sm.output.summary}")
         continue

@@ -13,7 +13,7 @@ registered name of a preference list and says what it skipped.
 """
 
 import json
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 import xarray as xr
@@ -45,6 +45,7 @@ from contactalpha.scene.ball import (
     CONTACT,
     CONTACT_MAX_STEP,
     FLIGHT,
+    ContactNumerics,
     Scene,
     contact_alpha,
     damping_work_reference,
@@ -282,15 +283,55 @@ def state_names(codes):
     return np.vectorize(lambda c: end_state_name(c) if np.isfinite(c) else "failed", otypes=[object])(codes)
 
 
+# The keys of the ``ball.scene`` section: the ``Scene`` fields that are not set per case.
+SCENE_KEYS = ("mass", "radius", "stiffness", "approach_speed", "gravity")
+
+
+@dataclass(frozen=True)
+class CaseSettings:
+    """Cases A and B of Figs. 11-12: the ``ball.cases`` section (eps, force, t_end: ``Scene``'s).
+
+    ``variants`` are the models case A is also run with (names not registered are skipped).
+    """
+
+    eps: float = Scene.eps
+    force: float = Scene.force
+    t_end: float = Scene.t_end
+    variants: tuple = ("shen_published", "shen_refit", "exact")
+
+
+@dataclass(frozen=True)
+class FirstCollisionSettings:
+    """The first collision of Figs. 13-21: the ``ball.first_collision`` section.
+
+    One figure per force (N) and kind, one panel per ``eps``; ``classical`` models beside the new
+    one, and the exact ``reference`` as a preference list (the first registered name is used).
+    """
+
+    forces: tuple = (0.1, 60.0, 495.0)
+    eps: tuple = (0.3, 0.5, 0.7, 0.9)
+    classical: tuple = ("hunt_crossley", "flores", "hu_guo")
+    reference: tuple = ("exact", "exact_solve")
+
+
+@dataclass(frozen=True)
+class BallSettings:
+    """The ball stage's settings: the workflow's ``ball`` section.
+
+    ``scene`` holds the ``SCENE_KEYS`` of ``Scene`` (``default_scene`` builds it); ``new_model`` is
+    the paper's new model as a preference list (``resolve_model``).
+    """
+
+    scene: dict = field(default_factory=lambda: {k: getattr(Scene, k) for k in SCENE_KEYS})
+    new_model: tuple = ("shen_published", "shen_zero_load")
+    cases: CaseSettings = field(default_factory=CaseSettings)
+    first_collision: FirstCollisionSettings = field(default_factory=FirstCollisionSettings)
+    numerics: ContactNumerics = field(default_factory=ContactNumerics)
+
+
 def default_scene(section):
     """``Scene`` from the ``ball.scene`` config section (mass, radius, stiffness, approach_speed, gravity)."""
-    return Scene(
-        mass=section["mass"],
-        radius=section["radius"],
-        stiffness=section["stiffness"],
-        approach_speed=section["approach_speed"],
-        gravity=section["gravity"],
-    )
+    return Scene(**{k: section[k] for k in SCENE_KEYS})
 
 
 def ledger_closure(ds):

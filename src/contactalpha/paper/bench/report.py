@@ -11,17 +11,76 @@ import json
 import os
 import platform
 import re
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from contactalpha.io import json_text, write_atomic, write_json_atomic, write_text_atomic
+from contactalpha.io import json_text, jsonable, write_atomic, write_json_atomic, write_text_atomic
 from contactalpha.paper.bench import workprecision
 from contactalpha.plotting import new_figure, save_figure
 from contactalpha.provenance import result_attrs, settings_fingerprint
 
-from .workprecision import CATEGORIES, METHODS, REGIMES, cost_to_reach
+from .workprecision import CATEGORIES, METHODS, REGIMES, SCIPY_MAX_NFEV, SCIPY_METHODS, cost_to_reach
+
+
+@dataclass(frozen=True)
+class FailureSettings:
+    """The failure maps' grids and settings: the workflow's ``bench.failure`` section.
+
+    Engine and RK4 run on the fine ``eps x xi`` grid, the SciPy methods (10 ms to 10 s a solve)
+    on the coarse ``eps_coarse x xi_coarse`` one; every adaptive method at ``rtol``, RK4 with
+    step ``rk4_step`` (scaled time).
+    """
+
+    rtol: float = 1e-8
+    rk4_step: float = 1e-3
+    eps: tuple = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99)
+    # Dense below 0.01 for the stiff ridge at small xi.
+    xi: tuple = (0.0, 1e-4, 3e-4, 1e-3, 3e-3, 0.005, 0.01, 0.03, 0.1, 0.2, 0.4, 0.6, 0.8, 0.9, 0.95, 0.99)
+    eps_coarse: tuple = (0.01, 0.1, 0.5, 0.9)
+    xi_coarse: tuple = (0.0, 0.005, 0.1, 0.5, 0.9, 0.99)
+
+
+@dataclass(frozen=True)
+class ScalingSettings:
+    """The scaling study's settings: the workflow's ``bench.scaling`` section.
+
+    ``sizes`` (approximate square-grid sizes timed), ``thread_points`` (the 1- against 2-thread
+    grid), ``stiff_xi`` (load of the cost-against-alpha runs), ``alphas`` (the engine's damping
+    factors there), ``scipy_methods``, ``scipy_rtol`` and ``scipy_alphas`` (SciPy's runs), and
+    ``alpha_fit_min`` (smallest alpha in the fit nfev = c alpha^p).
+    """
+
+    sizes: tuple = (100, 1000, 10000, 100000)
+    thread_points: int = 10000
+    stiff_xi: float = 0.005
+    # Half-decades from 1 to 1e6.
+    alphas: tuple = (1, 3.16, 10, 31.6, 100, 316, 1000, 3160, 10000, 31600, 100000, 316000, 1000000)
+    scipy_methods: tuple = ("RK45", "Radau")
+    scipy_rtol: float = 1e-8
+    scipy_alphas: tuple = (1, 10, 100, 1000, 10000, 100000)
+    alpha_fit_min: float = 100
+
+
+@dataclass(frozen=True)
+class BenchSettings:
+    """The benchmark stage's settings: the workflow's ``bench`` section.
+
+    ``rtols`` (adaptive methods, atol = ``ATOL_RATIO`` rtol) and ``rk4_steps`` are the settings of
+    the work-precision chart; ``scipy_methods`` the SciPy methods compared, each impact limited to
+    ``scipy_max_nfev`` RHS evaluations; ``failure`` and ``scaling`` the other two studies'.
+    """
+
+    # Decades from 1e-3 to 1e-13.
+    rtols: tuple = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
+    rk4_steps: tuple = (0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005, 0.0002)
+    scipy_methods: tuple = SCIPY_METHODS
+    scipy_max_nfev: int = SCIPY_MAX_NFEV
+    failure: FailureSettings = field(default_factory=FailureSettings)
+    scaling: ScalingSettings = field(default_factory=ScalingSettings)
+
 
 README_START = "<!-- bench:start -->"
 README_END = "<!-- bench:end -->"
@@ -355,15 +414,21 @@ def _write_csv(rows, path):
     write_atomic(path, lambda tmp: pd.DataFrame(rows).to_csv(tmp, index=False))
 
 
+def _fields(settings, names):
+    """The named fields of ``settings`` as plain JSON-ready values (what a checkpoint or a file records)."""
+    return {name: jsonable(asdict(settings)[name]) for name in names}
+
+
 def _read_csv(path):
     return pd.read_csv(path, keep_default_na=True)
 
 
-def method_settings(cfg):
-    """Method name -> settings of the work-precision chart, from the ``bench`` config section."""
-    settings = {"engine": cfg["rtols"], "engine-table": cfg["rtols"], "rk4": cfg["rk4_steps"]}
-    settings.update({f"scipy-{m}": cfg["rtols"] for m in cfg["scipy_methods"]})
-    return settings
+def method_settings(settings):
+    """Method name -> its settings on the work-precision chart (rtols or RK4 steps) of ``BenchSettings``."""
+    rtols, steps = list(settings.rtols), list(settings.rk4_steps)
+    out = {"engine": rtols, "engine-table": rtols, "rk4": steps}
+    out.update({f"scipy-{m}": rtols for m in settings.scipy_methods})
+    return out
 
 
 def checkpoint(path, settings, log=print):
@@ -400,10 +465,11 @@ def checkpoint(path, settings, log=print):
     return done, save, path
 
 
-def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
+def run_workprecision(settings, reference_csv, workprecision_csv, log=print):
     """References of every regime, then error against cost of every method and setting.
 
-    Long: each (regime, method) block is appended to ``<table>.partial`` as it
+    ``settings`` is a ``BenchSettings``: its ``rtols``, ``rk4_steps``, ``scipy_methods`` and
+    ``scipy_max_nfev`` are used.  Long: each (regime, method) block is appended to ``<table>.partial`` as it
     finishes, and a rerun after an interruption (same settings) skips blocks
     found there; the file is removed when the table is written.
     """
@@ -412,15 +478,15 @@ def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
         log(f"reference {r['regime']}: alpha = {r['alpha']:.15g}, spread {r['spread']:.2e}")
     _write_csv(refs, reference_csv)
     keys = ("rtols", "rk4_steps", "scipy_methods", "scipy_max_nfev")
-    rows, save, partial = checkpoint(workprecision_csv, {k: cfg[k] for k in keys}, log)
+    rows, save, partial = checkpoint(workprecision_csv, _fields(settings, keys), log)
     done = {(r["regime"], r["method"]) for r in rows}
     for ref in refs:
-        for method, values in method_settings(cfg).items():
+        for method, values in method_settings(settings).items():
             if (ref["regime"], method) in done:
                 log(f"{ref['regime']} {method}: taken from {partial.name}")
                 continue
             part = workprecision.work_precision(
-                ref["eps"], ref["xi"], ref["alpha"], {method: values}, max_nfev=cfg["scipy_max_nfev"]
+                ref["eps"], ref["xi"], ref["alpha"], {method: values}, max_nfev=settings.scipy_max_nfev
             )
             part = [{"regime": ref["regime"], **r} for r in part]
             save(part)
@@ -433,21 +499,26 @@ def run_workprecision(cfg, reference_csv, workprecision_csv, log=print):
     partial.unlink(missing_ok=True)
 
 
-def run_failures(cfg, failure_csv, counts_csv, log=print):
-    """Failure maps: engine and RK4 on the fine grid, the SciPy methods on the coarse one."""
-    f = cfg["failure"]
-    plan = [(m, f["rtol"], f["eps"], f["xi"]) for m in ("engine", "engine-table")]
-    plan += [("rk4", f["rk4_step"], f["eps"], f["xi"])]
-    plan += [(f"scipy-{m}", f["rtol"], f["eps_coarse"], f["xi_coarse"]) for m in cfg["scipy_methods"]]
+def run_failures(settings, failure_csv, counts_csv, log=print):
+    """Failure maps: engine and RK4 on the fine grid, the SciPy methods on the coarse one.
+
+    ``settings`` is a ``BenchSettings``: its ``failure``, ``scipy_methods`` and ``scipy_max_nfev``
+    are used.
+    """
+    f = settings.failure
+    fine, coarse = (list(f.eps), list(f.xi)), (list(f.eps_coarse), list(f.xi_coarse))
+    plan = [(m, f.rtol, *fine) for m in ("engine", "engine-table")]
+    plan += [("rk4", f.rk4_step, *fine)]
+    plan += [(f"scipy-{m}", f.rtol, *coarse) for m in settings.scipy_methods]
     keys = ("failure", "scipy_methods", "scipy_max_nfev")
-    rows, save, partial = checkpoint(failure_csv, {k: cfg[k] for k in keys}, log)
+    rows, save, partial = checkpoint(failure_csv, _fields(settings, keys), log)
     counts = []
     for method, setting, eps, xi in plan:
         part = [r for r in rows if r["method"] == method]
         if part:
             log(f"failures {method}: taken from {partial.name}")
         else:
-            part = workprecision.failure_rows(method, setting, eps, xi, max_nfev=cfg["scipy_max_nfev"])
+            part = workprecision.failure_rows(method, setting, eps, xi, max_nfev=settings.scipy_max_nfev)
             save(part)
             rows += part
         n = workprecision.category_counts([workprecision.CATEGORIES.index(r["category"]) for r in part])
@@ -461,52 +532,61 @@ def run_failures(cfg, failure_csv, counts_csv, log=print):
     partial.unlink(missing_ok=True)
 
 
-def run_scaling(cfg, scaling_json, log=print):
-    """Scaling study (``workprecision.scaling_study``) plus the machine, as JSON."""
-    s = cfg["scaling"]
+def run_scaling(settings, scaling_json, log=print):
+    """Scaling study (``workprecision.scaling_study``) plus the machine, as JSON.
+
+    ``settings`` is a ``BenchSettings``: its ``scaling`` is used (and recorded).
+    """
+    s = settings.scaling
+    alphas, scipy_alphas = list(s.alphas), list(s.scipy_alphas)
     runs = {
-        f"engine ξ={s['stiff_xi']:g}": ("engine", 1e-12, s["stiff_xi"], s["alphas"]),
-        "engine ξ=0": ("engine", 1e-12, 0.0, s["alphas"]),
+        f"engine ξ={s.stiff_xi:g}": ("engine", 1e-12, s.stiff_xi, alphas),
+        "engine ξ=0": ("engine", 1e-12, 0.0, alphas),
     }
-    for m in s["scipy_methods"]:
-        runs[f"scipy-{m} ξ={s['stiff_xi']:g}"] = (
-            f"scipy-{m}",
-            s["scipy_rtol"],
-            s["stiff_xi"],
-            s["scipy_alphas"],
-        )
+    for m in s.scipy_methods:
+        runs[f"scipy-{m} ξ={s.stiff_xi:g}"] = (f"scipy-{m}", s.scipy_rtol, s.stiff_xi, scipy_alphas)
     eps = np.round(np.arange(1, 100) * 0.01, 2)
     xi = np.unique(np.concatenate([np.round(np.arange(0, 100) * 0.01, 2), np.geomspace(1e-5, 1e-2, 25)]))
-    out = workprecision.scaling_study(s["sizes"], s["thread_points"], runs, s["alpha_fit_min"], eps, xi)
+    out = workprecision.scaling_study(list(s.sizes), s.thread_points, runs, s.alpha_fit_min, eps, xi)
     out["machine"] = machine_info()
     out["ridge_grid"] = f"{eps.size} x {xi.size} (the surface stage's default grid)"
-    out.update(result_attrs(cfg, "bench: scaling"))
+    out.update(result_attrs(_fields(settings, ("scaling",)), "bench: scaling"))
     log(f"scaling: grid exponent {out['grid_fit']['exponent']:.3f}, ridge {out['ridge']}")
     write_json_atomic(scaling_json, out)
 
 
-def grid_description(cfg):
-    """Text naming the failure-map grids."""
-    f = cfg["failure"]
-    fine = f"{len(f['eps'])} × {len(f['xi'])} points for engine and rk4"
-    coarse = f"{len(f['eps_coarse'])} × {len(f['xi_coarse'])} for SciPy"
+def grid_description(settings):
+    """Text naming the failure-map grids of ``settings`` (a ``BenchSettings``)."""
+    f = settings.failure
+    fine = f"{len(f.eps)} × {len(f.xi)} points for engine and rk4"
+    coarse = f"{len(f.eps_coarse)} × {len(f.xi_coarse)} for SciPy"
     return (
-        f"{fine}, {coarse}; ε ∈ {{{', '.join(f'{e:g}' for e in f['eps_coarse'])}}}, "
-        f"ξ ∈ {{{', '.join(f'{x:g}' for x in f['xi_coarse'])}}} on the coarse grid; "
-        f"SciPy's step limit is {cfg['scipy_max_nfev']:,} RHS evaluations per impact"
+        f"{fine}, {coarse}; ε ∈ {{{', '.join(f'{e:g}' for e in f.eps_coarse)}}}, "
+        f"ξ ∈ {{{', '.join(f'{x:g}' for x in f.xi_coarse)}}} on the coarse grid; "
+        f"SciPy's step limit is {settings.scipy_max_nfev:,} RHS evaluations per impact"
     )
 
 
 def run_summary(
-    cfg, reference_csv, workprecision_csv, counts_csv, scaling_json, summary_md, readme=None, failure_csv=None
+    settings,
+    reference_csv,
+    workprecision_csv,
+    counts_csv,
+    scaling_json,
+    summary_md,
+    readme=None,
+    failure_csv=None,
 ):
-    """Write the generated markdown and, if ``readme`` is given, put it between the README markers."""
+    """Write the generated markdown and, if ``readme`` is given, put it between the README markers.
+
+    ``settings`` is a ``BenchSettings``: its ``failure`` grids and ``scipy_max_nfev`` are named.
+    """
     wp = _read_csv(workprecision_csv)
     refs = _read_csv(reference_csv)
     counts = _read_csv(counts_csv).to_dict("records")
     scaling = json.loads(Path(scaling_json).read_text())
     failures = None if failure_csv is None else _read_csv(failure_csv)
-    text = summary_markdown(wp, refs, counts, scaling, grid_description(cfg), failures)
+    text = summary_markdown(wp, refs, counts, scaling, grid_description(settings), failures)
     write_text_atomic(summary_md, text)
     if readme is not None:
         fill_readme(readme, text)

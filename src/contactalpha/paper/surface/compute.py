@@ -14,7 +14,7 @@ cannot (unsorted values, ranges that do not fit their step).
 
 import hashlib
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +43,7 @@ from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.solver import EPS_TOL, solve_table
 from contactalpha.engine.table import DEFAULT_FILE, table_arrays
 from contactalpha.io import json_text
+from contactalpha.models.shen import EQ26_PUBLISHED
 from contactalpha.provenance import git_commit, history_line
 from contactalpha.validation import check_eps, check_xi
 from contactalpha.version import __version__
@@ -72,6 +73,49 @@ class SolverSettings:
     rtol: float = RTOL
     atol: float = ATOL
     max_steps: int = MAX_STEPS
+
+
+@dataclass(frozen=True)
+class SurfaceFigureSettings:
+    """Settings of Fig. 5 and the summary's section: the workflow's ``surface.figures`` section.
+
+    ``section_xi`` is the xi of the alpha(eps) section (the paper's Fig. 5 uses 0.2; it must be on
+    the grid); ``eq26`` the constants ``tau``, ``sigma``, ``beta`` of Eq. 26 drawn beside it
+    (the paper's, ``shen.EQ26_PUBLISHED``).
+    """
+
+    section_xi: float = 0.2
+    eq26: dict = field(default_factory=lambda: dict(EQ26_PUBLISHED))
+
+
+@dataclass(frozen=True)
+class SurfaceSettings:
+    """The surface stage's settings: the workflow's ``surface`` section (defaults: the paper's Fig. 4 grid).
+
+    ``epsilon`` and ``xi`` are the grid specs read by ``grid_from_config`` (``range`` with
+    ``start, stop, step``; for xi also ``log_range`` with ``start, stop, num``; extra ``values``;
+    an axis is the sorted union of its parts).  ``chunks`` is the number of jobs (it changes no bit).
+    """
+
+    epsilon: dict = field(
+        default_factory=lambda: {"range": {"start": 0.01, "stop": 0.99, "step": 0.01}, "values": []}
+    )
+    # The log-spaced columns resolve the steep ridge at small eps, 1e-4 < xi < 1e-2
+    # (docs/science.md, "Shape of the surface").
+    xi: dict = field(
+        default_factory=lambda: {
+            "range": {"start": 0.0, "stop": 0.99, "step": 0.01},
+            "log_range": {"start": 1e-5, "stop": 0.01, "num": 25},
+            "values": [],
+        }
+    )
+    solver: SolverSettings = field(default_factory=SolverSettings)
+    chunks: int = 2
+    figures: SurfaceFigureSettings = field(default_factory=SurfaceFigureSettings)
+
+    def grid(self):
+        """The ``(eps, xi)`` grid (``grid_from_config``)."""
+        return grid_from_config({"epsilon": self.epsilon, "xi": self.xi})
 
 
 SOLVER_NAME = "contactalpha.solve_alpha: Newton on ln eps vs ln alpha, DOP853 impacts, exact at xi = 0"

@@ -5,7 +5,7 @@ generated statements (``paper.statements`` types), the xi_ignore(eps; tol) and a
 tables, and the physical bounce threshold of typical scenes next to PhysX's default.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
@@ -14,7 +14,7 @@ from contactalpha.engine.scaling import influence_factor
 from contactalpha.paper.statements import Statement, not_checked, verdict
 from contactalpha.scene.advisor import XI_LEVELS, xi_level
 from contactalpha.scene.threshold import boundary_load, boundary_load_fit, speed_for_load
-from contactalpha.studies.adequacy.maps import NONE_ADEQUATE
+from contactalpha.studies.adequacy.maps import NONE_ADEQUATE, StrideSettings
 from contactalpha.validation import check_positive, check_range
 
 # Upper end of the paper's "small" level of xi (Sect. 3), from the advisor's one table of levels.
@@ -126,6 +126,58 @@ def cheapest_shares(ds):
         counts = np.bincount(codes, minlength=len(names))
         out[float(t)] = {n: counts[i] / best.size for i, n in enumerate(names) if counts[i]}
     return out
+
+
+# Typical scenes of the physical bounce-threshold table: a sphere of ``radius`` (m) and effective
+# ``mass`` (kg) on a half space of effective modulus E* (Pa), pressed with ``accel`` (m/s^2).
+TYPICAL_SCENES = (
+    {
+        "name": "steel ball on steel",
+        "eps": 0.9,
+        "mass": 0.0329,
+        "radius": 0.01,
+        "modulus": 1.154e11,
+        "accel": 9.81,
+        "source": "20 mm bearing ball, 7850 kg/m³; E = 210 GPa, ν = 0.3 on both sides, "
+        "E* = E / (2 (1 − ν²)); ε = 0.9 assumed",
+    },
+    {
+        "name": "rubber ball on concrete",
+        "eps": 0.8,
+        "mass": 0.1244,
+        "radius": 0.03,
+        "modulus": 6.67e6,
+        "accel": 9.81,
+        "source": "solid rubber, 60 mm, 1100 kg/m³; E = 5 MPa, ν = 0.5, rigid ground: "
+        "E* = E / (1 − ν²); ε = 0.8 assumed",
+    },
+    {
+        "name": "robot foot",
+        "eps": 0.3,
+        "mass": 1.0,
+        "radius": 0.02,
+        "modulus": 1.33e7,
+        "accel": 39.8,
+        "source": "1 kg effective leg mass, 20 mm rubber foot, E = 10 MPa, ν = 0.5 on rigid ground; "
+        "a = g + 30 N leg force / 1 kg (about a quarter of a 12 kg quadruped's weight); ε = 0.3 assumed",
+    },
+)
+
+
+@dataclass(frozen=True)
+class AdequacySettings:
+    """The adequacy stage's settings: the workflow's ``adequacy`` section.
+
+    ``tols`` (delivered-eps tolerances of adequacy), ``stride`` (the mapped subgrid),
+    ``report_eps`` (rows of the xi_ignore table), ``vcrit_eps`` (where the exact separation
+    boundary is solved for the v_crit figure), ``scenes`` (``scene_thresholds``'s records).
+    """
+
+    tols: tuple = (0.01, 0.05)
+    stride: StrideSettings = field(default_factory=StrideSettings)
+    report_eps: tuple = (0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9)
+    vcrit_eps: tuple = (0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99)
+    scenes: tuple = TYPICAL_SCENES
 
 
 def hertz_stiffness(radius, modulus):

@@ -23,7 +23,7 @@ model of what it computes.
 """
 
 import time
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 import xarray as xr
@@ -76,6 +76,63 @@ RUN_FIELDS = {
 }
 
 
+@dataclass(frozen=True)
+class OpenSimSettings:
+    """Keywords of ``adapters.opensim_hc.drop_impact`` and ``bounce``: the ``engines.opensim`` section.
+
+    ``accuracy`` of OpenSim's Runge-Kutta-Merson integrator, report times ``per_tstar`` scaled
+    time unit t*, and the ``window`` (in t*) of one measured impact.
+    """
+
+    accuracy: float = opensim_hc.ACCURACY
+    per_tstar: int = opensim_hc.SAMPLES_PER_TSTAR
+    window: float = opensim_hc.WINDOW_TSTAR
+
+
+@dataclass(frozen=True)
+class ExudynSettings:
+    """Keywords of ``adapters.exudyn_contact.drop_impact``: the ``engines.exudyn`` section.
+
+    ``tolerance`` of Exudyn's DOPRI5 (relative; absolute = tolerance delta*), ``steps_per_tstar``
+    (generalized-alpha steps, or DOPRI5's largest step, per t*), ``window`` as for OpenSim.
+    """
+
+    tolerance: float = exudyn_contact.TOLERANCE
+    steps_per_tstar: int = exudyn_contact.STEPS_PER_TSTAR
+    window: float = exudyn_contact.WINDOW_TSTAR
+
+
+@dataclass(frozen=True)
+class EngineGrid:
+    """The round trips' (eps, F) grid on the ball's first impact: the ``engines.grid`` section.
+
+    ``eps`` target Stronge restitutions in (0, 1); ``forces`` constant downward forces, N, >= 0
+    (the first collision's forces of Sect. 6 and case A's 5.1 N).
+    """
+
+    eps: tuple = (0.3, 0.5, 0.7, 0.9)
+    forces: tuple = (0.1, 5.1, 60.0, 495.0)
+
+
+@dataclass(frozen=True)
+class EnginesSettings:
+    """The engines stage's settings: the workflow's ``engines`` section.
+
+    ``eps_tol`` is the largest |eps delivered - target| allowed for a separating impact with our
+    alpha (the issue's 1e-3); ``case_a_model`` the alpha model per impact of case A in OpenSim.
+    """
+
+    grid: EngineGrid = field(default_factory=EngineGrid)
+    eps_tol: float = 1e-3
+    case_a_model: str = "exact"
+    opensim: OpenSimSettings = field(default_factory=OpenSimSettings)
+    exudyn: ExudynSettings = field(default_factory=ExudynSettings)
+
+
+# Engine name -> the type of its drop settings.
+ENGINE_SETTINGS = {"opensim": OpenSimSettings, "exudyn": ExudynSettings}
+
+
 def scene_from_config(scene):
     """``Scene`` of the paper's ball from the ``ball.scene`` config section (force and eps set later)."""
     keys = ("mass", "radius", "stiffness", "approach_speed", "gravity")
@@ -106,7 +163,11 @@ def exact_alpha(scene, eps, force):
 
 
 def run_one(run, scene, eps, force, alpha_exact, settings):
-    """One drop in an engine; returns ``(alpha_applied, engine_input, MeasuredImpact, Samples)``."""
+    """One drop in an engine; returns ``(alpha_applied, engine_input, MeasuredImpact, Samples)``.
+
+    ``settings`` is the engine's ``OpenSimSettings`` or ``ExudynSettings``.
+    """
+    settings = asdict(settings)
     m, r, k, v, g = scene.mass, scene.radius, scene.stiffness, scene.approach_speed, scene.gravity
     if run.startswith("opensim"):
         alpha = alpha_exact if run == "opensim_exact" else float(hunt_crossley(eps))
@@ -132,13 +193,15 @@ def round_trip(engine, scene, eps_values, forces, settings, config=None):
         The ball (its force and eps are replaced by the grid's).
     eps_values, forces : sequence of float
         Target restitutions (each in (0, 1)) and forces F (N, >= 0).
-    settings : dict
-        Keyword arguments of the engine's ``drop_impact`` (accuracy, sampling, window).
+    settings : OpenSimSettings or ExudynSettings
+        The engine's ``drop_impact`` settings (accuracy, sampling, window).
     config : dict, optional
         Recorded in the attributes.
     """
     if engine not in RUNS:
         raise ValueError(f"engine = {engine!r} is outside the valid choices {ENGINES}")
+    if not isinstance(settings, ENGINE_SETTINGS[engine]):
+        raise TypeError(f"{engine} needs {ENGINE_SETTINGS[engine].__name__}, not {type(settings).__name__}")
     versions = {engine: engine_version(engine)}
     runs = list(RUNS[engine])
     eps_values = [float(e) for e in eps_values]
@@ -207,7 +270,7 @@ def round_trip(engine, scene, eps_values, forces, settings, config=None):
         {
             "engine": engine,
             "scene": json_text(asdict(scene)),
-            "settings": json_text(settings, sort_keys=True),
+            "settings": json_text(asdict(settings), sort_keys=True),
             "seconds_total": time.perf_counter() - start,
         }
     )
@@ -267,8 +330,10 @@ def static_checks(scene, forces, engines=ENGINES):
     )
 
 
-def case_a(scene, model="exact", settings=None, config=None):
+def case_a(scene, model="exact", settings=OpenSimSettings(), config=None):
     """Case A of Sect. 6 in OpenSim (dissipation reset per touchdown, and frozen) and in the package.
+
+    ``settings`` (``OpenSimSettings``) are OpenSim's integrator and sampling settings.
 
     Returns
     -------
@@ -276,7 +341,9 @@ def case_a(scene, model="exact", settings=None, config=None):
         Per-contact variables over dims ``contact_opensim``, ``contact_frozen`` and
         ``contact_package``; counts, rest times and run times in the attributes.
     """
-    settings = settings or {}
+    if not isinstance(settings, OpenSimSettings):
+        raise TypeError(f"case A needs OpenSimSettings, not {type(settings).__name__}")
+    settings = asdict(settings)
     start = time.perf_counter()
     engine = opensim_hc.bounce(scene, model, per_impact=True, **settings)
     frozen = opensim_hc.bounce(scene, model, per_impact=False, **settings)
