@@ -161,3 +161,9 @@ def test_shipped_kinematic_table_has_the_default_settings():
 def test_unknown_settings_are_refused():
     with pytest.raises(TypeError):
         TableSettings(refine=3)
+
+
+def test_fig9_eps_range_holds_both_ends_on_round_values():
+    eps = Fig9Settings(eps={"start": 0.1, "stop": 0.9, "step": 0.2}).eps_values()
+    assert eps.tolist() == [0.1, 0.3, 0.5, 0.7, 0.9]
+    assert Fig9Settings().eps_values().tolist() == [round(0.01 * k, 2) for k in range(1, 100)]

@@ -1,7 +1,7 @@
 """Fig. 9: post-restitution eps of each model at each load, the deviation table, the statements, the figure.
 
 Settings (snakemake.params.fig9): xi (panels), models, new_model, reference, eps (start, stop, step),
-rtol, atol.
+rtol, atol (paper.fig9.compute.Fig9Settings).
 Inputs: none.
 Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md, fig9_statements.md,
 and the figure (png, pdf), drawn from the written file.
@@ -9,11 +9,10 @@ and the figure (png, pdf), drawn from the written file.
 
 import time
 
-import numpy as np
-
+from contactalpha.config import settings_from
 from contactalpha.io import json_text, load_dataset, script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.models import MODELS
-from contactalpha.paper.fig9.compute import deviation_table, fig9_statements, post_vs_pre
+from contactalpha.paper.fig9.compute import Fig9Settings, deviation_table, fig9_statements, post_vs_pre
 from contactalpha.paper.fig9.figures import fig9
 from contactalpha.paper.statements import statements_markdown
 from contactalpha.plotting import save_figure
@@ -23,21 +22,20 @@ from contactalpha.version import __version__
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_fig9", sm.log[0])
 p = sm.params.fig9
-missing = [m for m in p["models"] + [p["reference"]] if m not in MODELS]
+s = settings_from(Fig9Settings, p)
+missing = [m for m in (*s.models, s.reference) if m not in MODELS]
 if missing:
     raise SystemExit(f"Fig. 9: model(s) {missing} not registered; known: {sorted(MODELS)}")
-r = p["eps"]
-eps = np.round(np.arange(r["start"], r["stop"] + 0.5 * r["step"], r["step"]), 10)
 start = time.perf_counter()
-ds = post_vs_pre(list(p["models"]) + [p["reference"]], p["xi"], eps, rtol=p["rtol"], atol=p["atol"])
+ds = post_vs_pre([*s.models, s.reference], list(s.xi), s.eps_values(), rtol=s.rtol, atol=s.atol)
 wall = time.perf_counter() - start
 ds.attrs.update(
     config=json_text(dict(p)),
     contactalpha_version=__version__,
     git_commit=git_commit(),
     solver="contactalpha.engine.driver (DOP853, events by change of variable)",
-    rtol=p["rtol"],
-    atol=p["atol"],
+    rtol=s.rtol,
+    atol=s.atol,
     wall_time_s=wall,
     history=history_line("models_fig9: post- versus pre-restitution"),
 )
@@ -50,7 +48,7 @@ write_text_atomic(
     + "\n"
     + footer,
 )
-statements = fig9_statements(ds, new=p["new_model"], reference=p["reference"])
+statements = fig9_statements(ds, new=s.new_model, reference=s.reference)
 write_text_atomic(
     sm.output.statements,
     statements_markdown(statements, "The paper's conclusions about Fig. 9, checked on our numbers") + footer,

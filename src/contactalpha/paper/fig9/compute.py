@@ -43,6 +43,11 @@ class Fig9Settings:
     rtol: float = 1e-12
     atol: float = 1e-14
 
+    def eps_values(self):
+        """The pre-restitution coefficients of the ``eps`` range, ends included (rounded to 10 digits)."""
+        r = self.eps
+        return np.round(np.arange(r["start"], r["stop"] + 0.5 * r["step"], r["step"]), 10)
+
 
 def post_vs_pre(models, xis, eps_pre, *, rtol=Fig9Settings.rtol, atol=Fig9Settings.atol):
     """Post-restitution eps for every (model, xi, eps_pre).

@@ -34,6 +34,7 @@ from contactalpha.engine.driver import impact
 from contactalpha.engine.solver import solve_alpha
 from contactalpha.io import json_text
 from contactalpha.models.registry import hunt_crossley
+from contactalpha.paper.ball.study import SCENE_KEYS
 from contactalpha.provenance import result_attrs
 from contactalpha.scene.ball import Scene, simulate
 from contactalpha.scene.engine_conventions import (
@@ -135,8 +136,7 @@ ENGINE_SETTINGS = {"opensim": OpenSimSettings, "exudyn": ExudynSettings}
 
 def scene_from_config(scene):
     """``Scene`` of the paper's ball from the ``ball.scene`` config section (force and eps set later)."""
-    keys = ("mass", "radius", "stiffness", "approach_speed", "gravity")
-    return Scene(**{k: float(scene[k]) for k in keys})
+    return Scene(**{k: float(scene[k]) for k in SCENE_KEYS})
 
 
 def provenance(config, step, versions):
