@@ -167,3 +167,9 @@ def test_fig9_eps_range_holds_both_ends_on_round_values():
     eps = Fig9Settings(eps={"start": 0.1, "stop": 0.9, "step": 0.2}).eps_values()
     assert eps.tolist() == [0.1, 0.3, 0.5, 0.7, 0.9]
     assert Fig9Settings().eps_values().tolist() == [round(0.01 * k, 2) for k in range(1, 100)]
+
+
+def test_default_surface_grid_is_the_papers_with_the_log_columns():
+    eps, xi = SurfaceSettings().grid()
+    assert (eps.size, xi.size) == (99, 124)
+    assert (eps[0], eps[-1], xi[0], xi[1], xi[-1]) == (0.01, 0.99, 0.0, 1e-5, 0.99)
