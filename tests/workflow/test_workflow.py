@@ -146,6 +146,20 @@ def test_surface_file_contents_match_the_library(run):
     assert len(attrs["history"].splitlines()) == 3  # two chunks and the merge
 
 
+def test_a_built_table_records_its_settings_and_build_time(run):
+    """README: a table built by the workflow records its grid, tolerances and build time (wall_time_s)."""
+    from contactalpha.engine.table import load_table
+
+    meta = load_table(run["work"] / "results" / "models" / "alpha_table.npz").meta
+    built = yaml.safe_load(TEST_CONFIG.read_text())["models"]["table"]
+    assert {k: meta[k] for k in built} == built  # n_eta, n_p, refine_n, tol, rtol, atol
+    assert meta["contactalpha_version"] == contactalpha.__version__
+    assert re.fullmatch(r"[0-9a-f]{40}(\+dirty)?|unknown", meta["git_commit"])
+    # The recorded build time is the one the build logged, not any positive number.
+    logged = re.search(r"table built in ([0-9.]+) s", (run["work"] / "logs/models/table.log").read_text())
+    assert meta["wall_time_s"] == pytest.approx(float(logged[1]), abs=0.05)
+
+
 def test_bad_config_fails_before_any_job(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("surface:\n  xi:\n    values: [0.3, 0.2]\n")
