@@ -1,25 +1,31 @@
 """A closed form for alpha(eps, xi) that is exact at xi = 0 and fitted in delivered restitution.
 
-The formula (``alpha_closed_form``; 19 constants, ``CONSTANT_NAMES``), with
-``A = xi (1 - xi)^(-3/5) / 2`` the scaled load, ``L = ln A`` and
-``x_eq = (4 A / 5)^(2/3)`` the static compression (docs/science.md, Sects. 2-4):
+The formula (``alpha_closed_form``; 23 constants, ``CONSTANT_NAMES``), with
+``A = xi (1 - xi)^(-3/5) / 2`` the scaled load, ``L = ln A``, ``x_eq = (4 A / 5)^(2/3)`` the
+static compression and ``w = x_eq^(5/4)`` (docs/science.md, Sects. 2-4):
 
-    alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps eps) + s_log eps^s_log_exp ln(1 - xi))
+    alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps eps + s_xi_eps2 eps^2 + s_xi2_eps xi eps)
+                               + s_log eps^s_log_exp ln(1 - xi))
     z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
-    alpha_c = 2 x_eq^(-5/2) exp(n_0 + n_1 L + n_2 L^2 + n_3 L^3 + n_4 L^4) (1 + c z)^(-q),
-              c = exp(c_0 + c_1 L + c_2 L^2),  q = exp(q_0 + q_1 L + q_2 L^2)
-    alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps))
+    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m) exp(on_eps eps + on_w w / (1 + w))
+              (1 + c z)^(-q),  c = exp(c_0 + c_1 L + c_2 L^2 + c_3 L^3),
+                               q = exp(q_0 + q_1 L + q_2 L^2 + q_eps eps)
+    alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps + k_xi2 xi))
 
 ``alpha_0`` is the exact unloaded alpha, the root of ln((1+a)/(1-a eps)) = a (1+eps), written
 explicitly to rounding (``engine.unloaded``: one exp or one log and a degree-13 polynomial).
 Why this shape: when an impact creeps, its end is the static equilibrium, and the energy
 identity of Stronge's eps (docs/science.md Sect. 3) gives the maximum compression exactly,
-``x_m = x_eq (1 + z)``.  ``alpha_c`` is the damping that stops the compression there: it is
-``2 x_eq^(-5/2)`` (the heavy-damping limit of the unloaded relation
-``x_m^(5/2) = 2 (a - ln(1 + a)) / a^2``) times a correction in ``L``, falling as ``z`` grows.
-Every other end state returns more energy, so the true alpha is at least ``alpha_c``;
-``alpha_s`` is the unloaded alpha bent by the load, and the soft maximum switches between
-them along the creep boundary.
+``x_m = x_eq (1 + z)``.  ``alpha_c`` is the damping that stops the compression there.  At
+``z -> 0`` it is the onset of "no restitution", which bends between its two limits: the
+heavy-damping limit of the unloaded relation ``x_m^(5/2) = 2 (a - ln(1 + a)) / a^2``, i.e.
+``2 x_eq^(-5/2)`` for a light load, and critical damping of the motion linearised about ``x_eq``,
+``(8/5) (15/8)^(1/2) x_eq^(-5/4)``, for a heavy one; their ratio grows like ``w``, and the soft
+maximum ``(1 + (on_b w)^on_m)^(1/on_m)`` joins them (alone it fits the onset to 0.002 in
+ln alpha over 1e-4 <= xi <= 0.99, where a quartic in ``L`` is off by 0.1).  The factor
+``(1 + c z)^(-q)`` lowers alpha as the impact overshoots ``x_eq``.  Every other end state
+returns more energy, so the true alpha is at least ``alpha_c``; ``alpha_s`` is the unloaded
+alpha bent by the load, and the soft maximum switches between them along the creep boundary.
 
 Properties (tested): alpha = alpha_0 exactly at xi = 0 (alpha_c = 0 there), so alpha ~ 1/eps
 as eps -> 0; alpha -> 0 as eps -> 1 (both branches vanish); smooth for 0 < eps < 1,
@@ -46,26 +52,34 @@ CONSTANTS_FILE = "closed_form.json"
 CONSTANT_NAMES = (
     "s_xi",
     "s_xi_eps",
+    "s_xi_eps2",
+    "s_xi2_eps",
     "s_log",
     "s_log_exp",
-    "n_0",
-    "n_1",
-    "n_2",
-    "n_3",
-    "n_4",
+    "on_b",
+    "on_m",
+    "on_eps",
+    "on_w",
     "c_0",
     "c_1",
     "c_2",
+    "c_3",
     "q_0",
     "q_1",
     "q_2",
+    "q_eps",
     "k_0",
     "k_1",
     "k_xi",
     "k_xi_eps",
+    "k_xi2",
 )
 # The constants' layout version; a shipped file of another version is refused.
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+
+# ln(4/5) and ln 2 of x_eq = (4 A / 5)^(2/3) and alpha_c's prefactor 2 x_eq^(-5/2).
+LOG_FOUR_FIFTHS = float(np.log(0.8))
+LOG_TWO = float(np.log(2.0))
 
 _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 
@@ -73,17 +87,25 @@ _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 @njit(cache=True, error_model="numpy")
 def log_branches(eps, xi, c):
     """``(ln alpha_s, ln alpha_c, k)`` of the closed form at one point with 0 < eps < 1, 0 < xi < 1."""
-    a0 = alpha_unloaded_scalar(eps)
-    log_s = np.log(a0) + xi * (c[0] + c[1] * eps) + c[2] * eps ** c[3] * np.log1p(-xi)
+    log_eps = np.log(eps)
+    log_s = (
+        np.log(alpha_unloaded_scalar(eps))
+        + xi * (c[0] + eps * (c[1] + c[2] * eps + c[3] * xi))
+        + c[4] * np.exp(c[5] * log_eps) * np.log1p(-xi)
+    )
     A = _scaled_load(xi)
     L = np.log(A)
-    x_eq = (0.8 * A) ** (2.0 / 3.0)
-    z = eps * eps * (0.5 + A * x_eq) / (A * x_eq * (1.0 - eps * eps))
-    log_nr = np.log(2.0) - 2.5 * np.log(x_eq) + c[4] + L * (c[5] + L * (c[6] + L * (c[7] + L * c[8])))
-    rate = np.exp(c[9] + L * (c[10] + L * c[11]))
-    power = np.exp(c[12] + L * (c[13] + L * c[14]))
-    log_c = log_nr - power * np.log1p(rate * z)
-    k = c[15] * eps ** c[16] * np.exp(xi * (c[17] + c[18] * eps))
+    log_x_eq = (2.0 / 3.0) * (LOG_FOUR_FIFTHS + L)
+    w = np.exp(1.25 * log_x_eq)
+    onset = (
+        np.log1p(np.exp(c[7] * (np.log(c[6]) + 1.25 * log_x_eq))) / c[7] + c[8] * eps + c[9] * w / (1.0 + w)
+    )
+    a_x_eq = np.exp(L + log_x_eq)
+    z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
+    rate = np.exp(c[10] + L * (c[11] + L * (c[12] + L * c[13])))
+    power = np.exp(c[14] + L * (c[15] + L * c[16]) + c[17] * eps)
+    log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate * z)
+    k = c[18] * np.exp(c[19] * log_eps + xi * (c[20] + c[21] * eps + c[22] * xi))
     return log_s, log_c, k
 
 
@@ -95,7 +117,7 @@ def alpha_closed_form_scalar(eps, xi, c):
     ----------
     eps, xi : float
         Restitution and influence factor.
-    c : ndarray, shape (19,)
+    c : ndarray, shape (23,)
         Constants in the order of ``CONSTANT_NAMES``.
     """
     if not (0.0 < eps <= 1.0 and 0.0 <= xi < 1.0):
@@ -105,8 +127,7 @@ def alpha_closed_form_scalar(eps, xi, c):
     if xi == 0.0:
         return alpha_unloaded_scalar(eps)
     log_s, log_c, k = log_branches(eps, xi, c)
-    top = max(log_s, log_c)
-    return np.exp(top + np.log(np.exp(k * (log_s - top)) + np.exp(k * (log_c - top))) / k)
+    return np.exp(max(log_s, log_c) + np.log1p(np.exp(-k * abs(log_s - log_c))) / k)
 
 
 @njit(cache=True, error_model="numpy")
