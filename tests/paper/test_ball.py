@@ -325,3 +325,27 @@ def test_run_dataset_keeps_ledger_and_counts(runs):
         ds["energy_total"].values,
         ds["energy_kinetic"] + ds["energy_elastic"] + ds["energy_gravity"] + ds["energy_force_potential"],
     )
+
+
+def test_first_collision_table_gains_the_closed_form_beside_the_new_model():
+    """Sect. 6 table: issue 13's closed form is a column after the new model; unknown names are listed."""
+    from contactalpha.paper.ball.report import first_collision_table
+    from contactalpha.paper.ball.study import run_first_collision
+
+    ds = run_first_collision(
+        Scene(),
+        [60.0, 495.0],
+        [0.3],
+        ["hu_guo"],
+        ["shen_published"],
+        ["exact"],
+        formulas=["closed_form", "no_such_formula"],
+        max_step=0.05,
+    )
+    assert list(ds["model"].values) == ["hu_guo", "shen_published", "closed_form", "exact"]
+    assert ds.attrs["skipped_models"] == '["no_such_formula"]'
+    assert "closed form (exact at ξ = 0)" in first_collision_table(ds)
+    k, ref = 2, 3
+    # measured: 0.298 (nonseparation) at 60 N and 0.302 (creep) at 495 N, as the exact alpha's
+    np.testing.assert_allclose(ds["eps_post"].values[:, 0, k], 0.3, atol=0.005)
+    np.testing.assert_array_equal(ds["state"].values[:, 0, k], ds["state"].values[:, 0, ref])

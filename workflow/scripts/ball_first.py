@@ -1,7 +1,7 @@
 """Bouncing ball, the first collision for every force, restitution and model (Figs. 13-21).
 
 Settings (snakemake.params): scene (mass, radius, stiffness, approach_speed, gravity),
-first_collision (forces, eps, classical, reference), new_model (preference list),
+first_collision (forces, eps, classical, formulas, reference), new_model (preference list),
 numerics (rtol, atol, max_step). Built into paper.ball.study.BallSettings.
 Inputs: none.
 Outputs: data (netCDF4/HDF5: per-run results and contact paths), table (markdown: post-restitution
@@ -34,13 +34,15 @@ ds = run_first_collision(
     list(first.classical),
     list(s.new_model),
     list(first.reference),
+    formulas=list(first.formulas),
     config=config,
     **numerics,
 )
 write_dataset_atomic(ds, sm.output.data)
 head = (
     "# Bouncing ball, first collision: post-restitution ε (end state)\n\n"
-    f"New model: `{ds.attrs['new_model']}`; reference: `{ds.attrs['reference']}`; "
+    f"New model: `{ds.attrs['new_model']}`; further formulas: {ds.attrs['formulas']}; "
+    f"reference: `{ds.attrs['reference']}`; "
     f"models not registered and skipped: {ds.attrs['skipped_models']}.\n\n"
 )
 write_text_atomic(sm.output.table, head + first_collision_table(ds))

@@ -305,12 +305,14 @@ class FirstCollisionSettings:
     """The first collision of Figs. 13-21: the ``ball.first_collision`` section.
 
     One figure per force (N) and kind, one panel per ``eps``; ``classical`` models beside the new
-    one, and the exact ``reference`` as a preference list (the first registered name is used).
+    one, ``formulas`` (further closed forms, e.g. issue 13's; not counted among the classical),
+    and the exact ``reference`` as a preference list (the first registered name is used).
     """
 
     forces: tuple = (0.1, 60.0, 495.0)
     eps: tuple = (0.3, 0.5, 0.7, 0.9)
     classical: tuple = ("hunt_crossley", "flores", "hu_guo")
+    formulas: tuple = ("closed_form",)
     reference: tuple = ("exact", "exact_solve")
 
 
@@ -396,11 +398,12 @@ def run_cases(scene, new_model, variants=(), *, config=None, **numerics):
 
 
 def run_first_collision(
-    scene, forces, eps_values, classical, new_model, reference, *, config=None, **numerics
+    scene, forces, eps_values, classical, new_model, reference, *, formulas=(), config=None, **numerics
 ):
-    """``first_collision`` for the classical models, the new model and the reference.
+    """``first_collision`` for the classical models, the new model, ``formulas`` and the reference.
 
-    ``new_model`` and ``reference`` are preference lists (``resolve_model``).
+    ``new_model`` and ``reference`` are preference lists (``resolve_model``); ``formulas`` are
+    further registered models (names not registered are skipped and listed).
 
     Returns
     -------
@@ -410,14 +413,16 @@ def run_first_collision(
     new, miss_new = resolve_model(new_model)
     ref, miss_ref = resolve_model(reference)
     classical = list(classical)
-    ds = first_collision(scene, forces, eps_values, [*classical, new, ref], **numerics)
+    formulas, miss_formulas = registered(formulas)
+    ds = first_collision(scene, forces, eps_values, [*classical, new, *formulas, ref], **numerics)
     ds.attrs.update(_provenance(config or {}, "ball first collision"))
     ds.attrs.update(
         {
             "new_model": new,
             "reference": ref,
             "classical": json_text(classical),
-            "skipped_models": json_text(miss_new + miss_ref),
+            "formulas": json_text(formulas),
+            "skipped_models": json_text(miss_new + miss_formulas + miss_ref),
         }
     )
     return ds
