@@ -31,6 +31,7 @@ if workflow.is_main_process:
 ALL_TARGETS = []
 
 
+include: "workflow/rules/warmup.smk"
 include: "workflow/rules/surface.smk"
 include: "workflow/rules/fit.smk"
 include: "workflow/rules/models.smk"

@@ -18,6 +18,7 @@ RANKS = {
     "baselines": 3,
     "scene": 4,
     "adapters": 5,
+    "warmup": 5,
     "paper": 6,
     "studies": 6,
     "config": 7,

@@ -113,10 +113,16 @@ def runs(cluster, tmp_path_factory):
 
 def test_chunks_went_through_sbatch(runs):
     job_ids = SUBMITTED.findall(runs["cluster_log"])
-    # Two chunks, plus the resubmission of the cancelled one; the merge is a local rule.
-    assert len(job_ids) == 3, runs["cluster_log"][-4000:]
+    # The numba warm-up and two chunks, plus the resubmission of the cancelled one; the merge is
+    # a local rule.
+    assert len(job_ids) == 4, runs["cluster_log"][-4000:]
     states = job_states(job_ids)
-    assert sorted(state for state, _ in states.values()) == ["CANCELLED", "COMPLETED", "COMPLETED"]
+    assert sorted(state for state, _ in states.values()) == [
+        "CANCELLED",
+        "COMPLETED",
+        "COMPLETED",
+        "COMPLETED",
+    ]
     assert "SLURM jobid" not in runs["local_log"]
 
 

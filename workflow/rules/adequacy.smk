@@ -34,6 +34,7 @@ localrules:
 rule adequacy_maps:
     input:
         surface="results/surface.h5",
+        warmup=ancient(WARMUP),
     output:
         "results/adequacy/maps.h5",
     params:
@@ -54,6 +55,8 @@ rule adequacy_maps:
 
 
 rule adequacy_thresholds:
+    input:
+        warmup=ancient(WARMUP),
     output:
         data="results/adequacy/thresholds.nc",
         table="results/adequacy/thresholds.md",

@@ -25,6 +25,8 @@ ALL_TARGETS += [
 
 
 rule ball_cases:
+    input:
+        warmup=ancient(WARMUP),
     output:
         case_a="results/ball/case_A.nc",
         case_b="results/ball/case_B.nc",
@@ -46,6 +48,8 @@ rule ball_cases:
 
 
 rule ball_first_collision:
+    input:
+        warmup=ancient(WARMUP),
     output:
         data="results/ball/first_collision.nc",
         table="results/ball/first_collision.md",

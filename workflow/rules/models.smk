@@ -37,6 +37,8 @@ ALL_TARGETS += [
 
 
 rule table:
+    input:
+        warmup=ancient(WARMUP),
     output:
         BUILT_TABLE,
     params:
@@ -55,6 +57,7 @@ rule table_check:
     input:
         # None: the shipped table (the script finds it), rerun when its digest changes.
         [] if CHECK_SHIPPED_TABLE else [BUILT_TABLE],
+        warmup=ancient(WARMUP),
     output:
         "results/models/table_check.md",
     params:
@@ -74,6 +77,7 @@ rule table_check:
 use rule table_check as table_check_built with:
     input:
         BUILT_TABLE,
+        warmup=ancient(WARMUP),
     output:
         "results/models/alpha_table_check.md",
     params:
@@ -86,6 +90,8 @@ use rule table_check as table_check_built with:
 
 # Data, table, statements and figure in one job: one Python start-up instead of two.
 rule fig9:
+    input:
+        warmup=ancient(WARMUP),
     output:
         data="results/models/fig9.h5",
         table="results/models/fig9_max_deviation.md",

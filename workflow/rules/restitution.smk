@@ -29,6 +29,8 @@ ALL_TARGETS += [
 
 # Data and figure in one job: a few hundred solves, cheaper than a second Python start-up.
 rule restitution_figure:
+    input:
+        warmup=ancient(WARMUP),
     output:
         data="results/restitution/restitution_kinematic.nc",
         png="results/figures/restitution_kinematic.png",
@@ -44,6 +46,8 @@ rule restitution_figure:
 
 
 rule kinematic_table:
+    input:
+        warmup=ancient(WARMUP),
     output:
         BUILT_KINEMATIC_TABLE,
     params:
@@ -61,6 +65,7 @@ rule kinematic_table:
 rule kinematic_table_check:
     input:
         KINEMATIC_TABLE_IN_USE,
+        warmup=ancient(WARMUP),
     output:
         "results/restitution/kinematic_table_check.md",
     params:

@@ -26,6 +26,8 @@ wildcard_constraints:
 
 
 rule surface_chunk:
+    input:
+        warmup=ancient(WARMUP),
     output:
         "results/surface/chunks/chunk_{chunk}.h5",
     params:

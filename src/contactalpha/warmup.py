@@ -1,0 +1,114 @@
+"""Compile (or load from numba's cache) every kernel the workflow's jobs run, once, and time it.
+
+A fresh clone has an empty numba cache.  Without a warm-up, the first jobs of
+``snakemake -c2`` (the surface chunks, Fig. 9, the ball) each compile the same
+kernels at the same time, and a cold compile of the impact and solver kernels
+alone costs about 20 s of CPU per process.  The workflow's ``numba_warmup`` job
+runs :func:`warm_up` once before them; they then load the compiled code from
+the cache (``engine/jitcache.py`` keys it on the package sources, so an edit
+recompiles).  Its timings are the compile times the benchmarks report apart.
+
+Each entry point is called with a tiny valid input through its public or
+kernel-level function, serial and parallel variants both (jobs with one thread
+run the serial ones).  Values are not checked here: the tests do that.
+"""
+
+import time
+
+import numpy as np
+
+from contactalpha.engine import boundary, driver, exact, solver, table
+from contactalpha.engine.scaling import influence_factor
+from contactalpha.models import closed_form, registry
+from contactalpha.scene import ball, threshold
+
+# One point inside every kernel's domain: eps, xi.
+EPS, XI = 0.5, 0.2
+
+
+def _points(n, value):
+    """``n`` copies of ``value``: inputs long enough to take a kernel's parallel variant."""
+    return np.full(n, value)
+
+
+def _impact():
+    driver.impact(1.0, XI)
+    driver.impact(_points(driver.PARALLEL_MIN, 1.0), XI)
+    driver.trajectory(1.0, XI)
+
+
+def _solver():
+    for restitution in ("energetic", "kinematic"):
+        solver.solve_alpha(EPS, XI, restitution=restitution)
+        solver.solve_alpha(_points(driver.PARALLEL_MIN, EPS), XI, restitution=restitution)
+
+
+def _tables():
+    for restitution in ("energetic", "kinematic"):
+        table.alpha_tabulated(EPS, XI, restitution=restitution)
+        table.alpha_tabulated(_points(table.PARALLEL_MIN_LOOKUPS, EPS), XI, restitution=restitution)
+        table.jit_alpha_tabulated(restitution=restitution)(EPS, XI)
+
+
+def _models():
+    for name in registry.MODELS:
+        registry.alpha(_points(2, EPS), XI, model=name)
+    closed_form.alpha_closed_form(EPS, XI)
+    exact.alpha_exact(_points(1, EPS))
+    exact.restitution_exact(_points(1, 1.0))
+
+
+def _boundary():
+    boundary.separation_boundary(_points(1, XI))
+    threshold.critical_speed(EPS, 0.5, 1.4e8, 9.81)
+
+
+def _scene():
+    # The paper's ball (Sect. 6) for a few milliseconds: its kernel calls from Python.
+    ball.simulate(ball.Scene(t_end=0.01), "exact")
+
+
+# Label -> warm-up call, in the order the workflow's jobs first need them.
+ENTRY_POINTS = {
+    "impact": _impact,
+    "solver": _solver,
+    "tables": _tables,
+    "models": _models,
+    "boundary": _boundary,
+    "scene": _scene,
+    "scaling": lambda: influence_factor(0.5, 1.4e8, 0.5, 9.81),
+}
+
+
+def warm_up(entry_points=None, progress=None):
+    """Call every entry point once and return the seconds each took.
+
+    Parameters
+    ----------
+    entry_points : iterable of str, optional
+        Keys of ``ENTRY_POINTS`` (default: all).
+    progress : callable, optional
+        Called with ``(label, seconds)`` after each entry point.
+
+    Returns
+    -------
+    dict
+        ``{label: seconds}``: compile time on a cold cache, load time on a warm one.
+
+    Raises
+    ------
+    ValueError
+        For an unknown entry point name.
+    """
+    names = list(ENTRY_POINTS if entry_points is None else entry_points)
+    unknown = [n for n in names if n not in ENTRY_POINTS]
+    if unknown:
+        raise ValueError(f"unknown warm-up entry points {unknown}; valid: {sorted(ENTRY_POINTS)}")
+    seconds = {}
+    for name in names:
+        t0 = time.perf_counter()
+        ENTRY_POINTS[name]()
+        seconds[name] = time.perf_counter() - t0
+        if progress is not None:
+            progress(name, seconds[name])
+    return seconds

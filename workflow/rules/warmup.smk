@@ -1,0 +1,27 @@
+# Stage "warmup": compile every numba kernel once, before the jobs that run them (issue 14, item 6).
+# On a fresh clone the numba cache is empty: without this job the first jobs (surface chunks,
+# Fig. 9, the ball) would each compile the same kernels at the same time. The jobs take its
+# output as ancient() input: it orders them after the warm-up, and a rerun of the warm-up (after
+# a code edit) does not by itself rerun them (their own code_version params do that).
+# results/warmup/kernels.json records the compile (or cache load) time of each kernel family.
+
+from contactalpha.provenance import source_hash
+
+WARMUP = "results/warmup/kernels.json"
+
+ALL_TARGETS += [WARMUP]
+
+
+rule numba_warmup:
+    output:
+        WARMUP,
+    params:
+        # The warm-up's closure is every kernel the jobs run: an edit of any recompiles here.
+        code_version=source_hash("contactalpha.warmup"),
+    log:
+        "logs/warmup/kernels.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/numba_warmup.py"
