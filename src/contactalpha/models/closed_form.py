@@ -1,13 +1,14 @@
 """A closed form for alpha(eps, xi) that is exact at xi = 0 and fitted in delivered restitution.
 
-The formula (``alpha_closed_form``; 23 constants, ``CONSTANT_NAMES``), with
+The formula (``alpha_closed_form``; 25 constants, ``CONSTANT_NAMES``), with
 ``A = xi (1 - xi)^(-3/5) / 2`` the scaled load, ``L = ln A``, ``x_eq = (4 A / 5)^(2/3)`` the
 static compression and ``w = x_eq^(5/4)`` (docs/science.md, Sects. 2-4):
 
     alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps eps + s_xi_eps2 eps^2 + s_xi2_eps xi eps)
-                               + s_log eps^s_log_exp ln(1 - xi))
+                               + (s_log eps^s_log_exp + s_log_eps eps) ln(1 - xi))
     z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
-    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m) exp(on_eps eps + on_w w / (1 + w))
+    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m)
+              exp(on_eps eps + on_eps2 eps^2 + on_w w / (1 + w))
               (1 + c z)^(-q),  c = exp(c_0 + c_1 L + c_2 L^2 + c_3 L^3),
                                q = exp(q_0 + q_1 L + q_2 L^2 + q_eps eps)
     alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps + k_xi2 xi))
@@ -56,9 +57,11 @@ CONSTANT_NAMES = (
     "s_xi2_eps",
     "s_log",
     "s_log_exp",
+    "s_log_eps",
     "on_b",
     "on_m",
     "on_eps",
+    "on_eps2",
     "on_w",
     "c_0",
     "c_1",
@@ -75,7 +78,7 @@ CONSTANT_NAMES = (
     "k_xi2",
 )
 # The constants' layout version; a shipped file of another version is refused.
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 # ln(4/5) and ln 2 of x_eq = (4 A / 5)^(2/3) and alpha_c's prefactor 2 x_eq^(-5/2).
 LOG_FOUR_FIFTHS = float(np.log(0.8))
@@ -88,24 +91,27 @@ _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 def log_branches(eps, xi, c):
     """``(ln alpha_s, ln alpha_c, k)`` of the closed form at one point with 0 < eps < 1, 0 < xi < 1."""
     log_eps = np.log(eps)
+    log_free = np.log1p(-xi)
     log_s = (
         np.log(alpha_unloaded_scalar(eps))
         + xi * (c[0] + eps * (c[1] + c[2] * eps + c[3] * xi))
-        + c[4] * np.exp(c[5] * log_eps) * np.log1p(-xi)
+        + (c[4] * np.exp(c[5] * log_eps) + c[6] * eps) * log_free
     )
     A = _scaled_load(xi)
     L = np.log(A)
     log_x_eq = (2.0 / 3.0) * (LOG_FOUR_FIFTHS + L)
     w = np.exp(1.25 * log_x_eq)
     onset = (
-        np.log1p(np.exp(c[7] * (np.log(c[6]) + 1.25 * log_x_eq))) / c[7] + c[8] * eps + c[9] * w / (1.0 + w)
+        np.log1p(np.exp(c[8] * (np.log(c[7]) + 1.25 * log_x_eq))) / c[8]
+        + eps * (c[9] + c[10] * eps)
+        + c[11] * w / (1.0 + w)
     )
     a_x_eq = np.exp(L + log_x_eq)
     z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
-    rate = np.exp(c[10] + L * (c[11] + L * (c[12] + L * c[13])))
-    power = np.exp(c[14] + L * (c[15] + L * c[16]) + c[17] * eps)
+    rate = np.exp(c[12] + L * (c[13] + L * (c[14] + L * c[15])))
+    power = np.exp(c[16] + L * (c[17] + L * c[18]) + c[19] * eps)
     log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate * z)
-    k = c[18] * np.exp(c[19] * log_eps + xi * (c[20] + c[21] * eps + c[22] * xi))
+    k = c[20] * np.exp(c[21] * log_eps + xi * (c[22] + c[23] * eps + c[24] * xi))
     return log_s, log_c, k
 
 
@@ -117,7 +123,7 @@ def alpha_closed_form_scalar(eps, xi, c):
     ----------
     eps, xi : float
         Restitution and influence factor.
-    c : ndarray, shape (23,)
+    c : ndarray, shape (25,)
         Constants in the order of ``CONSTANT_NAMES``.
     """
     if not (0.0 < eps <= 1.0 and 0.0 <= xi < 1.0):
