@@ -167,3 +167,60 @@ def test_each_paper_formula_is_the_one_the_models_use():
 def test_unknown_reading_is_refused_by_name():
     with pytest.raises(ValueError, match="sigma_a6"):
         shen.check_reading("sigma_a7")
+
+
+# Points of the gradient tests: both sides of lambda's clip at 0, the ridge's small xi, eps near 1.
+GRAD_EPS, GRAD_XI = (
+    g.ravel()
+    for g in np.meshgrid(
+        np.linspace(0.02, 0.98, 17), np.r_[1e-5, 1e-3, 0.03, 0.2, 0.5, 0.8, 0.97], indexing="ij"
+    )
+)
+
+
+def _central(f, x, h):
+    """Fourth-order central difference of f at x with step h."""
+    return (-f(x + 2 * h) + 8 * f(x + h) - 8 * f(x - h) + f(x - 2 * h)) / (12 * h)
+
+
+@pytest.mark.parametrize("reading", sorted(shen.READINGS))
+def test_eq40_gradient_is_the_derivative_of_eq40_terms(reading):
+    c = {**shen.PUBLISHED, "beta": 0.002, "a": 9.0, "lam_xi_pow": -0.5}  # a refit-like point
+    names = shen.reading_constants(reading)
+    value, jac = shen.eq40_gradient(GRAD_EPS, GRAD_XI, c, reading, names)
+    first, second = shen.eq40_terms(GRAD_EPS, GRAD_XI, c, reading)
+    assert np.array_equal(value, first + second)  # the value is Eq. 40 to the bit
+    assert jac.shape == (GRAD_EPS.size, len(names)) and np.all(np.isfinite(jac))
+    for j, name in enumerate(names):
+        h = 1e-5 * max(1.0, abs(c[name]))
+        fd = _central(
+            lambda v, n=name: np.add(*shen.eq40_terms(GRAD_EPS, GRAD_XI, {**c, n: v}, reading)), c[name], h
+        )
+        # relative to the derivative, or to alpha where the derivative is ~0 (rounding of the difference)
+        np.testing.assert_array_less(np.abs(jac[:, j] - fd), 1e-4 * np.abs(fd) + 1e-7 * np.abs(value), name)
+    assert np.isfinite(jac).all()
+
+
+def test_eq40_gradient_names_columns_and_refuses_unknown_constants():
+    _, jac = shen.eq40_gradient(GRAD_EPS, GRAD_XI, names=["a", "beta"], reading="beta_a0")
+    assert np.all(jac == 0.0)  # neither enters Eq. 40 under beta_a0
+    with pytest.raises(ValueError, match=r"constants \['gamma'\] are not constants of Eq\. 40"):
+        shen.eq40_gradient(GRAD_EPS, GRAD_XI, names=["gamma"])
+
+
+def test_eq39_gradient_is_the_derivative_of_eq39():
+    lam = np.clip(1.0 - GRAD_EPS / GRAD_XI**0.6, 0.0, None)  # zeros and values inside (0, 1)
+    args = {"tau": -0.1, "sigma": 0.05, "beta": 0.01, "a": 6.0, "b": -0.8, "eta_r": 1.3, "energy_coef": 0.47}
+    value, grad = shen.eq39_gradient(GRAD_EPS, GRAD_XI, lam=lam, eta_c=1.0, **args)
+    assert np.array_equal(value, shen.eq39(GRAD_EPS, GRAD_XI, lam=lam, eta_c=1.0, **args))
+    for name, x in args.items():
+        fd = _central(
+            lambda v, n=name: shen.eq39(GRAD_EPS, GRAD_XI, lam=lam, eta_c=1.0, **{**args, n: v}), x, 1e-5
+        )
+        np.testing.assert_allclose(grad[name], fd, rtol=1e-5, atol=1e-8 * np.max(np.abs(value)), err_msg=name)
+    # lambda: only where it is inside (0, 1); its clip at 0 has zero slope
+    live = lam > 0
+    with np.errstate(invalid="ignore"):  # lambda - 2h < 0 at the clipped points, not compared
+        fd = _central(lambda v: shen.eq39(GRAD_EPS, GRAD_XI, lam=v, eta_c=1.0, **args), lam, 1e-6)
+    np.testing.assert_allclose(grad["lam"][live], fd[live], rtol=1e-5, atol=1e-8 * np.max(np.abs(value)))
+    assert np.all(grad["lam"][~live] == 0.0)

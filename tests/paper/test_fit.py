@@ -158,8 +158,46 @@ def test_tiny_surface_gives_undetermined_verdicts_not_a_crash():
         (lambda ds: fit_report.refit_report(ds, readings=["sigma"]), r"reading = 'sigma' is not one of"),
         (lambda ds: fit.fit_eq26(ds, xi=0.21), r"the xi = 0\.21 section has 0 valid points"),
         (lambda ds: fit.least_squares_fit(lambda p: p, [1.0], ["a"], "x", loss="l2"), r"loss = 'l2'"),
+        (lambda ds: fit.fit_eq40_surface(ds, jacobian="3-point"), r"jacobian = '3-point' is not one of"),
     ],
 )
 def test_bad_input_names_value_and_range(ci_surface, call, message):
     with pytest.raises(ValueError, match=message):
         call(ci_surface)
+
+
+def test_exact_and_finite_difference_jacobians_reach_the_same_refit(ci_surface):
+    exact = fit.fit_eq40_surface(ci_surface, shen.BEST_READING)
+    finite = fit.fit_eq40_surface(ci_surface, shen.BEST_READING, jacobian="2-point")
+    assert exact.converged and finite.converged
+    # the same optimum to a small fraction of its standard error (the shipped check's 1 %)
+    assert np.all(np.isfinite(exact.se)) and np.max(np.abs(exact.x - finite.x) / exact.se) < 0.01
+    np.testing.assert_allclose(exact.se, finite.se, rtol=1e-3)
+    xs = CI_XI[[2, 8, 20]]
+    for e, f in zip(
+        fit.fit_eq39_slices(ci_surface, xs), fit.fit_eq39_slices(ci_surface, xs, "2-point"), strict=True
+    ):
+        assert e.extra["at_bound"] == f.extra["at_bound"] and e.cost == pytest.approx(f.cost, rel=1e-6)
+        np.testing.assert_allclose(e.x, f.x, rtol=1e-3)
+
+
+def test_other_readings_are_fitted_on_the_sub_grid_and_scored_on_all_points(ci_surface):
+    report, fits = fit_report.refit_report(
+        ci_surface, readings=[shen.BEST_READING, "none"], coarse_stride=2, eq26=None, restitution=False
+    )
+    loaded, _, _ = fit.surface_points(ci_surface)
+    sub = fit.coarse_points(ci_surface, len(shen.reading_constants("none")), coarse_stride=2)
+    none, main = fits["readings"]["none"], fits["eq40"]
+    assert none.n_points == len(sub) < len(loaded) == main.n_points
+    rel = fit.eq40_model(loaded, none.values(), "none") / loaded.alpha - 1.0
+    entry = report["readings"]["none"]
+    assert entry["refit_rms_area"] == pytest.approx(np.sqrt(np.mean(loaded.weight * rel**2)), rel=1e-12)
+    assert entry["fitted_points"] == len(sub) and report["readings"][shen.BEST_READING][
+        "fitted_points"
+    ] == len(loaded)
+    assert report["readings"][shen.BEST_READING]["refit_rms_area"] == pytest.approx(main.rms, rel=1e-12)
+    assert f"| `none` | {shen.READINGS['none']} |" in fit_report.readings_markdown(report)
+    assert f"| {len(sub)} | yes |" in fit_report.readings_markdown(report)
+    # on a grid too coarse for the sub-grid, the other reading is fitted on all points
+    alone = fit.fit_eq40_alternative(ci_surface, "none", main, coarse_stride=1)
+    assert alone.n_points == len(loaded) and alone.extra["rms_all"] == pytest.approx(alone.rms, rel=1e-12)

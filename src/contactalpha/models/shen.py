@@ -266,6 +266,132 @@ def eq40_terms(eps, xi, c=PUBLISHED, reading=BEST_READING):
     return first, second
 
 
+def eq39_gradient(eps, xi, *, tau, sigma, beta, a, lam, b, eta_c, eta_r, energy_coef=ENERGY_COEF):
+    """Eq. 39 (``eq39``) and its exact partial derivatives, for least-squares fits.
+
+    Arguments as ``eq39``'s (they broadcast).  ``d/d lam`` is 0 where ``lam = 0``
+    (``lam^{5/2}`` has zero slope there), and ``d/d sigma``, ``d/d beta`` and ``d/d a`` are
+    0 where the first term is off (``beta = inf``).
+
+    Returns
+    -------
+    value : ndarray
+        ``eq39(...)``.
+    grad : dict
+        ``d value / d v`` for v in ``tau, sigma, beta, a, b, eta_r, lam, energy_coef``.
+    """
+    value = eq39(
+        eps, xi, tau=tau, sigma=sigma, beta=beta, a=a, lam=lam, b=b, eta_c=eta_c, eta_r=eta_r,
+        energy_coef=energy_coef,
+    )  # fmt: skip
+    eps, lam = np.asarray(eps, dtype=float), np.asarray(lam, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        first = first_term(eps, tau, sigma, beta, a)
+        ln_eps, l25 = np.log(eps), lam**2.5
+        # Second term G = energy_coef K N, K = eps^b / (S D), N = 1 - eps^2 - L,
+        # D = eta_c eps^2 + eta_r (1 - L).
+        den = eta_c * eps**2 + eta_r * (1.0 - l25)
+        k = eps**b / (contact_factor(xi) * den)
+        num = 1.0 - eps**2 - l25
+        second = energy_coef * k * num
+        u = eps + tau
+        grad = {
+            "tau": -2.0 * first * u / sigma,
+            "sigma": first * u**2 / sigma**2,
+            "beta": -first / beta,
+            "a": first * np.log1p(-eps),
+            "b": second * ln_eps,
+            "eta_r": -second * (1.0 - l25) / den,
+            "lam": energy_coef * k * (eta_r * num / den - 1.0) * 2.5 * lam**1.5,
+            "energy_coef": k * num,
+        }
+    return value, grad
+
+
+def eq40_gradient(eps, xi, c=PUBLISHED, reading=BEST_READING, names=None):
+    """Eq. 40 (0 < xi < 1) and its exact derivatives with respect to the constants ``names``.
+
+    ``eq39_gradient`` at Eq. 40's (tau, sigma, beta, a, b, eta, lambda), then the chain rule
+    to the constants, for the least-squares refit (``fit.fit_eq40``): one pass costs a few
+    evaluations of Eq. 40, where a finite-difference Jacobian costs one per constant.
+
+    Parameters
+    ----------
+    eps, xi : array_like
+        Points, 0 < eps < 1 and 0 < xi < 1 (not validated; they broadcast).
+    c : dict
+        Constants named as in ``PUBLISHED``.
+    reading : str
+        A key of ``READINGS``.
+    names : list of str, optional
+        Constants to differentiate by; default ``reading_constants(reading)``.  A name that
+        does not enter Eq. 40 under ``reading`` gets a zero column.
+
+    Returns
+    -------
+    value : ndarray
+        ``first + second`` of ``eq40_terms``, flattened.
+    jac : ndarray, shape (value.size, len(names))
+        ``d value / d c[name]`` per column.
+    """
+    check_reading(reading)
+    names = reading_constants(reading) if names is None else list(names)
+    unknown = [n for n in names if n not in PUBLISHED]
+    if unknown:
+        raise ValueError(f"constants {unknown} are not constants of Eq. 40; valid: {sorted(PUBLISHED)}")
+    eps, xi = np.broadcast_arrays(np.asarray(eps, dtype=float).ravel(), np.asarray(xi, dtype=float).ravel())
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        lam = lambda_eq40(eps, xi, c)
+        eta = eta_eq40(eps, xi, c)
+        b = exponent_b(eps, xi, c)
+        if reading == "none":  # Eq. 39's first term off, as in eq40_terms
+            tau, sigma, beta, a = 0.0, 1.0, np.inf, 0.0
+        else:
+            tau, sigma, beta, a = first_term_params(xi, c, reading)
+    value, g = eq39_gradient(
+        eps, xi, tau=tau, sigma=sigma, beta=beta, a=a, lam=lam, b=b, eta_c=1.0, eta_r=eta,
+        energy_coef=c["energy_coef"],
+    )  # fmt: skip
+    d = {"energy_coef": g["energy_coef"]}
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        ln_eps, ln_xi = np.log(eps), np.log(xi)
+        # b = -(eps^(xi^b_xi_exp) + b_xi_coef xi - b_const)
+        xi_b = xi ** c["b_xi_exp"]
+        d["b_xi_exp"] = -g["b"] * eps**xi_b * ln_eps * xi_b * ln_xi
+        d["b_xi_coef"] = -g["b"] * xi
+        d["b_const"] = g["b"]
+        # eta = eps^p, p = eta_const + eta_xi xi + xi^eta_xi_exp - eta_eps_xi eps xi
+        d_p = g["eta_r"] * eta * ln_eps
+        d["eta_const"] = d_p
+        d["eta_xi"] = d_p * xi
+        d["eta_xi_exp"] = d_p * xi ** c["eta_xi_exp"] * ln_xi
+        d["eta_eps_xi"] = -d_p * eps * xi
+        # lambda = 1 - r^q (where > 0), r = eps / xi^lam_xi_exp, q = 1 + xi^lam_xi_pow (1 - eps (1 - xi))
+        xi_q = xi ** c["lam_xi_pow"]
+        q = 1.0 + xi_q * (1.0 - eps * (1.0 - xi))
+        ln_r = ln_eps - c["lam_xi_exp"] * ln_xi
+        r_q = np.exp(q * ln_r)  # < 1 where lambda > 0; may overflow where lambda is clipped
+        live = lam > 0
+        d["lam_xi_exp"] = np.where(live, g["lam"] * q * r_q * ln_xi, 0.0)
+        d["lam_xi_pow"] = np.where(
+            live, -g["lam"] * r_q * ln_r * xi_q * ln_xi * (1.0 - eps * (1.0 - xi)), 0.0
+        )
+        if reading != "none":
+            # tau = tau_one - xi^tau_exp; the width 0.1568 xi^0.9 is sigma or beta, by reading
+            d["tau_one"] = g["tau"]
+            d["tau_exp"] = -g["tau"] * xi ** c["tau_exp"] * ln_xi
+            d_width = g["sigma"] if reading.startswith("sigma") else g["beta"]
+            d["width_coef"] = d_width * xi ** c["width_exp"]
+            d["width_exp"] = d_width * printed_width(xi, c) * ln_xi
+            if reading.endswith("a6"):
+                d["a"] = g["a"]
+            if reading.startswith("sigma"):
+                d["beta"] = g["beta"]
+    zero = np.zeros_like(value)
+    jac = np.column_stack([d.get(n, zero) for n in names]) if names else np.empty((value.size, 0))
+    return value, jac
+
+
 def zero_load(eps, exponent=ZERO_LOAD_EXP):
     """Eq. 40 at xi = 0: ``3 (1 - eps) / (2 eps^exponent)``."""
     eps = np.asarray(eps, dtype=float)

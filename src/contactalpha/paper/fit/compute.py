@@ -8,6 +8,9 @@ normalised to mean 1: the loss then approximates the mean square relative error
 over the domain, whatever the grid's refinement (the log-spaced xi near 0 would
 otherwise dominate).  ``uniform`` weights count every grid point once.
 
+The Eq. 40 and Eq. 39 fits use the exact Jacobian of their residuals (``shen.eq40_gradient``,
+``shen.eq39_gradient``) unless ``jacobian="2-point"`` asks for scipy's finite difference.
+
 Standard errors come from the Jacobian at the optimum,
 ``cov = s^2 (J^T J)^{-1}``, ``s^2 = sum r^2 / (n - p)``.  They treat the misfit as
 noise; it is not (it is smooth model error), so they measure how sharply the
@@ -53,6 +56,10 @@ COARSE_MIN_RATIO = 5
 # xi grid of the Eq. 34 fit: the paper's range, uniform, independent of the surface grid.
 S21_XI = np.linspace(0.0, 0.99, 100)
 WEIGHTS = ("area", "uniform")
+# Jacobians of the Eq. 40 and Eq. 39 fits: "exact" (shen.eq40_gradient, shen.eq39_gradient: one
+# pass of about four model evaluations) or "2-point" (scipy's finite difference: one evaluation
+# per constant, the path before issue 14; kept to measure against, benchmarks/bench_refit.py).
+JACOBIANS = ("exact", "2-point")
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
 
 
@@ -170,17 +177,45 @@ def standard_errors(jac, cost, n):
 
 
 def least_squares_fit(
-    residuals, x0, names, label, *, bounds=(-np.inf, np.inf), loss="linear", max_nfev=MAX_NFEV
+    residuals,
+    x0,
+    names,
+    label,
+    *,
+    bounds=(-np.inf, np.inf),
+    loss="linear",
+    max_nfev=MAX_NFEV,
+    jac=None,
 ):
-    """Minimise ``residuals(x)`` from ``x0`` with ``least_squares`` and return a ``FitResult``."""
+    """Minimise ``residuals(x)`` from ``x0`` with ``least_squares`` and return a ``FitResult``.
+
+    ``jac(x)``, if given, returns ``(residuals(x), d residuals / d x)`` exactly; otherwise the
+    Jacobian is scipy's 2-point finite difference.  Residuals that are not finite or exceed
+    ``BAD_RESIDUAL`` are replaced by it (so the optimiser backs off) and get zero rows.
+    """
     _check_choice("loss", loss, LOSSES)
     x0 = np.asarray(x0, dtype=float)
 
     def safe(x):
-        r = np.nan_to_num(residuals(x), nan=BAD_RESIDUAL, posinf=BAD_RESIDUAL, neginf=-BAD_RESIDUAL)
-        return np.clip(r, -BAD_RESIDUAL, BAD_RESIDUAL)
+        r = np.clip(residuals(x), -BAD_RESIDUAL, BAD_RESIDUAL)  # NaN stays NaN
+        r[np.isnan(r)] = BAD_RESIDUAL
+        return r
 
-    res = least_squares(safe, x0, bounds=bounds, loss=loss, x_scale="jac", max_nfev=max_nfev, method="trf")
+    def safe_jac(x):
+        r, J = jac(x)
+        clipped = ~(np.abs(r) <= BAD_RESIDUAL)
+        return np.where(clipped[:, None] | ~np.isfinite(J), 0.0, J)
+
+    res = least_squares(
+        safe,
+        x0,
+        jac="2-point" if jac is None else safe_jac,
+        bounds=bounds,
+        loss=loss,
+        x_scale="jac",
+        max_nfev=max_nfev,
+        method="trf",
+    )
     n = res.fun.size
     plain_cost = 0.5 * float(np.sum(res.fun**2))
     return FitResult(
@@ -270,7 +305,9 @@ def eq40_model(points, values, reading):
     return first + second
 
 
-def fit_eq40(points, reading=shen.BEST_READING, *, start=None, loss="linear", max_nfev=MAX_NFEV):
+def fit_eq40(
+    points, reading=shen.BEST_READING, *, start=None, loss="linear", max_nfev=MAX_NFEV, jacobian="exact"
+):
     """Refit every constant of Eq. 40's loaded branch under ``reading``, from ``start``.
 
     Parameters
@@ -285,11 +322,14 @@ def fit_eq40(points, reading=shen.BEST_READING, *, start=None, loss="linear", ma
         ``least_squares`` loss.
     max_nfev : int
         Evaluation budget.
+    jacobian : {"exact", "2-point"}
+        ``JACOBIANS``.
 
     Returns
     -------
     FitResult
     """
+    _check_choice("jacobian", jacobian, JACOBIANS)
     start = eq40_fit_start(reading) if start is None else dict(start)
     names = list(start)
     sw = np.sqrt(points.weight)
@@ -299,9 +339,24 @@ def fit_eq40(points, reading=shen.BEST_READING, *, start=None, loss="linear", ma
         with np.errstate(all="ignore"):
             return sw * (eq40_model(points, dict(zip(names, x, strict=True)), reading) / points.alpha - 1.0)
 
+    scale = sw / points.alpha
+
+    def jac(x):
+        c = {**shen.PUBLISHED, **dict(zip(names, x, strict=True))}
+        with np.errstate(all="ignore"):
+            value, grad = shen.eq40_gradient(points.eps, points.xi, c, reading, names)
+            return scale * value - sw, scale[:, None] * grad
+
     x0 = np.maximum(np.array([start[k] for k in names], dtype=float), lo)
     fit = least_squares_fit(
-        residuals, x0, names, f"Eq. 40 ({reading})", bounds=(lo, np.inf), loss=loss, max_nfev=max_nfev
+        residuals,
+        x0,
+        names,
+        f"Eq. 40 ({reading})",
+        bounds=(lo, np.inf),
+        loss=loss,
+        max_nfev=max_nfev,
+        jac=jac if jacobian == "exact" else None,
     )
     fit.extra["reading"] = reading
     return fit
@@ -325,13 +380,11 @@ def fit_eq40_surface(ds, reading=shen.BEST_READING, *, weights="area", coarse_st
     loaded, _, _ = surface_points(ds, weights=weights)
     start = eq40_fit_start(reading)
     coarse = None
-    if coarse_stride > 1:
-        sub = ds.isel(epsilon=slice(None, None, coarse_stride), xi=slice(None, None, coarse_stride))
-        pts, _, _ = surface_points(sub, weights=weights)
-        if len(pts) >= COARSE_MIN_RATIO * len(start):
-            coarse = fit_eq40(pts, reading, start=start, **opts)
-            if coarse.converged:  # otherwise the full fit starts from the published values
-                start = coarse.values()
+    pts = coarse_points(ds, len(start), weights=weights, coarse_stride=coarse_stride)
+    if pts is not None:
+        coarse = fit_eq40(pts, reading, start=start, **opts)
+        if coarse.converged:  # otherwise the full fit starts from the published values
+            start = coarse.values()
     full = fit_eq40(loaded, reading, start=start, **opts)
     if coarse is not None:
         full.extra["coarse"] = {
@@ -345,14 +398,65 @@ def fit_eq40_surface(ds, reading=shen.BEST_READING, *, weights="area", coarse_st
     return full
 
 
-def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A):
+def coarse_points(ds, n_constants, *, weights="area", coarse_stride=COARSE_STRIDE):
+    """Fit points of every ``coarse_stride``-th row and column of ``ds``.
+
+    None when ``coarse_stride`` is 1 or the sub-grid has fewer than ``COARSE_MIN_RATIO``
+    points per constant (of ``n_constants``).
+    """
+    if coarse_stride <= 1:
+        return None
+    sub = ds.isel(epsilon=slice(None, None, coarse_stride), xi=slice(None, None, coarse_stride))
+    pts, _, _ = surface_points(sub, weights=weights)
+    return pts if len(pts) >= COARSE_MIN_RATIO * n_constants else None
+
+
+def fit_eq40_alternative(ds, reading, main, *, weights="area", coarse_stride=COARSE_STRIDE, **opts):
+    """Another reading of Eq. 40, refit for comparison with the main refit ``main``.
+
+    Only its RMS error is reported (``report.readings_markdown``), so it is fitted once, on
+    the sub-grid of the continuation's first stage (``coarse_points``; all points when that
+    is skipped), from the published first-term constants of ``reading`` and ``main``'s
+    second-term constants (the second term is the same under every reading).  On our
+    surface these fits are ill-conditioned: under the beta readings the constants drift
+    (tau_one up, width_coef down) while the RMS creeps down by parts per thousand, and the
+    continuation on all points took minutes to stop wherever ``ftol`` first held.  ``opts``
+    go to ``fit_eq40``.
+
+    Returns
+    -------
+    FitResult
+        ``extra["rms_all"]``: the (weighted) RMS relative error of the fitted model on all
+        loaded points of ``ds``.
+    """
+    loaded, _, _ = surface_points(ds, weights=weights)
+    second = main.values()
+    start = {k: second.get(k, v) if k in shen.SECOND_TERM else v for k, v in eq40_fit_start(reading).items()}
+    pts = coarse_points(ds, len(start), weights=weights, coarse_stride=coarse_stride)
+    f = fit_eq40(loaded if pts is None else pts, reading, start=start, **opts)
+    with np.errstate(all="ignore"):
+        rel = eq40_model(loaded, f.values(), reading) / loaded.alpha - 1.0
+    f.extra["rms_all"] = rms_area(rel, loaded.weight)
+    f.x0 = np.array([eq40_fit_start(reading)[k] for k in f.names])
+    return f
+
+
+def rms_area(rel, weight):
+    """Weighted RMS of the relative errors ``rel`` (NaN left out), weights as the fits'."""
+    rel, weight = np.asarray(rel, dtype=float), np.asarray(weight, dtype=float)
+    return float(np.sqrt(np.nansum(weight * rel**2) / np.sum(weight[np.isfinite(rel)])))
+
+
+def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A, jacobian="exact"):
     """Eq. 39 on one xi section: tau, sigma, beta, b and eta = eta_r / eta_c, with lambda measured.
 
     sigma, beta and eta are fitted as logarithms, inside ``SLICE_BOUNDS``.
     Three starts (the sigma reading, the beta reading, Eq. 26) guard against
     local minima; the best converged one is kept and ``extra["at_bound"]``
-    names constants that ended on a bound.  ``weight`` defaults to uniform.
+    names constants that ended on a bound.  ``weight`` defaults to uniform; ``jacobian``
+    is one of ``JACOBIANS``.
     """
+    _check_choice("jacobian", jacobian, JACOBIANS)
     eps, alpha, lam = (np.asarray(v, dtype=float) for v in (eps, alpha, lam))
     sw = np.ones_like(eps) if weight is None else np.sqrt(weight)
     names = ["tau", "sigma", "beta", "b", "eta"]
@@ -371,10 +475,30 @@ def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A):
         model = shen.eq39(eps, xi, tau=t, sigma=s, beta=be, a=a, lam=lam, b=b, eta_c=1.0, eta_r=et)
         return sw * (model / alpha - 1.0)
 
+    scale = sw / alpha
+
+    def jac(p):
+        v = np.where(logged, np.exp(p), p)
+        t, s, be, b, et = v
+        model, g = shen.eq39_gradient(
+            eps, xi, tau=t, sigma=s, beta=be, a=a, lam=lam, b=b, eta_c=1.0, eta_r=et
+        )
+        # d/d ln(v) = v d/dv for the logged constants
+        grad = np.column_stack([g[k] for k in ("tau", "sigma", "beta", "b", "eta_r")])
+        grad *= np.where(logged, v, 1.0)
+        return scale * model - sw, scale[:, None] * grad
+
     lo, hi = to_internal(SLICE_BOUNDS[0]), to_internal(SLICE_BOUNDS[1])
     label = f"Eq. 39 at xi = {xi:g}"
     fits = [
-        least_squares_fit(residuals, np.clip(to_internal(s), lo, hi), names, label, bounds=(lo, hi))
+        least_squares_fit(
+            residuals,
+            np.clip(to_internal(s), lo, hi),
+            names,
+            label,
+            bounds=(lo, hi),
+            jac=jac if jacobian == "exact" else None,
+        )
         for s in starts
     ]
     best = min([f for f in fits if f.converged] or fits, key=lambda f: f.cost)
@@ -386,8 +510,10 @@ def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A):
     return best
 
 
-def fit_eq39_slices(ds, xi_values=None):
+def fit_eq39_slices(ds, xi_values=None, jacobian="exact"):
     """Per-section fits of Eq. 39 on the xi > 0 columns of ``ds`` (or those in ``xi_values``).
+
+    ``jacobian``: ``JACOBIANS``.
 
     Returns
     -------
@@ -402,7 +528,7 @@ def fit_eq39_slices(ds, xi_values=None):
         m = loaded.xi == x
         if np.count_nonzero(m) < 6:
             continue  # fewer points than constants: nothing to learn
-        f = fit_eq39_slice(loaded.eps[m], float(x), loaded.alpha[m], loaded.lam[m])
+        f = fit_eq39_slice(loaded.eps[m], float(x), loaded.alpha[m], loaded.lam[m], jacobian=jacobian)
         f.extra["xi"] = float(x)
         out.append(f)
     return _annotate_slices(out, loaded)
