@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from contactalpha.warmup import ENTRY_POINTS, warm_up
+from contactalpha.warmup import ENTRY_POINTS, PARTS, warm_up
 
 # Calls of the kind the jobs make, with other sizes and arguments than the warm-up's own; then the
 # cache misses of every package kernel are counted. The RK4 baseline is not warmed (no default
@@ -61,6 +61,11 @@ def test_warm_up_times_every_entry_point_it_was_asked_for():
     assert list(seconds) == ["scaling", "models"] == calls
     assert all(s >= 0.0 for s in seconds.values())
     assert set(ENTRY_POINTS) >= {"impact", "solver", "tables", "models", "boundary", "scene"}
+
+
+def test_the_workflows_two_parts_warm_every_entry_point_once():
+    names = [name for part in PARTS.values() for name in part]
+    assert sorted(names) == sorted(ENTRY_POINTS)
 
 
 def test_after_the_warm_up_the_jobs_calls_compile_nothing(tmp_path):

@@ -80,13 +80,18 @@ ENTRY_POINTS = {
 }
 
 
+# The warm-up in two parts of similar cost, for two processes at once (the workflow's two jobs):
+# the impact and solver kernels, and the lookups, formulas and scene kernels.
+PARTS = {"solver": ("impact", "solver"), "lookups": ("tables", "models", "boundary", "scene", "scaling")}
+
+
 def warm_up(entry_points=None, progress=None):
     """Call every entry point once and return the seconds each took.
 
     Parameters
     ----------
     entry_points : iterable of str, optional
-        Keys of ``ENTRY_POINTS`` (default: all).
+        Keys of ``ENTRY_POINTS`` (default: all), e.g. a value of ``PARTS``.
     progress : callable, optional
         Called with ``(label, seconds)`` after each entry point.
 

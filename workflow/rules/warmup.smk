@@ -3,23 +3,25 @@
 # Fig. 9, the ball) would each compile the same kernels at the same time. The jobs take its
 # output as ancient() input: it orders them after the warm-up, and a rerun of the warm-up (after
 # a code edit) does not by itself rerun them (their own code_version params do that).
-# results/warmup/kernels.json records the compile (or cache load) time of each kernel family.
+# It runs as two jobs at once (contactalpha.warmup.PARTS: the solver's kernels, the rest);
+# results/warmup/<part>.json records the compile (or cache load) time of each kernel family.
 
 from contactalpha.provenance import source_hash
+from contactalpha.warmup import PARTS
 
-WARMUP = "results/warmup/kernels.json"
+WARMUP = expand("results/warmup/{part}.json", part=PARTS)
 
-ALL_TARGETS += [WARMUP]
+ALL_TARGETS += WARMUP
 
 
 rule numba_warmup:
     output:
-        WARMUP,
+        "results/warmup/{part}.json",
     params:
         # The warm-up's closure is every kernel the jobs run: an edit of any recompiles here.
         code_version=source_hash("contactalpha.warmup"),
     log:
-        "logs/warmup/kernels.log",
+        "logs/warmup/{part}.log",
     threads: 1
     conda:
         "../envs/contactalpha.yaml"
