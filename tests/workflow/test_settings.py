@@ -21,6 +21,7 @@ from contactalpha.engine.table_build import (
 )
 from contactalpha.paper.ball.study import BallSettings
 from contactalpha.paper.bench.report import BenchSettings, FailureSettings
+from contactalpha.paper.closedform.compute import ClosedFormRefitSettings, ClosedFormSettings
 from contactalpha.paper.fig9.compute import Fig9Settings
 from contactalpha.paper.fit.report import FitSettings
 from contactalpha.paper.surface.compute import SolverSettings, SurfaceSettings, compute_surface
@@ -38,7 +39,7 @@ OWNERS = {
     ("models", "table"): (TableSettings, set(), set()),
     ("models", "check"): (TableCheckSettings, set(), set()),
     ("models", "fig9"): (Fig9Settings, set(), set()),
-    ("fit",): (FitSettings, {"package_coefficients"}, {"max_nfev", "coarse_stride"}),
+    ("fit",): (FitSettings, {"package_coefficients"}, {"max_nfev", "coarse_stride", "jacobian"}),
     ("ball", "numerics"): (ContactNumerics, set(), set()),
     ("restitution", "curves"): (RestitutionCurveSettings, set(), set()),
     ("restitution", "table"): (KinematicTableSettings, set(), set()),
@@ -47,12 +48,14 @@ OWNERS = {
     ("engines",): (EnginesSettings, set(), set()),
     ("adequacy",): (AdequacySettings, set(), set()),
     ("ball",): (BallSettings, set(), set()),
+    ("closedform",): (ClosedFormSettings, {"package_constants"}, set()),
+    ("closedform", "refit"): (ClosedFormRefitSettings, set(), set()),
 }
 # Sections (or keys) no settings object owns, and why: every other key of the schema must be owned.
 NOT_OWNED = {
     ("models", "package_table"): "a package path the `ship` rule writes, not a setting of a computation",
     ("restitution", "package_table"): "a package path the `ship_kinematic_table` rule writes",
-    ("closedform",): "the closed-form stage (paper.closedform) is another issue's",
+    ("closedform", "package_constants"): "a package path the `closedform_ship` rule writes",
 }
 
 

@@ -8,8 +8,9 @@ targets met, per model, with provenance and run time); figure (PNG and PDF error
 
 import time
 
+from contactalpha.config import settings_from
 from contactalpha.io import load_surface, script_logger, write_json_atomic
-from contactalpha.paper.closedform.compute import TARGETS, compare_models
+from contactalpha.paper.closedform.compute import TARGETS, ClosedFormSettings, compare_models
 from contactalpha.paper.closedform.figures import error_map
 from contactalpha.plotting import save_figure
 from contactalpha.provenance import result_attrs
@@ -18,14 +19,15 @@ sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("closedform_compare", sm.log[0])
 start = time.perf_counter()
 ds = load_surface(sm.input.surface)
-scores, maps = compare_models(ds, list(sm.params.models))
+settings = settings_from(ClosedFormSettings, sm.params, ignore=["shipped"])
+scores, maps = compare_models(ds, list(settings.models))
 record = {
     "models": scores,
     "targets": TARGETS,
     "surface": {k: ds.attrs.get(k) for k in ("git_commit", "solver", "tol", "rtol", "atol")},
     "points": int(next(iter(scores.values()))["n"]),
     "compute_seconds": time.perf_counter() - start,
-    **result_attrs({"models": list(sm.params.models)}, "closedform_compare"),
+    **result_attrs({"models": list(settings.models)}, "closedform_compare"),
 }
 write_json_atomic(sm.output.comparison, record)
 save_figure(error_map(ds, maps), list(sm.output.figure))

@@ -14,6 +14,8 @@ surface pins a constant, not sampling noise).  A fixed checkerboard of points
 (``HOLDOUT_EVERY``) is left out of the fit and judged separately.
 """
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from contactalpha.engine.codes import END_STATES
@@ -32,6 +34,26 @@ ALPHA_CAP = 1e6
 # Evaluation budget of the linearised and the polish fits.
 MAX_NFEV = 400
 _CODE = {name: code for code, name in END_STATES.items()}
+
+
+@dataclass(frozen=True)
+class ClosedFormRefitSettings:
+    """``fit_closed_form``'s budget: the workflow's ``closedform.refit`` section."""
+
+    polish_steps: int = 0
+    max_nfev: int = MAX_NFEV
+
+
+@dataclass(frozen=True)
+class ClosedFormSettings:
+    """The closed-form stage's settings: the workflow's ``closedform`` section.
+
+    ``models`` (registered names judged beside the closed form, one error-map panel each),
+    ``refit`` (the non-default refit's budget).
+    """
+
+    models: tuple = ("closed_form", "shen_published", "shen_refit")
+    refit: ClosedFormRefitSettings = field(default_factory=ClosedFormRefitSettings)
 
 
 def surface_targets(ds):
