@@ -55,8 +55,8 @@ rule table:
 
 rule table_check:
     input:
-        # None: the shipped table (the script finds it), rerun when its digest changes.
-        [] if CHECK_SHIPPED_TABLE else [BUILT_TABLE],
+        # No table: the shipped one (the script finds it), rerun when its digest changes.
+        **({} if CHECK_SHIPPED_TABLE else {"table": BUILT_TABLE}),
         warmup=ancient(WARMUP),
     output:
         "results/models/table_check.md",
@@ -76,7 +76,7 @@ rule table_check:
 # The check of a freshly built table, before `ship` copies it into the package.
 use rule table_check as table_check_built with:
     input:
-        BUILT_TABLE,
+        table=BUILT_TABLE,
         warmup=ancient(WARMUP),
     output:
         "results/models/alpha_table_check.md",

@@ -3,8 +3,8 @@
 Settings (snakemake.params.check): points, seed, max_rel_err (the accuracy the package promises).
 snakemake.params.code_version (source hash) and shipped_table (digest of the shipped table, when
 it is the one checked) only make an engine edit or a new shipped table rerun the check.
-Inputs: a built table (also compared with the shipped copy), or none: the shipped table;
-warmup (the numba warm-up's record: orders the job after the compile, not read).
+Inputs: table (a built table, also compared with the shipped copy; absent: the shipped table);
+warmup (the numba warm-up's records: they order the job after the compile, and are not read).
 Outputs: the check as markdown; the rule fails if the table misses max_rel_err.
 """
 
@@ -17,8 +17,7 @@ from contactalpha.io import json_text, script_logger, write_text_atomic
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("models_table_check", sm.log[0])
 p = sm.params.check
-# Inputs besides the numba warm-up's: the built table, or none (the shipped one).
-table = next((f for f in sm.input if f != sm.input.get("warmup")), DEFAULT_FILE)
+table = sm.input.get("table", DEFAULT_FILE)
 res = check_table(table, n=p["points"], seed=p["seed"])
 meta = load_table(table).meta
 if Path(table).resolve() == DEFAULT_FILE.resolve():
