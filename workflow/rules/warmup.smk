@@ -3,7 +3,7 @@
 # Fig. 9, the ball) would each compile the same kernels at the same time. The jobs take its
 # output as ancient() input: it orders them after the warm-up, and a rerun of the warm-up (after
 # a code edit) does not by itself rerun them (their own code_version params do that).
-# It runs as two jobs at once (contactalpha.warmup.PARTS: the solver's kernels, the rest);
+# It runs as two jobs at once (contactalpha.warmup.PARTS: kernels built on the impact kernel, the rest);
 # results/warmup/<part>.json records the compile (or cache load) time of each kernel family.
 
 from contactalpha.provenance import source_hash
