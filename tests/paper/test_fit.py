@@ -203,3 +203,29 @@ def test_other_readings_start_from_the_main_second_term_within_their_budget(ci_s
     text = fit_report.readings_markdown(report)
     assert f"| `none` | {shen.READINGS['none']} |" in text and "with at most 20 evaluations each" in text
     assert f"| {beta.nfev} | no: The maximum number of function evaluations is exceeded. |" in text
+
+
+def test_third_slice_start_runs_only_when_the_first_two_disagree(ci_surface, monkeypatch):
+    calls, original = [], fit.least_squares_fit
+
+    def recording(*args, **kwargs):
+        calls.append(original(*args, **kwargs))
+        return calls[-1]
+
+    monkeypatch.setattr(fit, "least_squares_fit", recording)
+    loaded, _, _ = fit.surface_points(ci_surface, weights="uniform")
+    counts = []
+    for x in CI_XI[1:]:
+        m = loaded.xi == x
+        calls.clear()
+        best = fit.fit_eq39_slice(loaded.eps[m], float(x), loaded.alpha[m], loaded.lam[m])
+        same = (
+            calls[0].converged
+            and calls[1].converged
+            and abs(calls[0].cost - calls[1].cost)
+            <= (fit.SLICE_SAME_COST * min(calls[0].cost, calls[1].cost))
+        )
+        assert len(calls) == (2 if same else 3)
+        assert best.cost == min(f.cost for f in calls if f.converged)
+        counts.append(len(calls))
+    assert set(counts) == {2, 3}  # both cases occur on the CI surface
