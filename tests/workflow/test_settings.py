@@ -39,7 +39,11 @@ OWNERS = {
     ("models", "table"): (TableSettings, set(), set()),
     ("models", "check"): (TableCheckSettings, set(), set()),
     ("models", "fig9"): (Fig9Settings, set(), set()),
-    ("fit",): (FitSettings, {"package_coefficients"}, {"max_nfev", "coarse_stride", "jacobian"}),
+    ("fit",): (
+        FitSettings,
+        {"package_coefficients"},
+        {"max_nfev", "reading_max_nfev", "coarse_stride", "jacobian"},
+    ),
     ("ball", "numerics"): (ContactNumerics, set(), set()),
     ("restitution", "curves"): (RestitutionCurveSettings, set(), set()),
     ("restitution", "table"): (KinematicTableSettings, set(), set()),
