@@ -229,3 +229,14 @@ def test_third_slice_start_runs_only_when_the_first_two_disagree(ci_surface, mon
         assert best.cost == min(f.cost for f in calls if f.converged)
         counts.append(len(calls))
     assert set(counts) == {2, 3}  # both cases occur on the CI surface
+
+
+def test_report_is_the_same_bits_in_one_or_two_worker_processes(ci_surface):
+    settings = {"readings": [shen.BEST_READING, "none", "beta_a6"], "restitution": False}
+    one, fits_one = fit_report.refit_report(ci_surface, **settings)
+    two, fits_two = fit_report.refit_report(ci_surface, workers=2, **settings)
+    one.pop("generated"), two.pop("generated")
+    assert json.dumps(one, sort_keys=True) == json.dumps(two, sort_keys=True)
+    assert [f.extra["xi"] for f in fits_two["slices"]] == [f.extra["xi"] for f in fits_one["slices"]]
+    with pytest.raises(ValueError, match=r"workers = 0 is outside the valid range"):
+        fit_report.refit_report(ci_surface, workers=0)

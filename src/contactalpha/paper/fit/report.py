@@ -7,6 +7,8 @@ content of ``results/fit/coefficients.json``); ``comparison_markdown`` and
 All numbers in the markdown come from the dict, none are typed by hand.
 """
 
+import multiprocessing
+from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import asdict, dataclass, field, fields
 from datetime import UTC, datetime
 
@@ -40,6 +42,10 @@ class FitSettings:
     jacobian: str = "exact"
 
 
+# Chunks of per-section fits per worker process (refit_report with workers > 1): a few each, so
+# that the processes finish together although sections cost unequally.
+SECTION_CHUNKS_PER_WORKER = 3
+
 # Order and labels of the models in the comparison table.
 MODEL_LABELS = {
     "published": "Eq. 40 as published (beta = 1 as printed)",
@@ -53,13 +59,39 @@ def _model_stats(alpha, points, restitution):
     return fit.error_stats(alpha, points, with_restitution=restitution)
 
 
-def refit_report(ds, **settings):
+class _Inline:
+    """``submit`` runs at once, in this process: ``refit_report`` with one worker."""
+
+    def submit(self, fn, *args, **kwargs):
+        done = Future()
+        done.set_result(fn(*args, **kwargs))
+        return done
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _executor(workers):
+    if workers == 1:
+        return _Inline()
+    # fork: the workers share the imports and loaded kernels instead of repeating them
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"))
+
+
+def refit_report(ds, workers=1, **settings):
     """Run every fit of the issue on the surface ``ds`` and compare with the published constants.
 
     Parameters
     ----------
     ds : xarray.Dataset
         The alpha surface.
+    workers : int
+        Processes for the fits after the main refit (the other readings and the per-section
+        fits, each fit whole in one process): the report is the same bits for any number.
+        Each process should run its BLAS on one thread (``workflow/scripts/fit_refit.py``).
     **settings
         Overrides of ``FitSettings``: ``readings`` (keys of ``shen.READINGS``
         refitted for the evidence), ``weights``, ``loss``, ``verdict_k``,
@@ -84,6 +116,8 @@ def refit_report(ds, **settings):
     ValueError
         For unknown settings, or a surface without valid loaded points.
     """
+    if not (isinstance(workers, int) and workers >= 1):
+        raise ValueError(f"workers = {workers!r} is outside the valid range: an integer >= 1")
     valid = {f.name for f in fields(FitSettings)}
     unknown = set(settings) - valid
     if unknown:
@@ -104,20 +138,29 @@ def refit_report(ds, **settings):
     fit.require_converged(eq40)  # fail fast: the main result
     budget = min(int(cfg["reading_max_nfev"]), int(cfg["max_nfev"]))
     other_opts = {**opts, "weights": cfg["weights"], "max_nfev": budget}
-    readings = {
-        r: eq40 if r == reading else fit.fit_eq40_alternative(ds, r, eq40, **other_opts)
-        for r in cfg["readings"]
-    }
+    # The independent fits, in as many processes as asked; the sections in contiguous chunks.
+    sections = np.array_split(
+        np.unique(loaded.xi), 1 if workers == 1 else SECTION_CHUNKS_PER_WORKER * workers
+    )
+    with _executor(workers) as pool:
+        others = {
+            r: pool.submit(fit.fit_eq40_alternative, ds, r, eq40, **other_opts)
+            for r in cfg["readings"]
+            if r != reading
+        }
+        parts = [pool.submit(fit.fit_eq39_slices, ds, xs, jacobian=cfg["jacobian"]) for xs in sections]
+        beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, **opts)
+        beta_only.label = f"Eq. 40 ({reading}), beta only"
+        zero = fit.fit_zero_load(np.unique(np.concatenate([unloaded.eps, loaded.eps])))
+        s21 = fit.fit_s21()
+        eq26 = None if cfg["eq26"] is None else fit.fit_eq26(ds, **cfg["eq26"])
+        readings = {r: eq40 if r == reading else others[r].result() for r in cfg["readings"]}
+        slices = [f for part in parts for f in part.result()]
     readings.setdefault(reading, eq40)
-    beta_only = fit.fit_eq40(loaded, reading, start={"beta": shen.PUBLISHED["beta"]}, **opts)
-    beta_only.label = f"Eq. 40 ({reading}), beta only"
-    zero = fit.fit_zero_load(np.unique(np.concatenate([unloaded.eps, loaded.eps])))
-    s21 = fit.fit_s21()
     fits = {"eq40": eq40, "beta_only": beta_only, "zero_load": zero, "s21": s21, "readings": readings}
-    if cfg["eq26"] is not None:
-        fits["eq26"] = fit.fit_eq26(ds, **cfg["eq26"])
-    fit.require_converged(beta_only, zero, s21, *([fits["eq26"]] if "eq26" in fits else []))
-    slices = fit.fit_eq39_slices(ds, jacobian=cfg["jacobian"])
+    if eq26 is not None:
+        fits["eq26"] = eq26
+    fit.require_converged(beta_only, zero, s21, *([eq26] if eq26 is not None else []))
     evidence = fit.reading_evidence(slices)
     fits["slices"] = slices
 
