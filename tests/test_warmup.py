@@ -18,6 +18,7 @@ import numpy as np
 from numba.core.registry import CPUDispatcher
 import contactalpha as ca
 from contactalpha.engine import driver, table
+from contactalpha.models import shen
 from contactalpha.scene import ball, threshold
 
 ca.impact(np.linspace(0.5, 3.0, 1000), 0.3)
@@ -28,6 +29,7 @@ ca.alpha(np.linspace(0.1, 0.9, 5000), 0.4, model="exact")
 ca.alpha(np.linspace(0.1, 0.9, 5000), 0.4, model="exact", restitution="kinematic")
 for name in ("hunt_crossley", "shen_published", "closed_form", "exact_unloaded"):
     ca.alpha(np.linspace(0.1, 0.9, 7), 0.1, model=name)
+shen.eq40_gradient(np.linspace(0.1, 0.9, 9), 0.3, reading="beta_a0")
 driver.trajectory(0.7, 0.5, max_step=0.1)
 threshold.critical_speed(np.array([0.2, 0.7]), 1.0, 1e9, 1.0)
 ball.simulate(ball.Scene(t_end=0.005, force=60.0), "shen_published", case="B")

@@ -19,7 +19,7 @@ import numpy as np
 
 from contactalpha.engine import boundary, driver, exact, solver, table
 from contactalpha.engine.scaling import influence_factor
-from contactalpha.models import closed_form, registry
+from contactalpha.models import closed_form, registry, shen
 from contactalpha.scene import ball, threshold
 
 # One point inside every kernel's domain: eps, xi.
@@ -56,6 +56,7 @@ def _models():
             continue  # the solver: part "engine" warms it, and this part must not compile it again
         registry.alpha(_points(2, EPS), XI, model=name)
     closed_form.alpha_closed_form(EPS, XI)
+    shen.eq40_gradient(_points(2, EPS), XI)  # the Eq. 40 refit's Jacobian
     exact.alpha_exact(_points(1, EPS))
     exact.restitution_exact(_points(1, 1.0))
 
