@@ -55,8 +55,13 @@ rule fit_refit:
         eq26=config["fit"]["eq26"],
         restitution=config["fit"]["restitution"],
     # Worker processes for the fits after the main refit (each fit single-threaded, the same bits
-    # for any number): about 10 s wall on 2 cores instead of 18 s.
-    threads: 2
+    # for any number): about 10 s wall with 2 instead of 18 s with 1. One by default: in a
+    # `snakemake -c2` run a 2-thread job waits until both cores are free at once, which happened
+    # only when the queue drained (measured: the refit started 60 s after the surface was ready).
+    # With more cores: `--set-threads fit_refit=2`.
+    threads: 1
+    # On the critical path (surface, refit, Figs. 6-8): scheduled before the other ready jobs.
+    priority: CRITICAL_PATH
     log:
         "logs/fit/refit.log",
     conda:
@@ -103,6 +108,7 @@ rule fit_figures:
         **{key: multiext(f"results/figures/{name}", ".png", ".pdf") for key, name in FIT_REFIT_FIGURES.items()},
     params:
         restitution=config["fit"]["restitution"],
+    priority: CRITICAL_PATH
     log:
         "logs/fit/figures.log",
     conda:

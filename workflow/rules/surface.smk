@@ -40,6 +40,7 @@ rule surface_chunk:
     log:
         "logs/surface/chunk_{chunk}.log",
     threads: 1
+    priority: CRITICAL_PATH
     conda:
         "../envs/contactalpha.yaml"
     script:
@@ -55,6 +56,7 @@ rule surface_merge:
         # The settings that make the surface, stored in its attrs (not the figure settings:
         # editing those must not rebuild the surface).
         surface={key: config["surface"][key] for key in ("epsilon", "xi", "solver", "chunks")},
+    priority: CRITICAL_PATH
     log:
         "logs/surface/merge.log",
     conda:

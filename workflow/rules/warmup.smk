@@ -9,6 +9,10 @@
 from contactalpha.provenance import source_hash
 from contactalpha.warmup import PARTS
 
+# Priority of the jobs on the main job's critical path (warm-up, surface, refit, Figs. 6-8):
+# Snakemake starts them before other ready jobs (default priority 0).
+CRITICAL_PATH = 10
+
 WARMUP = expand("results/warmup/{part}.json", part=PARTS)
 
 ALL_TARGETS += WARMUP
@@ -23,6 +27,7 @@ rule numba_warmup:
     log:
         "logs/warmup/{part}.log",
     threads: 1
+    priority: CRITICAL_PATH
     conda:
         "../envs/contactalpha.yaml"
     script:
