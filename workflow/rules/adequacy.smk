@@ -34,7 +34,7 @@ localrules:
 rule adequacy_maps:
     input:
         surface="results/surface.h5",
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/adequacy/maps.h5",
     params:
@@ -56,7 +56,7 @@ rule adequacy_maps:
 
 rule adequacy_thresholds:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         data="results/adequacy/thresholds.nc",
         table="results/adequacy/thresholds.md",

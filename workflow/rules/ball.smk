@@ -26,7 +26,7 @@ ALL_TARGETS += [
 
 rule ball_cases:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         case_a="results/ball/case_A.nc",
         case_b="results/ball/case_B.nc",
@@ -49,7 +49,7 @@ rule ball_cases:
 
 rule ball_first_collision:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         data="results/ball/first_collision.nc",
         table="results/ball/first_collision.md",

@@ -27,7 +27,7 @@ ALL_TARGETS += [
 rule closedform_compare:
     input:
         surface="results/surface.h5",
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         comparison="results/closedform/comparison.json",
         figure=multiext("results/figures/closedform_error_map", ".png", ".pdf"),
@@ -45,7 +45,7 @@ rule closedform_compare:
 rule closedform_refit:
     input:
         "results/surface.h5",
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/closedform/constants.json",
     params:

@@ -41,7 +41,7 @@ localrules:
 rule fit_refit:
     input:
         "results/surface.h5",
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         coefficients="results/fit/coefficients.json",
         comparison="results/fit/comparison.md",

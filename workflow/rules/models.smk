@@ -38,7 +38,7 @@ ALL_TARGETS += [
 
 rule table:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         BUILT_TABLE,
     params:
@@ -57,7 +57,7 @@ rule table_check:
     input:
         # No table: the shipped one (the script finds it), rerun when its digest changes.
         **({} if CHECK_SHIPPED_TABLE else {"table": BUILT_TABLE}),
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/models/table_check.md",
     params:
@@ -77,7 +77,7 @@ rule table_check:
 use rule table_check as table_check_built with:
     input:
         table=BUILT_TABLE,
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/models/alpha_table_check.md",
     params:
@@ -91,7 +91,7 @@ use rule table_check as table_check_built with:
 # Data, table, statements and figure in one job: one Python start-up instead of two.
 rule fig9:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         data="results/models/fig9.h5",
         table="results/models/fig9_max_deviation.md",

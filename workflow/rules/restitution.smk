@@ -30,7 +30,7 @@ ALL_TARGETS += [
 # Data and figure in one job: a few hundred solves, cheaper than a second Python start-up.
 rule restitution_figure:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         data="results/restitution/restitution_kinematic.nc",
         png="results/figures/restitution_kinematic.png",
@@ -47,7 +47,7 @@ rule restitution_figure:
 
 rule kinematic_table:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         BUILT_KINEMATIC_TABLE,
     params:
@@ -65,7 +65,7 @@ rule kinematic_table:
 rule kinematic_table_check:
     input:
         KINEMATIC_TABLE_IN_USE,
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/restitution/kinematic_table_check.md",
     params:

@@ -27,7 +27,7 @@ wildcard_constraints:
 
 rule surface_chunk:
     input:
-        warmup=ancient(WARMUP),
+        warmup=WARMUP,
     output:
         "results/surface/chunks/chunk_{chunk}.h5",
     params:

@@ -1,8 +1,10 @@
 # Stage "warmup": compile every numba kernel once, before the jobs that run them (issue 14, item 6).
 # On a fresh clone the numba cache is empty: without this job the first jobs (surface chunks,
 # Fig. 9, the ball) would each compile the same kernels at the same time. The jobs take its
-# output as ancient() input: it orders them after the warm-up, and a rerun of the warm-up (after
-# a code edit) does not by itself rerun them (their own code_version params do that).
+# outputs as plain inputs: the warm-up reruns when any package source it reaches changes, and
+# then so do they. Not ancient(): with ancient inputs Snakemake (9.27) planned the warm-up after
+# an engine edit but not the jobs whose code_version params had changed, so the surface stayed
+# stale (test_an_engine_edit_reruns_the_surface_and_the_table).
 # It runs as two jobs at once (contactalpha.warmup.PARTS: kernels built on the impact kernel, the rest);
 # results/warmup/<part>.json records the compile (or cache load) time of each kernel family.
 
