@@ -13,6 +13,7 @@ kernel-level function, serial and parallel variants both (jobs with one thread
 run the serial ones).  Values are not checked here: the tests do that.
 """
 
+import dataclasses
 import time
 
 import numpy as np
@@ -22,8 +23,9 @@ from contactalpha.engine.scaling import influence_factor
 from contactalpha.models import closed_form, registry, shen
 from contactalpha.scene import ball, threshold
 
-# One point inside every kernel's domain: eps, xi.
+# One point inside every kernel's domain: eps, xi; scene-level kernels take the paper's ball.
 EPS, XI = 0.5, 0.2
+BALL = ball.Scene()
 
 
 def _points(n, value):
@@ -63,12 +65,12 @@ def _models():
 
 def _boundary():
     boundary.separation_boundary(_points(1, XI))
-    threshold.critical_speed(EPS, 0.5, 1.4e8, 9.81)
+    threshold.critical_speed(EPS, BALL.mass, BALL.stiffness, BALL.gravity)
 
 
 def _scene():
     # The paper's ball (Sect. 6) for a few milliseconds: its kernel calls from Python.
-    ball.simulate(ball.Scene(t_end=0.01), "exact")
+    ball.simulate(dataclasses.replace(BALL, t_end=0.01), "exact")
 
 
 # Label -> warm-up call, in the order the workflow's jobs first need them.
@@ -79,7 +81,7 @@ ENTRY_POINTS = {
     "models": _models,
     "boundary": _boundary,
     "scene": _scene,
-    "scaling": lambda: influence_factor(0.5, 1.4e8, 0.5, 9.81),
+    "scaling": lambda: influence_factor(BALL.mass, BALL.stiffness, BALL.approach_speed, BALL.gravity),
 }
 
 
