@@ -83,7 +83,7 @@ def main(argv=None):
 
         def ours_run(alpha=alpha, A=A, n=n):
             for _ in range(n):
-                impact_kernel(alpha, A, 1e-12, 1e-14, 2_000_000, rec)
+                impact_kernel(alpha, A, 1e-12, 1e-14, 2_000_000, rec, np.inf)
 
         def scipy_run(alpha=alpha, xi=xi):
             impact_scipy(alpha, xi, method="DOP853", rtol=1e-12, atol=1e-14)

@@ -5,7 +5,7 @@ Writes the export to a temporary folder, compiles it with the tested flags
 (``-std=c99 -Wall -Wextra -Werror -O2``; compile time reported separately), then for Stronge's eps
 and Newton's e_N evaluates the same random points (inside the tables' domain) with
 ``contactalpha_alpha_many`` (one ctypes call, the loop in C) and with the numba lookup's serial
-array loop (``alpha_from_table_serial``, one thread; its compile time is excluded by a warm-up),
+array loop (``alpha_from_table_rows``, one thread; its compile time is excluded by a warm-up),
 and prints both rates, their ratio and the largest relative difference.
 """
 
@@ -37,9 +37,10 @@ def main(argv=None):
     import numba
 
     from contactalpha.engine.table import (
-        alpha_from_table_serial,
-        kinematic_alpha_from_table_serial,
+        alpha_from_table_rows,
+        kinematic_alpha_from_table_rows,
         kinematic_table_arrays,
+        lookup_many,
         table_arrays,
     )
     from contactalpha.engine.table_build import random_points
@@ -75,13 +76,15 @@ def main(argv=None):
         )
         value, xi = random_points(n, seed=11)
         numba_lookups = {
-            "energetic": (alpha_from_table_serial, table_arrays()),
-            "kinematic": (kinematic_alpha_from_table_serial, kinematic_table_arrays()),
+            "energetic": (alpha_from_table_rows, table_arrays()),
+            "kinematic": (kinematic_alpha_from_table_rows, kinematic_table_arrays()),
         }
         for kind, (serial, arrays) in numba_lookups.items():
             t_c = best_time(lambda kind=kind: alpha_many(lib, value, xi, kind), repeat)
-            t_nb = best_time(lambda serial=serial, arrays=arrays: serial(value, xi, *arrays), repeat)
-            c, ref = alpha_many(lib, value, xi, kind), serial(value, xi, *arrays)
+            t_nb = best_time(
+                lambda serial=serial, arrays=arrays: lookup_many(serial, value, xi, arrays, threads=1), repeat
+            )
+            c, ref = alpha_many(lib, value, xi, kind), lookup_many(serial, value, xi, arrays, threads=1)
             rel = np.max(np.abs(c - ref) / np.abs(ref))
             print(
                 f"{kind:10s}: C {n / t_c:.3g} evaluations/s, numba {n / t_nb:.3g} evaluations/s, "

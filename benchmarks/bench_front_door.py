@@ -102,13 +102,13 @@ def main(argv=None):
         # (a fixed 60 steps), the table lookup and one impact.
         xi_of_load_scalar(a_ball)
         alpha_from_packed(0.8, xi_ball, flat)
-        impact_kernel(alpha_ball, A_ball, RTOL, ATOL, MAX_STEPS, rec)
+        impact_kernel(alpha_ball, A_ball, RTOL, ATOL, MAX_STEPS, rec, np.inf)
 
     rows = [
         (
             "impact",
             lambda: ca.impact(a_, x_),
-            lambda: impact_kernel(a_, A, RTOL, ATOL, MAX_STEPS, rec),
+            lambda: impact_kernel(a_, A, RTOL, ATOL, MAX_STEPS, rec, np.inf),
             lambda: ca.impact(np.asarray(a_), np.asarray(x_)),
         ),
         (

@@ -9,8 +9,9 @@ the cache (``engine/jitcache.py`` keys it on the package sources, so an edit
 recompiles).  Its timings are the compile times the benchmarks report apart.
 
 Each entry point is called with a tiny valid input through its public or
-kernel-level function, serial and parallel variants both (jobs with one thread
-run the serial ones).  Values are not checked here: the tests do that.
+kernel-level function: its scalar path and its array path (one jitted row loop,
+whichever number of threads runs it: ``engine/threads.py``).  Values are not
+checked here: the tests do that.
 """
 
 import dataclasses
@@ -29,27 +30,26 @@ BALL = ball.Scene()
 
 
 def _points(n, value):
-    """``n`` copies of ``value``: inputs long enough to take a kernel's parallel variant."""
+    """``n`` copies of ``value``: an array input."""
     return np.full(n, value)
 
 
 def _impact():
     driver.impact(1.0, XI)
-    driver.impact(_points(driver.PARALLEL_MIN, 1.0), XI)
+    driver.impact(_points(2, 1.0), XI)
     driver.trajectory(1.0, XI)
 
 
 def _solver():
     for restitution in ("energetic", "kinematic"):
         solver.solve_alpha(EPS, XI, restitution=restitution)
-        solver.solve_alpha(_points(driver.PARALLEL_MIN, EPS), XI, restitution=restitution)
+        solver.solve_alpha(_points(2, EPS), XI, restitution=restitution)
 
 
 def _tables():
     for restitution in ("energetic", "kinematic"):
         table.alpha_tabulated(EPS, XI, restitution=restitution)
-        table.alpha_tabulated(_points(table.PARALLEL_MIN_LOOKUPS, EPS), XI, restitution=restitution)
-        table.jit_alpha_tabulated(restitution=restitution)(EPS, XI)
+        table.alpha_tabulated(_points(2, EPS), XI, restitution=restitution)
 
 
 def _models():

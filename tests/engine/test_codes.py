@@ -25,7 +25,9 @@ def test_end_states_and_statuses_are_one_to_one():
 
 
 def test_kernel_row_slots_agree_with_the_public_result():
-    out, _ = impact_kernel(0.3, float(scaled_load(0.2)), 1e-12, 1e-14, 2_000_000, np.empty((0, codes.N_REC)))
+    out, _ = impact_kernel(
+        0.3, float(scaled_load(0.2)), 1e-12, 1e-14, 2_000_000, np.empty((0, codes.N_REC)), np.inf
+    )
     r = impact(0.3, 0.2)
     assert out.shape == (codes.N_OUT,)
     assert np.sqrt(out[codes.OUT_EPS2]) == r.eps

@@ -14,10 +14,11 @@ from contactalpha.engine.scaling import influence_factor
 from contactalpha.engine.table import (
     EPS_MIN,
     XI_MAX,
-    alpha_from_table_serial,
+    alpha_from_table_rows,
     alpha_tabulated,
-    kinematic_alpha_from_table_serial,
+    kinematic_alpha_from_table_rows,
     kinematic_table_arrays,
+    lookup_many,
     table_arrays,
 )
 from contactalpha.export.c_source import (
@@ -37,8 +38,8 @@ N_POINTS = 200_000
 # Largest relative difference allowed between C and numba (the bound).
 RTOL = 1e-12
 PYTHON_LOOKUP = {
-    "energetic": (alpha_from_table_serial, table_arrays),
-    "kinematic": (kinematic_alpha_from_table_serial, kinematic_table_arrays),
+    "energetic": (alpha_from_table_rows, table_arrays),
+    "kinematic": (kinematic_alpha_from_table_rows, kinematic_table_arrays),
 }
 
 
@@ -94,7 +95,7 @@ def _rel(c, py):
 def test_c_lookup_matches_numba_on_random_points(lib, restitution):
     value, xi = _points(11 if restitution == "energetic" else 12)
     scalar, arrays = PYTHON_LOOKUP[restitution]
-    py = scalar(value, xi, *arrays())
+    py = lookup_many(scalar, value, xi, arrays(), threads=1)
     c = alpha_many(lib, value, xi, restitution)
     inside = (EPS_MIN <= value) & (value <= 1.0) & (0.0 <= xi) & (xi <= XI_MAX)
     assert inside.sum() > 100_000 and (~inside).sum() > 5_000

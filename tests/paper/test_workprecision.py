@@ -32,7 +32,7 @@ def test_engine_overflowing_damping_is_a_non_finite_state():
 
 def test_engine_step_size_underflow_below_the_public_tolerance_floor():
     # The public API refuses rtol < 1e-15; the kernel itself must still report.
-    out, _ = impact_kernel(0.5, float(ca.scaled_load(0.2)), 1e-18, 1e-300, 2_000_000, NO_RECORD)
+    out, _ = impact_kernel(0.5, float(ca.scaled_load(0.2)), 1e-18, 1e-300, 2_000_000, NO_RECORD, np.inf)
     assert STATUS[int(out[OUT_STATUS])] == "step size underflow"
     assert np.isnan(out[OUT_EPS2])
 
@@ -40,7 +40,7 @@ def test_engine_step_size_underflow_below_the_public_tolerance_floor():
 def test_engine_event_location_failure():
     # Found by a random search over tolerances below the public floor.
     out, _ = impact_kernel(
-        0.07989064346494258, 0.0, 7.617111975300427e-17, 3.80276171523534e-67, 2_000_000, NO_RECORD
+        0.07989064346494258, 0.0, 7.617111975300427e-17, 3.80276171523534e-67, 2_000_000, NO_RECORD, np.inf
     )
     assert STATUS[int(out[OUT_STATUS])] == "event location failed"
     assert np.isnan(out[OUT_EPS2])

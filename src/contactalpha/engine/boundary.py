@@ -13,7 +13,7 @@ the boundary on a grid line instead of interpolating across it.
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .codes import (
     BND_ALPHA,
@@ -29,6 +29,7 @@ from .codes import (
     SEPARATION,
 )
 from .kernel import impact_kernel
+from .threads import run_rows
 
 # Bisection stops when the bracket is this narrow, relative.
 BOUNDARY_RTOL = 1e-14
@@ -43,7 +44,7 @@ def boundary_kernel(A, rtol, atol, max_steps):
     lo = 0.0  # separates
     hi = 1.0
     while True:
-        res, _ = impact_kernel(hi, A, rtol, atol, max_steps, rec)
+        res, _ = impact_kernel(hi, A, rtol, atol, max_steps, rec, np.inf)
         if res[OUT_STATUS] != OK:
             return np.nan, np.nan, int(res[OUT_STATUS])
         if res[OUT_STATE] != SEPARATION:
@@ -57,7 +58,7 @@ def boundary_kernel(A, rtol, atol, max_steps):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        res, _ = impact_kernel(mid, A, rtol, atol, max_steps, rec)
+        res, _ = impact_kernel(mid, A, rtol, atol, max_steps, rec, np.inf)
         if res[OUT_STATUS] != OK:
             return np.nan, np.nan, int(res[OUT_STATUS])
         if res[OUT_STATE] == SEPARATION:
@@ -66,20 +67,25 @@ def boundary_kernel(A, rtol, atol, max_steps):
         else:
             hi = mid
     if not np.isfinite(x_m):
-        res, _ = impact_kernel(lo, A, rtol, atol, max_steps, rec)
+        res, _ = impact_kernel(lo, A, rtol, atol, max_steps, rec, np.inf)
         x_m = res[OUT_X_MAX]
     return lo, np.sqrt(A * x_m / (0.5 + A * x_m)), OK
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
-def boundary_many(A, rtol, atol, max_steps):
-    """``boundary_kernel`` over an array of loads; returns shape (n, N_BND_OUT)."""
-    out = np.empty((A.size, N_BND_OUT))
-    for i in prange(A.size):
+@njit(cache=True, nogil=True, error_model="numpy")
+def boundary_rows(A, rtol, atol, max_steps, out, start, stop):
+    """``boundary_kernel`` over rows ``start .. stop - 1`` of an array of loads, into ``out``."""
+    for i in range(start, stop):
         a, e, s = boundary_kernel(A[i], rtol, atol, max_steps)
         out[i, BND_ALPHA] = a
         out[i, BND_EPS] = e
         out[i, BND_STATUS] = s
+
+
+def boundary_many(A, rtol, atol, max_steps, threads=None):
+    """``boundary_kernel`` over an array of loads; returns shape (n, N_BND_OUT)."""
+    out = np.empty((A.size, N_BND_OUT))
+    run_rows(boundary_rows, A.size, A, rtol, atol, max_steps, out, threads=threads)
     return out
 
 

@@ -4,7 +4,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from contactalpha.validation import (
     check_alpha,
@@ -35,6 +35,7 @@ from .codes import (
 )
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
+from .threads import run_rows
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
 # over the paper's domain, which the alpha root-finder needs for 1e-10.
@@ -86,28 +87,32 @@ class ImpactResult:
 # and far more (milliseconds) when other processes hold the cores.
 PARALLEL_MIN = 32
 
-
-@njit(cache=True, error_model="numpy")
-def _impact_row(alpha, A, rtol, atol, max_steps, out, i):
-    res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, np.empty((0, N_REC)))
-    out[i] = res
+# Empty trajectory record: impacts that record nothing share it.
+NO_RECORD = np.empty((0, N_REC))
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
-def impact_many(alpha, A, rtol, atol, max_steps):
-    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A`` in parallel; returns shape (n, N_OUT)."""
+@njit(cache=True, nogil=True, error_model="numpy")
+def impact_rows(alpha, A, rtol, atol, max_steps, out, start, stop):
+    """Rows ``start .. stop - 1`` of ``impact_many``'s table, written into ``out``."""
+    no_record = np.empty((0, N_REC))
+    for i in range(start, stop):
+        res, _ = impact_kernel(alpha[i], A[i], rtol, atol, max_steps, no_record, np.inf)
+        # Element by element: a row assignment ``out[i] = res`` compiles numba's shape-mismatch
+        # error (string formatting), 3 s of CPU on a cold cache.
+        for j in range(N_OUT):
+            out[i, j] = res[j]
+
+
+def impact_many(alpha, A, rtol, atol, max_steps, threads=None):
+    """Run ``impact_kernel`` over flat arrays ``alpha``, ``A``; returns shape (n, N_OUT).
+
+    Inputs shorter than ``PARALLEL_MIN`` run in this thread; longer ones in
+    ``threads.thread_count()`` threads (or ``threads``).  Same bits either way.
+    """
     out = np.empty((alpha.size, N_OUT))
-    for i in prange(alpha.size):
-        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def impact_serial(alpha, A, rtol, atol, max_steps):
-    """``impact_many`` in one thread, for small inputs."""
-    out = np.empty((alpha.size, N_OUT))
-    for i in range(alpha.size):
-        _impact_row(alpha, A, rtol, atol, max_steps, out, i)
+    if alpha.size < PARALLEL_MIN:
+        threads = 1
+    run_rows(impact_rows, alpha.size, alpha, A, rtol, atol, max_steps, out, threads=threads)
     return out
 
 
@@ -137,10 +142,6 @@ def _as_result(table, shape):
         deps_dalpha=shaped(deps),
         e_n=shaped(table[:, OUT_E_N]),
     )
-
-
-# Empty trajectory record: impacts that record nothing share it.
-NO_RECORD = np.empty((0, N_REC))
 
 
 def frozen_instance(cls, **values):
@@ -201,7 +202,7 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         Python scalars for scalar input, else arrays of the broadcast shape.
     """
     if plain_in("alpha", alpha) and plain_in("xi", xi) and plain_integrator_settings(rtol, atol, max_steps):
-        out, _ = impact_kernel(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD)
+        out, _ = impact_kernel(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
         return _scalar_result(out)
     alpha = check_alpha(alpha)
     xi = check_xi(xi)
@@ -210,8 +211,8 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    run = impact_many if alpha.size >= PARALLEL_MIN else impact_serial
-    table = run(np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel()), rtol, atol, max_steps)
+    alpha, A = np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel())
+    table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)
 
 

@@ -159,7 +159,7 @@ def locate(y, k, A, alpha, rtol, atol, max_steps, K, y_new, ytmp):
         return OK, 0, 0
     h = span
     hmin = MIN_REL_STEP * abs(span)
-    rejected = False
+    rejected = np.bool_(False)
     steps = 0
     nfev = 1
     rhs(y, A, alpha, k, K[0])
@@ -180,10 +180,10 @@ def locate(y, k, A, alpha, rtol, atol, max_steps, K, y_new, ytmp):
                 y[k] = 0.0
                 return OK, steps, nfev
             h *= step_factor(err, rejected)
-            rejected = False
+            rejected = np.bool_(False)
         else:
-            h *= step_factor(err, True)
-            rejected = True
+            h *= step_factor(err, np.bool_(True))
+            rejected = np.bool_(True)
             if abs(h) < hmin:
                 return STEP_UNDERFLOW, steps, nfev
         if steps >= max_steps:

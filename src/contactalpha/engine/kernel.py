@@ -63,6 +63,7 @@ from .events import (
 )
 from .rk import (
     MODE_SQRT_X,
+    MODE_TIME,
     N_STAGES,
     N_STATE,
     contact_acceleration,
@@ -98,7 +99,7 @@ def _copy(src, dst):
 
 
 @njit(cache=True, error_model="numpy")
-def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
+def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step):
     """Integrate one impact of the scaled Eq. 24 from ``x = 0, v = 1``.
 
     Parameters
@@ -112,7 +113,9 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     record : ndarray, shape (n, 3)
         Buffer for ``(t, x, v)`` at every accepted step; ``n = 0`` records nothing.
     max_step : float
-        Cap on the time step, for dense trajectories (figures, quadratures).
+        Cap on the time step, for dense trajectories (figures, quadratures); ``np.inf`` for
+        none.  No default: an omitted argument has its own type in numba, and every caller
+        that left it out compiled a second copy of this kernel (2 s of CPU).
 
     Returns
     -------
@@ -150,20 +153,20 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
     steps = 0
     nfev = 1
     h = FIRST_STEP
-    rejected = False
-    rhs(y, A, alpha, 0, K[0])
+    rejected = np.bool_(False)
+    rhs(y, A, alpha, np.int64(MODE_TIME), K[0])
     while state == FAILED:
         if steps >= max_steps:
             status = STEP_LIMIT
             break
         h = min(h, max_step)
-        dop853_step(y, h, A, alpha, 0, K, y_new, ytmp)
+        dop853_step(y, h, A, alpha, np.int64(MODE_TIME), K, y_new, ytmp)
         nfev += N_STAGES
         steps += 1
         err = error_norm(K, h, y, y_new, rtol, atol)
         if err > 1.0:
-            h *= step_factor(err, True)
-            rejected = True
+            h *= step_factor(err, np.bool_(True))
+            rejected = np.bool_(True)
             if h < MIN_REL_STEP * (1.0 + y[0]):
                 status = STEP_UNDERFLOW if np.isfinite(err) else NON_FINITE
                 break
@@ -182,7 +185,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
         if k >= 0:
             if K[0, k] * y[k] >= 0.0:
                 h *= 0.5
-                rejected = True
+                rejected = np.bool_(True)
                 continue
             if k == 1:
                 # Separation: integrate in w = sqrt(x), where the Hertz force is smooth.
@@ -196,7 +199,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 # A grazing exit: within one step x passed 0 (the load alone then turns v) and
                 # v turned below x = 0.  The bodies separated first, with a small speed.
                 _copy(y_start, y)
-                k = MODE_SQRT_X
+                k = np.int64(MODE_SQRT_X)
                 y[5] = np.sqrt(y[1])
                 st, ls, lf = locate(y, k, A, alpha, rtol, atol, max_steps - steps, K, y_new, ytmp)
                 steps += ls
@@ -216,7 +219,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
                 dxm = y[3]
                 t_m = y[0]
                 y[2] = 0.0
-                rhs(y, A, alpha, 0, K[0])
+                rhs(y, A, alpha, np.int64(MODE_TIME), K[0])
                 continue
             t_e = y[0]
             if k == MODE_SQRT_X:
@@ -275,7 +278,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step=np.inf):
             state = CREEP
             break
         h *= step_factor(err, rejected)
-        rejected = False
+        rejected = np.bool_(False)
     if state == NO_RESTITUTION:
         x_m = xeq
         t_m = np.inf

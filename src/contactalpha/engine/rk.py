@@ -29,7 +29,8 @@ from .tableau import B as RK_B
 
 # Number of state components: t, x, v, dx/dalpha, dv/dalpha, sqrt(x).
 N_STATE = 6
-# Mode whose independent variable is w = sqrt(x).
+# Mode whose independent variable is time; the mode whose independent variable is w = sqrt(x).
+MODE_TIME = 0
 MODE_SQRT_X = 5
 # Components that enter the error norm: t, x and v (the sensitivities only
 # steer Newton's method, so they must not change the step sequence).
@@ -64,7 +65,10 @@ def rhs(y, A, alpha, mode, out):
         Hysteresis damping factor.
     mode : int
         0 for time, 1 for ``x``, 2 for ``v``, 5 for ``w = sqrt(x)`` as the
-        independent variable.
+        independent variable.  Callers pass it as a run-time ``int64``
+        (``np.int64(MODE_TIME)``, never a bare constant): numba compiles a separate
+        copy of a jitted callee for each literal constant it is given, which tripled
+        the compile of this function, ``dop853_step`` and ``events.locate``.
     out : ndarray, shape (6,)
         Output buffer.
     """

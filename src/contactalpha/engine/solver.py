@@ -38,7 +38,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from contactalpha.validation import (
     PLAIN_FLOATS,
@@ -89,6 +89,7 @@ from .exact import alpha_exact_scalar, max_compression_exact
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .table import EPS_MIN, XI_MAX, alpha_from_table, kinematic_alpha_from_table
+from .threads import run_rows
 
 # Default absolute tolerance on the restitution coefficient reached, and the loosest accepted.
 EPS_TOL = 1e-12
@@ -179,7 +180,7 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
         rtol *= shrink
         atol *= shrink
     for _ in range(MAX_ITER):
-        res, _ = impact_kernel(alpha, A, rtol, atol, max_steps, np.empty((0, N_REC)))
+        res, _ = impact_kernel(alpha, A, rtol, atol, max_steps, np.empty((0, N_REC)), np.inf)
         impacts += 1
         steps += int(res[OUT_STEPS])
         nfev += int(res[OUT_NFEV])
@@ -293,7 +294,7 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
     """
     if eps_t >= 1.0:
         out = np.full(N_SOLVE_OUT, np.nan)
-        res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, N_REC)))
+        res, _ = impact_kernel(0.0, A, rtol, atol, max_steps, np.empty((0, N_REC)), np.inf)
         out[SOL_ALPHA] = 0.0
         out[SOL_EPS] = np.sqrt(max(res[OUT_EPS2], 0.0))
         out[SOL_E_N] = res[OUT_E_N]
@@ -333,28 +334,28 @@ def solve_point(eps_t, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, 
     return solve_kernel(eps_t, A, guess, tol, rtol, atol, max_steps, kinematic)
 
 
-@njit(cache=True, error_model="numpy")
-def _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i):
-    out[i] = solve_point(
-        eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk
-    )
+@njit(cache=True, nogil=True, error_model="numpy")
+def solve_rows(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i0, i1):
+    """Rows ``i0 .. i1 - 1`` of ``solve_many``'s table, written into ``out``."""
+    for i in range(i0, i1):
+        row = solve_point(
+            eps[i], A[i], xi[i], tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk
+        )
+        for j in range(N_SOLVE_OUT):  # not ``out[i] = row``: see ``driver.impact_rows``
+            out[i, j] = row[j]
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
-def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk):
-    """``solve_point`` over flat arrays, in parallel; returns shape (n, N_SOLVE_OUT)."""
+def solve_many(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, threads=None):
+    """``solve_point`` over flat arrays; returns shape (n, N_SOLVE_OUT).
+
+    Inputs shorter than ``PARALLEL_MIN`` run in this thread; longer ones in
+    ``threads.thread_count()`` threads (or ``threads``).  Same bits either way.
+    """
     out = np.empty((eps.size, N_SOLVE_OUT))
-    for i in prange(eps.size):
-        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i)
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def solve_serial(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk):
-    """``solve_many`` in one thread, for small inputs."""
-    out = np.empty((eps.size, N_SOLVE_OUT))
-    for i in range(eps.size):
-        _solve_row(eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out, i)
+    if eps.size < PARALLEL_MIN:
+        threads = 1
+    args = (eps, A, xi, tol, rtol, atol, max_steps, use_exact, use_table, tb, kinematic, tk, out)
+    run_rows(solve_rows, eps.size, *args, threads=threads)
     return out
 
 
@@ -482,8 +483,7 @@ def solve_table(
     _check_guess(guess)
     use_table, tb, tk = _guess_arrays(guess == "table", kinematic)
     A = scaled_load(xi)
-    run = solve_many if eps.size >= PARALLEL_MIN else solve_serial
-    table = run(
+    table = solve_many(
         np.ascontiguousarray(eps.ravel()),
         np.ascontiguousarray(A.ravel()),
         np.ascontiguousarray(xi.ravel()),

@@ -31,11 +31,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
+from .threads import run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
 TABLE_FORMAT_VERSION = 3
@@ -140,39 +141,30 @@ def kinematic_alpha_from_table(e_n, xi, tx, ty, c, g):
     return np.exp(L) * (1.0 - e_n) / e_n
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
-def alpha_from_table_many(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
-    """``alpha_from_table`` over flat arrays, in parallel."""
-    out = np.empty(eps.size)
-    for i in prange(eps.size):
+@njit(cache=True, nogil=True, error_model="numpy")
+def alpha_from_table_rows(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g, out, start, stop):
+    """``alpha_from_table`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""
+    for i in range(start, stop):
         out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
-    return out
 
 
-@njit(cache=True, error_model="numpy")
-def alpha_from_table_serial(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g):
-    """``alpha_from_table_many`` in one thread, for small inputs."""
-    out = np.empty(eps.size)
-    for i in range(eps.size):
-        out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
-    return out
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def kinematic_alpha_from_table_many(e_n, xi, tx, ty, c, g):
-    """``kinematic_alpha_from_table`` over flat arrays, in parallel."""
-    out = np.empty(e_n.size)
-    for i in prange(e_n.size):
+@njit(cache=True, nogil=True, error_model="numpy")
+def kinematic_alpha_from_table_rows(e_n, xi, tx, ty, c, g, out, start, stop):
+    """``kinematic_alpha_from_table`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""
+    for i in range(start, stop):
         out[i] = kinematic_alpha_from_table(e_n[i], xi[i], tx, ty, c, g)
-    return out
 
 
-@njit(cache=True, error_model="numpy")
-def kinematic_alpha_from_table_serial(e_n, xi, tx, ty, c, g):
-    """``kinematic_alpha_from_table_many`` in one thread, for small inputs."""
-    out = np.empty(e_n.size)
-    for i in range(e_n.size):
-        out[i] = kinematic_alpha_from_table(e_n[i], xi[i], tx, ty, c, g)
+def lookup_many(rows_kernel, values, xi, tables, threads=None):
+    """A table's alpha over flat arrays by ``rows_kernel`` (``*_from_table_rows``).
+
+    Inputs shorter than ``PARALLEL_MIN_LOOKUPS`` run in this thread (or with ``threads=1``);
+    longer ones in ``threads.thread_count()`` threads.  Same bits either way.
+    """
+    out = np.empty(values.size)
+    if values.size < PARALLEL_MIN_LOOKUPS:
+        threads = 1
+    run_rows(rows_kernel, values.size, values, xi, *tables, out, threads=threads)
     return out
 
 
@@ -216,24 +208,20 @@ def packed_matrix(flat, k):
 @njit(cache=True, error_model="numpy")
 def alpha_from_packed(eps, xi, flat):
     """``alpha_from_table`` on a table packed by ``pack_table``: the same arithmetic, bit for bit."""
-    v = packed_vector
+    # Array numbers as run-time int64, not constants: numba compiles a jitted callee once per
+    # literal constant it is passed (see ``rk.rhs``).
+    v, m, k = packed_vector, packed_matrix, np.int64
     return alpha_from_table(
-        eps, xi, v(flat, 0), v(flat, 1), v(flat, 2), v(flat, 3), packed_matrix(flat, 4),
-        v(flat, 5), v(flat, 6), packed_matrix(flat, 7), v(flat, 8),
+        eps, xi, v(flat, k(0)), v(flat, k(1)), v(flat, k(2)), v(flat, k(3)), m(flat, k(4)),
+        v(flat, k(5)), v(flat, k(6)), m(flat, k(7)), v(flat, k(8)),
     )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
 def kinematic_alpha_from_packed(e_n, xi, flat):
     """``kinematic_alpha_from_table`` on a table packed by ``pack_table``, bit for bit."""
-    return kinematic_alpha_from_table(
-        e_n,
-        xi,
-        packed_vector(flat, 0),
-        packed_vector(flat, 1),
-        packed_matrix(flat, 2),
-        packed_vector(flat, 3),
-    )
+    v, m, k = packed_vector, packed_matrix, np.int64  # run-time array numbers: see above
+    return kinematic_alpha_from_table(e_n, xi, v(flat, k(0)), v(flat, k(1)), m(flat, k(2)), v(flat, k(3)))
 
 
 def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
@@ -288,18 +276,17 @@ def _first_outside(values, lo, hi):
     return -1
 
 
-# Per restitution definition: (table file, scalar evaluator, serial and parallel array forms, arrays).
+# Per restitution definition: (table file, scalar evaluator, row kernel of the array form, arrays).
 def _lookup(restitution):
     if restitution == "kinematic":
         return (
             KINEMATIC_FILE,
             kinematic_alpha_from_table,
-            kinematic_alpha_from_table_serial,
-            kinematic_alpha_from_table_many,
+            kinematic_alpha_from_table_rows,
             kinematic_table_arrays,
         )
     if restitution == "energetic":
-        return DEFAULT_FILE, alpha_from_table, alpha_from_table_serial, alpha_from_table_many, table_arrays
+        return DEFAULT_FILE, alpha_from_table, alpha_from_table_rows, table_arrays
     raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
 
 
@@ -315,7 +302,7 @@ def scalar_lookup(restitution):
     """
     fast = _SCALAR.get(restitution)
     if fast is None:
-        default, _, _, _, arrays = _lookup(restitution)
+        default, _, _, arrays = _lookup(restitution)
         evaluator = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
         fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
     return fast
@@ -342,7 +329,7 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
         value = fast[0](eps, xi, fast[1])  # NaN outside the domain: then the checks below word it
         if value == value:
             return value
-    default, scalar, serial, many, arrays = _lookup(restitution)
+    default, scalar, rows, arrays = _lookup(restitution)
     tables = arrays(default if path is None else path)
     name = "e_N" if restitution == "kinematic" else "eps"
     e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
@@ -353,8 +340,7 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
         check_range(name, e_flat, EPS_MIN, 1.0)
     if _first_outside(x_flat, 0.0, XI_MAX) >= 0:
         check_range("xi", x_flat, 0.0, XI_MAX)
-    run = many if e_flat.size >= PARALLEL_MIN_LOOKUPS else serial
-    out = run(e_flat, x_flat, *tables).reshape(e.shape)
+    out = lookup_many(rows, e_flat, x_flat, tables).reshape(e.shape)
     return out[()] if out.ndim == 0 else out
 
 
@@ -368,7 +354,7 @@ def jit_alpha_tabulated(path=None, restitution="energetic"):
     naming the value and the range for the same inputs.  ``restitution="kinematic"``
     reads ``eps`` as Newton's e_N.
     """
-    default, _, _, _, arrays = _lookup(restitution)
+    default, _, _, arrays = _lookup(restitution)
     tables = arrays(default if path is None else path)
     if restitution == "kinematic":
         tx, ty, c, g = tables

@@ -17,7 +17,7 @@ from contactalpha.io import json_text, write_atomic
 from .boundary import separation_boundary
 from .bspline import clamp_to_uniform
 from .codes import OUT_DE_N, OUT_STATUS
-from .driver import ATOL, MAX_STEPS, RTOL, impact, impact_serial
+from .driver import ATOL, MAX_STEPS, RTOL, impact, impact_many
 from .scaling import scaled_load
 from .solver import solve_alpha
 from .table import (
@@ -130,7 +130,7 @@ def _spline2d(eta, p, L):
 def kinematic_slope_at_zero(xi, rtol=RTOL, atol=ATOL):
     """``d e_N / d alpha`` at ``alpha = 0`` (where e_N = 1), from the impact's sensitivities."""
     A = np.ascontiguousarray(np.atleast_1d(scaled_load(xi)), dtype=float).ravel()
-    out = impact_serial(np.zeros_like(A), A, float(rtol), float(atol), MAX_STEPS)
+    out = impact_many(np.zeros_like(A), A, float(rtol), float(atol), MAX_STEPS, threads=1)
     if np.any(out[:, OUT_STATUS] != 0):
         raise RuntimeError(f"table build: impact at alpha = 0 failed for xi = {np.asarray(xi)}")
     return out[:, OUT_DE_N].reshape(np.shape(xi))

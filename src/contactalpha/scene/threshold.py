@@ -103,7 +103,7 @@ def end_gap(alpha, A, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     ``s = x_end`` without separation and ``-v_end^2 / (2 A)`` with it: smooth across the
     separation boundary, where it is 0.
     """
-    out, _ = impact_kernel(float(alpha), float(A), rtol, atol, max_steps, NO_RECORD)
+    out, _ = impact_kernel(float(alpha), float(A), rtol, atol, max_steps, NO_RECORD, np.inf)
     state, status = int(out[OUT_STATE]), int(out[OUT_STATUS])
     gap = -(out[OUT_V_END] ** 2) / (2.0 * A) if state == SEPARATION else out[OUT_X_END]
     return gap, np.sqrt(max(out[OUT_EPS2], 0.0)), state, status

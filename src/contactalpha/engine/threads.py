@@ -1,0 +1,81 @@
+"""Run a jitted row kernel over an array in several threads, without numba's parallel compiler.
+
+The array entry points (impacts, the alpha solver, the table lookups, the separation
+boundary) each run one jitted loop ``kernel(*args, out, start, stop)`` that fills rows
+``start .. stop - 1`` of ``out`` and releases the GIL (``nogil=True``).  ``run_rows`` hands
+blocks of rows to a pool of Python threads.  Each row depends on its own inputs only, so the
+result is the same bits however the rows are split and however many threads run.
+
+Why not ``@njit(parallel=True)`` with ``prange``: numba compiles a parallel loop as a second,
+separate function around the whole kernel, which doubled the cold compile of every array
+entry point (about 9-10 s of CPU each for the impact and solver kernels on the 2-core box,
+half of the workflow's warm-up); the threads here reuse the one compiled serial loop.
+"""
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
+
+# Blocks per thread: rows differ in cost by orders of magnitude (a creeping impact takes
+# ~100 times the steps of a separating one), so each thread takes several blocks in turn
+# rather than one fixed share.
+BLOCKS_PER_THREAD = 8
+
+_pools = {}
+_pools_lock = threading.Lock()
+
+
+def _forget_pools():
+    # A forked child inherits the dict but not the worker threads: start afresh.
+    _pools.clear()
+
+
+os.register_at_fork(after_in_child=_forget_pools)
+
+
+def _pool(threads):
+    with _pools_lock:
+        pool = _pools.get(threads)
+        if pool is None:
+            pool = _pools[threads] = ThreadPoolExecutor(threads, thread_name_prefix="contactalpha")
+        return pool
+
+
+def thread_count():
+    """Threads the array entry points use: numba's own setting.
+
+    ``NUMBA_NUM_THREADS`` and ``numba.set_num_threads`` govern every loop, as they did
+    numba's parallel loops.
+    """
+    return numba.get_num_threads()
+
+
+def run_rows(kernel, n, *args, threads=None):
+    """Call ``kernel(*args, start, stop)`` on blocks that cover rows ``0 .. n - 1`` once each.
+
+    Parameters
+    ----------
+    kernel : numba dispatcher
+        Jitted with ``nogil=True``; writes its rows into an output array among ``args``.
+    n : int
+        Number of rows.
+    threads : int, optional
+        Threads to use (default ``thread_count()``); 1 runs the kernel in this thread.
+    """
+    threads = min(thread_count() if threads is None else int(threads), n)
+    if threads <= 1:
+        kernel(*args, 0, n)
+        return
+    size = -(-n // (threads * BLOCKS_PER_THREAD))
+    pool = _pool(threads)
+    futures = [pool.submit(kernel, *args, start, min(start + size, n)) for start in range(0, n, size)]
+    try:
+        for future in futures:
+            future.result()
+    except BaseException:
+        # Ctrl-C or a failed block: drop the blocks not yet started, then re-raise.
+        for future in futures:
+            future.cancel()
+        raise
