@@ -28,7 +28,7 @@ def error_map(ds, maps, titles=None):
     eps, xi = ds["epsilon"].values, ds["xi"].values
     norm = SymLogNorm(ERROR_LINTHRESH, vmin=-ERROR_LIMIT, vmax=ERROR_LIMIT)
     for ax, (name, err) in zip(axes[0], maps.items(), strict=True):
-        im = ax.pcolormesh(xi, eps, err, norm=norm, cmap="RdBu_r", shading="nearest")
+        im = ax.pcolormesh(xi, eps, err, norm=norm, cmap="RdBu_r", shading="nearest", rasterized=True)
         worst = np.nanmax(np.abs(err)) if np.isfinite(err).any() else np.nan
         ax.set(title=f"{titles.get(name, name)}\nmax |Δε| = {worst:.3g}", xlabel="ξ", ylabel="ε")
         ax.set_xscale("symlog", linthresh=XI_LINTHRESH)

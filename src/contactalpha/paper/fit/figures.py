@@ -147,13 +147,15 @@ def fig8_errors(ds, models, restitution=True):
     enorm = SymLogNorm(1e-3, vmin=-0.5, vmax=0.5)
     for k, (title, (rel, deps)) in enumerate(maps.items()):
         ax = axes[0, k]
-        im = ax.pcolormesh(xi, eps, np.abs(rel), norm=rnorm, cmap="magma_r", shading="nearest")
+        im = ax.pcolormesh(
+            xi, eps, np.abs(rel), norm=rnorm, cmap="magma_r", shading="nearest", rasterized=True
+        )
         ax.set(title=f"{title}: |α_model/α − 1|", xlabel="ξ", ylabel="ε")
         ax.set_xscale("symlog", linthresh=XI_LINTHRESH)
         fig.colorbar(im, ax=ax)
         if restitution:
             bx = axes[1, k]
-            im = bx.pcolormesh(xi, eps, deps, norm=enorm, cmap="RdBu_r", shading="nearest")
+            im = bx.pcolormesh(xi, eps, deps, norm=enorm, cmap="RdBu_r", shading="nearest", rasterized=True)
             bx.set(title=f"{title}: ε produced − ε", xlabel="ξ", ylabel="ε")
             bx.set_xscale("symlog", linthresh=XI_LINTHRESH)
             fig.colorbar(im, ax=bx)
