@@ -108,11 +108,11 @@ def log_branches(eps, xi, c):
         + eps * (c[9] + c[10] * eps)
         + c[11] * w / (1.0 + w)
     )
-    a_x_eq = np.exp(L + log_x_eq)
+    a_x_eq = 1.25 * w * w  # A x_eq = (5/4) x_eq^(5/2), as x_eq^(3/2) = 4 A / 5
     z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
-    rate = np.exp(c[12] + L * (c[13] + L * c[14]))
+    rate_z_n = np.exp(c[12] + L * (c[13] + L * c[14]) + c[19] * np.log(z))  # c z^n in one exp
     power = np.exp(c[15] + L * (c[16] + L * c[17]) + c[18] * eps)
-    log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate * np.exp(c[19] * np.log(z)))
+    log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate_z_n)
     k = c[20] * np.exp(c[21] * log_eps + xi * (c[22] + c[23] * eps + c[24] * xi))
     return log_s, log_c, k
 
