@@ -373,3 +373,21 @@ def test_save_figure_writes_by_suffix_and_rejects_none(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.pdf", "f.png"]
     with pytest.raises(ValueError, match="has no suffix"):
         save_figure(new_figure()[0], tmp_path / "nosuffix")
+
+
+def test_save_figure_places_the_axes_once_for_every_format(tmp_path):
+    # Constrained layout is solved for the first format; later formats keep that placement.
+    def figure():
+        fig, (a, b) = new_figure(2, width=4.0)
+        b.set_ylabel("a long label\nover two lines")
+        fig.colorbar(b.imshow([[0, 1], [2, 3]]), ax=b)
+        return fig
+
+    alone = figure()
+    save_figure(alone, tmp_path / "alone.png", close=False)
+    placed = [ax.get_position().bounds for ax in alone.axes]
+    fig = figure()
+    save_figure(fig, [tmp_path / "f.png", tmp_path / "f.pdf", tmp_path / "f.svg"], close=False)
+    assert [ax.get_position().bounds for ax in fig.axes] == placed
+    assert placed[0] != (0.125, 0.11, 0.3522727272727273, 0.77)  # not matplotlib's default grid
+    assert type(fig.get_layout_engine()).__name__ == "PlaceHolderLayoutEngine"

@@ -43,7 +43,6 @@ it independently with SciPy along the contact, for the tests.
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from contactalpha import models
 from contactalpha.engine.codes import (
@@ -425,6 +424,7 @@ def damping_work_reference(alpha, A, tau_end, *, rtol=1e-12, atol=1e-14):
     W, x, v : float
         Damping work and the state at ``tau_end``.
     """
+    from scipy.integrate import solve_ivp  # lazy: 0.2-0.7 s of import in every job
 
     def rhs(_, s):
         x, v, _w = s

@@ -33,7 +33,6 @@ exact limits ``A_b ~ c0 eps^(3/2)`` (eps -> 0) and ``A_b ~ 2^(-3/5) / 2 (1 - eps
 """
 
 import numpy as np
-from scipy.optimize import brentq
 
 from contactalpha.engine.boundary import boundary_kernel
 from contactalpha.engine.codes import (
@@ -197,6 +196,8 @@ def boundary_load(eps, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     status : str
         ``"ok"`` or the reason (``codes.STATUS``).
     """
+    from scipy.optimize import brentq  # lazy: 0.2-0.7 s of import in every job
+
     e = float(check_range("eps", eps, 0.0, 1.0, lo_open=True, hi_open=True))
     failed = []
 
