@@ -44,6 +44,7 @@ rule adequacy_maps:
         tols=ADEQUACY["tols"],
         stride=ADEQUACY["stride"],
         code_version=source_hash("contactalpha.studies.adequacy.maps"),
+    priority: LONG_JOBS
     log:
         "logs/adequacy/maps.log",
     # One parallel pass over every model x point impact.
@@ -95,6 +96,7 @@ rule adequacy_figures:
         thresholds="results/adequacy/thresholds.nc",
     output:
         expand("results/figures/{name}.{ext}", name=ADEQUACY_FIGURES, ext=["png", "pdf"]),
+    priority: LONG_JOBS
     log:
         "logs/adequacy/figures.log",
     conda:

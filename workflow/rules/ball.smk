@@ -39,6 +39,7 @@ rule ball_cases:
         # Model shen_refit reads the shipped constants (rules/fit.smk): shipping new ones reruns
         # this. The default run never writes them, so nothing waits for the refit.
         shipped_refit=SHIPPED_REFIT_DIGEST,
+    priority: LONG_JOBS
     log:
         "logs/ball/cases.log",
     conda:
@@ -61,6 +62,7 @@ rule ball_first_collision:
         # Model shen_refit reads the shipped constants (rules/fit.smk): shipping new ones reruns
         # this. The default run never writes them, so nothing waits for the refit.
         shipped_refit=SHIPPED_REFIT_DIGEST,
+    priority: LONG_JOBS
     log:
         "logs/ball/first_collision.log",
     conda:
@@ -80,6 +82,7 @@ rule ball_report:
         **{name: multiext(f"results/figures/{name}", ".png", ".pdf") for name in BALL_FIGURES},
     params:
         first_figures=BALL_FIRST_FIGURES,
+    priority: LONG_JOBS
     log:
         "logs/ball/report.log",
     conda:

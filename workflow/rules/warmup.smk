@@ -14,6 +14,10 @@ from contactalpha.warmup import PARTS
 # Priority of the jobs on the main job's critical path (warm-up, surface, refit, Figs. 6-8):
 # Snakemake starts them before other ready jobs (default priority 0).
 CRITICAL_PATH = 10
+# Priority of the longest jobs off that path (the ball's and the adequacy maps' chains, whose
+# figure jobs take 10-20 s): started before the short ones, so that the run does not end with
+# one core idle while the other finishes a long job (longest job first).
+LONG_JOBS = 5
 
 WARMUP = expand("results/warmup/{part}.json", part=PARTS)
 
