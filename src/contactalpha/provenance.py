@@ -4,6 +4,7 @@ import ast
 import hashlib
 import subprocess
 from datetime import UTC, datetime
+from functools import cache
 from pathlib import Path
 
 from contactalpha.io import json_text
@@ -76,9 +77,16 @@ def _module_file(parts):
 
 def _imported_files(path):
     """Package source files that ``path`` imports (relative, absolute, and inside functions)."""
+    return _imports_of_source(path, path.read_bytes())
+
+
+@cache
+def _imports_of_source(path, source):
+    # Keyed on the file's bytes: parsing is the cost (the jitted modules' cache keys parse
+    # overlapping closures, ~100 parses per process), and an edited file is parsed again.
     package = path.parent.relative_to(PACKAGE_DIR).parts
     found = set()
-    for node in ast.walk(ast.parse(path.read_bytes(), filename=str(path))):
+    for node in ast.walk(ast.parse(source, filename=str(path))):
         if isinstance(node, ast.ImportFrom):
             module = tuple(node.module.split(".")) if node.module else ()
             if node.level:
@@ -96,7 +104,7 @@ def _imported_files(path):
                     # The longest prefix that is a module of the package.
                     found.update(_module_file(parts[1:n]) for n in range(len(parts), 0, -1))
     found.discard(None)
-    return found
+    return frozenset(found)
 
 
 def source_files(*modules):

@@ -89,3 +89,23 @@ def test_users_own_functions_are_left_to_numba(tmp_path):
     loc = PackageSourceLocator.from_function(impact_kernel.py_func, str(kernel_file))
     assert Path(loc.get_cache_path()).name == FOLDER_PREFIX + source_hash(kernel_file)[:16]
     assert loc.get_source_stamp() == source_hash(kernel_file)
+
+
+def test_an_import_added_in_this_process_enters_the_closure(tmp_path):
+    # The parsed imports are memoised per file content: an edit in a running process is seen.
+    pkg = _copy_package(tmp_path)
+    probe = (
+        "from pathlib import Path\n"
+        "from contactalpha.provenance import source_files\n"
+        "def names():\n"
+        "    return sorted(p.name for p in source_files('contactalpha.engine.kernel'))\n"
+        "before = names()\n"
+        f"kernel = Path({str(pkg / 'engine' / 'kernel.py')!r})\n"
+        "late = '\\n\\ndef _late():\\n    from .solver import solve_point\\n'\n"
+        "kernel.write_text(kernel.read_text() + late)\n"
+        "print(before == names(), 'solver.py' in before, 'solver.py' in names())\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(tmp_path / "src")}
+    done = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["False", "False", "True"]
