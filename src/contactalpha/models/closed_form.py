@@ -4,14 +4,15 @@ The formula (``alpha_closed_form``; 25 constants, ``CONSTANT_NAMES``), with
 ``A = xi (1 - xi)^(-3/5) / 2`` the scaled load, ``L = ln A``, ``x_eq = (4 A / 5)^(2/3)`` the
 static compression and ``w = x_eq^(5/4)`` (docs/science.md, Sects. 2-4):
 
-    alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps eps + s_xi_eps2 eps^2 + s_xi2_eps xi eps)
+    alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps2 eps^2)
                                + (s_log eps^s_log_exp + s_log_eps eps) ln(1 - xi))
     z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
-    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m)
-              exp(on_eps eps + on_eps2 eps^2 + on_w w / (1 + w))
+    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m) exp(on_eps eps + on_w w / (1 + w))
               (1 + c z^n)^(-q),  c = exp(c_0 + c_1 L + c_2 L^2),  n = z_exp,
                                  q = exp(q_0 + q_1 L + q_2 L^2 + q_eps eps)
-    alpha   = (alpha_s^k + alpha_c^k)^(1/k),  k = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps + k_xi2 xi))
+    k       = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps + k_xi2 xi))
+    r       = L - (3/2 ln eps - 3/5 ln(1 - eps) + sep_r0 (1 - eps) - (8/5) ln 2 eps)
+    alpha   = (alpha_s^k + alpha_c^k)^(1/k) exp(sep_a r / (1 + sep_b r^2)^2)
 
 ``alpha_0`` is the exact unloaded alpha, the root of ln((1+a)/(1-a eps)) = a (1+eps), written
 explicitly to rounding (``engine.unloaded``: one exp or one log and a degree-13 polynomial).
@@ -28,11 +29,16 @@ ln alpha over 1e-4 <= xi <= 0.99, where a quartic in ``L`` is off by 0.1).  The 
 alpha falls like ``eps^1.7``-``eps^1.8`` at heavy loads, not like ``z ~ eps^2``, hence ``n < 1``.
 Every other end state returns more energy, so the true alpha is at least ``alpha_c``;
 ``alpha_s`` is the unloaded alpha bent by the load, and the soft maximum switches between them
-along the creep boundary.
+along the creep boundary.  ``r = ln(A / A_b(eps))`` measures the distance from the separation
+boundary, across which the exact alpha is continuous but not smooth (docs/science.md, "Shape of
+the surface"): ``ln A_b`` runs linearly in eps between the boundary's exact limits
+(``log_separation_load``), and the odd bump ``sep_a r / (1 + sep_b r^2)^2`` (~1 % in alpha,
+peak at ``|r| ~ 0.3``) takes out the step of the smooth form's error there, which had left waves
+parallel to the boundary; it vanishes as xi -> 0, eps -> 0 and eps -> 1 (``|r| -> inf``).
 
 Properties (tested): alpha = alpha_0 exactly at xi = 0 (alpha_c = 0 there), so alpha ~ 1/eps
-as eps -> 0; alpha -> 0 as eps -> 1 (both branches vanish); smooth for 0 < eps < 1,
-0 <= xi < 1.  The constants were fitted on 0.01 <= eps <= 0.99, 0 <= xi <= 0.99
+as eps -> 0; alpha -> 0 as eps -> 1 (both branches vanish, the bump's factor -> 1); smooth
+for 0 < eps < 1, 0 <= xi < 1.  The constants were fitted on 0.01 <= eps <= 0.99, 0 <= xi <= 0.99
 (``paper.closedform``); outside that range the formula is an extrapolation.
 
 ``alpha_closed_form_scalar`` is the jitted scalar form for a user's numba loop; the
@@ -54,16 +60,13 @@ CONSTANTS_FILE = "closed_form.json"
 # The constants in the order of the jitted form's argument vector.
 CONSTANT_NAMES = (
     "s_xi",
-    "s_xi_eps",
     "s_xi_eps2",
-    "s_xi2_eps",
     "s_log",
     "s_log_exp",
     "s_log_eps",
     "on_b",
     "on_m",
     "on_eps",
-    "on_eps2",
     "on_w",
     "c_0",
     "c_1",
@@ -78,43 +81,73 @@ CONSTANT_NAMES = (
     "k_xi",
     "k_xi_eps",
     "k_xi2",
+    "sep_a",
+    "sep_b",
+    "sep_r0",
 )
 # The constants' layout version; a shipped file of another version is refused.
-FORMAT_VERSION = 5
+FORMAT_VERSION = 6
 
 # ln(4/5) and ln 2 of x_eq = (4 A / 5)^(2/3) and alpha_c's prefactor 2 x_eq^(-5/2).
 LOG_FOUR_FIFTHS = float(np.log(0.8))
 LOG_TWO = float(np.log(2.0))
+# The separation boundary's exact limits (derived in scene.threshold, whose compact fit of the
+# boundary is built on them): A_b ~ c eps^(3/2) as eps -> 0 and A_b ~ 2^(-3/5) / 2 (1 - eps)^(-3/5)
+# as eps -> 1.  ``log_separation_load`` interpolates ln A_b between them linearly in eps; with
+# r0 = ln c it is within 0.033 of the exact boundary (a tenth of the bump's width); the fit
+# places the bump with its own sep_r0.
+BOUNDARY_EPS_POWER = 1.5
+BOUNDARY_ONE_MINUS_EPS_POWER = 0.6
+LOG_BOUNDARY_AT_ONE = -1.6 * LOG_TWO  # ln(2^(-3/5) / 2)
 
 _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 
 
+# Inlined in numba's IR: as a separate call it cost ~45 ns of the form's ~370 ns per evaluation.
+@njit(cache=True, error_model="numpy", inline="always")
+def log_separation_load(eps, log_eps, r0):
+    """The log of A_b(eps), the scaled load on the separation boundary, between its exact limits.
+
+    ``3/2 ln eps - 3/5 ln(1 - eps) + r0 (1 - eps) + ln(2^(-3/5) / 2) eps``, ``log_eps = ln eps``:
+    exact as eps -> 1, ``r0`` the constant of the eps -> 0 limit.
+    """
+    return (
+        BOUNDARY_EPS_POWER * log_eps
+        - BOUNDARY_ONE_MINUS_EPS_POWER * np.log1p(-eps)
+        + r0 * (1.0 - eps)
+        + LOG_BOUNDARY_AT_ONE * eps
+    )
+
+
 @njit(cache=True, error_model="numpy")
 def log_branches(eps, xi, c):
-    """``(ln alpha_s, ln alpha_c, k)`` of the closed form at one point with 0 < eps < 1, 0 < xi < 1."""
+    """``(ln alpha_s, ln alpha_c, k, sep)`` of the closed form at one point, 0 < eps < 1, 0 < xi < 1.
+
+    ``sep`` is the separation-boundary term added to the soft maximum's ln alpha.
+    """
     log_eps = np.log(eps)
     log_free = np.log1p(-xi)
     log_s = (
         np.log(alpha_unloaded_scalar(eps))
-        + xi * (c[0] + eps * (c[1] + c[2] * eps + c[3] * xi))
-        + (c[4] * np.exp(c[5] * log_eps) + c[6] * eps) * log_free
+        + xi * (c[0] + c[1] * eps * eps)
+        + (c[2] * np.exp(c[3] * log_eps) + c[4] * eps) * log_free
     )
     A = _scaled_load(xi)
     L = np.log(A)
     log_x_eq = (2.0 / 3.0) * (LOG_FOUR_FIFTHS + L)
     w = np.exp(1.25 * log_x_eq)
     onset = (
-        np.log1p(np.exp(c[8] * (np.log(c[7]) + 1.25 * log_x_eq))) / c[8]
-        + eps * (c[9] + c[10] * eps)
-        + c[11] * w / (1.0 + w)
+        np.log1p(np.exp(c[6] * (np.log(c[5]) + 1.25 * log_x_eq))) / c[6] + c[7] * eps + c[8] * w / (1.0 + w)
     )
     a_x_eq = 1.25 * w * w  # A x_eq = (5/4) x_eq^(5/2), as x_eq^(3/2) = 4 A / 5
     z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
-    rate_z_n = np.exp(c[12] + L * (c[13] + L * c[14]) + c[19] * np.log(z))  # c z^n in one exp
-    power = np.exp(c[15] + L * (c[16] + L * c[17]) + c[18] * eps)
+    rate_z_n = np.exp(c[9] + L * (c[10] + L * c[11]) + c[16] * np.log(z))  # c z^n in one exp
+    power = np.exp(c[12] + L * (c[13] + L * c[14]) + c[15] * eps)
     log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate_z_n)
-    k = c[20] * np.exp(c[21] * log_eps + xi * (c[22] + c[23] * eps + c[24] * xi))
-    return log_s, log_c, k
+    k = c[17] * np.exp(c[18] * log_eps + xi * (c[19] + c[20] * eps + c[21] * xi))
+    r = L - log_separation_load(eps, log_eps, c[24])  # ln(A / A_b(eps))
+    u = 1.0 + c[23] * r * r
+    return log_s, log_c, k, c[22] * r / (u * u)
 
 
 @njit(cache=True, error_model="numpy")
@@ -134,8 +167,8 @@ def alpha_closed_form_scalar(eps, xi, c):
         return 0.0
     if xi == 0.0:
         return alpha_unloaded_scalar(eps)
-    log_s, log_c, k = log_branches(eps, xi, c)
-    return np.exp(max(log_s, log_c) + np.log1p(np.exp(-k * abs(log_s - log_c))) / k)
+    log_s, log_c, k, sep = log_branches(eps, xi, c)
+    return np.exp(max(log_s, log_c) + np.log1p(np.exp(-k * abs(log_s - log_c))) / k + sep)
 
 
 @njit(cache=True, error_model="numpy")
