@@ -31,6 +31,14 @@ from .codes import (
 from .kernel import impact_kernel
 from .threads import run_rows
 
+# The separation boundary's exact limits (docs/science.md), on which its compact fit
+# (``scene.threshold``) and the closed form's boundary coordinate (``models.closed_form``) are
+# built: A_b ~ c eps^(3/2) as eps -> 0 (the boundary's x_m -> const, eps_b^2 ~ 2 A x_m) and
+# A_b ~ 2^(-3/5) / 2 (1 - eps)^(-3/5) as eps -> 1 (Eq. 10).
+LIMIT_EPS_POWER = 1.5
+LIMIT_ONE_MINUS_EPS_POWER = 0.6
+LOG_LIMIT_AT_ONE = -1.6 * float(np.log(2.0))  # ln(2^(-3/5) / 2)
+
 # Bisection stops when the bracket is this narrow, relative.
 BOUNDARY_RTOL = 1e-14
 # Upper end of the search in alpha; beyond it the boundary is reported missing.

@@ -52,6 +52,7 @@ from importlib.resources import files
 import numpy as np
 from numba import njit
 
+from contactalpha.engine.boundary import LIMIT_EPS_POWER, LIMIT_ONE_MINUS_EPS_POWER, LOG_LIMIT_AT_ONE
 from contactalpha.engine.scaling import scaled_load_unchecked
 from contactalpha.engine.unloaded import alpha_unloaded_scalar
 
@@ -91,14 +92,9 @@ FORMAT_VERSION = 6
 # ln(4/5) and ln 2 of x_eq = (4 A / 5)^(2/3) and alpha_c's prefactor 2 x_eq^(-5/2).
 LOG_FOUR_FIFTHS = float(np.log(0.8))
 LOG_TWO = float(np.log(2.0))
-# The separation boundary's exact limits (derived in scene.threshold, whose compact fit of the
-# boundary is built on them): A_b ~ c eps^(3/2) as eps -> 0 and A_b ~ 2^(-3/5) / 2 (1 - eps)^(-3/5)
-# as eps -> 1.  ``log_separation_load`` interpolates ln A_b between them linearly in eps; with
-# r0 = ln c it is within 0.033 of the exact boundary (a tenth of the bump's width); the fit
-# places the bump with its own sep_r0.
-BOUNDARY_EPS_POWER = 1.5
-BOUNDARY_ONE_MINUS_EPS_POWER = 0.6
-LOG_BOUNDARY_AT_ONE = -1.6 * LOG_TWO  # ln(2^(-3/5) / 2)
+# ``log_separation_load`` interpolates ln A_b between the separation boundary's exact limits
+# (``engine.boundary.LIMIT_*``) linearly in eps; with r0 = ln c it is within 0.033 of the exact
+# boundary (a tenth of the bump's width); the fit places the bump with its own sep_r0.
 
 _scaled_load = njit(cache=True, error_model="numpy")(scaled_load_unchecked)
 
@@ -112,10 +108,10 @@ def log_separation_load(eps, log_eps, r0):
     exact as eps -> 1, ``r0`` the constant of the eps -> 0 limit.
     """
     return (
-        BOUNDARY_EPS_POWER * log_eps
-        - BOUNDARY_ONE_MINUS_EPS_POWER * np.log1p(-eps)
+        LIMIT_EPS_POWER * log_eps
+        - LIMIT_ONE_MINUS_EPS_POWER * np.log1p(-eps)
         + r0 * (1.0 - eps)
-        + LOG_BOUNDARY_AT_ONE * eps
+        + LOG_LIMIT_AT_ONE * eps
     )
 
 

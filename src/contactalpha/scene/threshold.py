@@ -34,7 +34,7 @@ exact limits ``A_b ~ c0 eps^(3/2)`` (eps -> 0) and ``A_b ~ 2^(-3/5) / 2 (1 - eps
 
 import numpy as np
 
-from contactalpha.engine.boundary import boundary_kernel
+from contactalpha.engine.boundary import LIMIT_EPS_POWER, LIMIT_ONE_MINUS_EPS_POWER, boundary_kernel
 from contactalpha.engine.codes import (
     N_REC,
     NO_BRACKET,
@@ -54,10 +54,9 @@ from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
 from contactalpha.validation import check_positive, check_range
 
-# Exponents of the fit's limits (derived, not fitted): A_b ~ eps^(3/2) as eps -> 0 (the
-# boundary's x_m -> const, eps_b^2 ~ 2 A x_m) and ~ (1 - eps)^(-3/5) as eps -> 1 (Eq. 10).
-FIT_EPS_POWER = 1.5
-FIT_ONE_MINUS_EPS_POWER = -0.6
+# Exponents of the fit's limits (derived, not fitted: ``engine.boundary.LIMIT_*``).
+FIT_EPS_POWER = LIMIT_EPS_POWER
+FIT_ONE_MINUS_EPS_POWER = -LIMIT_ONE_MINUS_EPS_POWER
 # ln(A_b / (eps^1.5 (1 - eps)^-0.6)) as a polynomial in eps, highest power first (np.polyval);
 # least squares (``fit_boundary``) on the exact boundary (``boundary_point``) at 400 log-spaced
 # 1e-6 <= A <= 1e3 (398 solved, 1.9e-4 <= eps_b <= 0.999998): max error 4.5e-4 in A_b.  Six
