@@ -94,11 +94,16 @@ def linearised_residuals(t, x):
     return np.clip(np.nan_to_num(r, nan=RESIDUAL_CLIP), -RESIDUAL_CLIP, RESIDUAL_CLIP)
 
 
+def integrable(alpha):
+    """Where an impact is run for model values ``alpha``: finite, >= 0 and at most ``ALPHA_CAP``."""
+    return np.isfinite(alpha) & (alpha >= 0) & (alpha <= ALPHA_CAP)
+
+
 def delivered(alpha, xi):
     """Delivered eps and end-state codes of ``alpha`` at ``xi`` (NaN and code 0 where not integrated)."""
     a = np.asarray(alpha, dtype=float)
     xi = np.broadcast_to(np.asarray(xi, dtype=float), a.shape)
-    usable = np.isfinite(a) & (a >= 0) & (a <= ALPHA_CAP)
+    usable = integrable(a)
     eps = np.full(a.shape, np.nan)
     state = np.zeros(a.shape, dtype=int)
     if np.any(usable):
@@ -110,20 +115,35 @@ def delivered(alpha, xi):
 
 def delivered_residuals(t, x):
     """True delivered-eps errors (one impact per point) of the closed form with constants ``x``."""
+    return delivered_residuals_and_slope(t, x)[0]
+
+
+def delivered_residuals_and_slope(t, x):
+    """``delivered_residuals`` and the engine's ``d eps / d alpha`` at the model's alpha, one impact each.
+
+    Points not integrated (alpha not finite, negative or above ``ALPHA_CAP``) get the clipped
+    residual and slope 0.
+    """
     with np.errstate(all="ignore"):
         a = cf.alpha_closed_form(t["eps"], t["xi"], x)
-    eps, _ = delivered(a, t["xi"])
-    return np.clip(np.nan_to_num(eps - t["eps"], nan=RESIDUAL_CLIP), -RESIDUAL_CLIP, RESIDUAL_CLIP)
+    usable = integrable(a)
+    r = np.full(a.shape, RESIDUAL_CLIP)
+    slope = np.zeros(a.shape)
+    if np.any(usable):
+        res = impact(a[usable], t["xi"][usable])
+        r[usable] = np.nan_to_num(res.eps - t["eps"][usable], nan=RESIDUAL_CLIP)
+        slope[usable] = np.nan_to_num(np.asarray(res.deps_dalpha, dtype=float))
+    return np.clip(r, -RESIDUAL_CLIP, RESIDUAL_CLIP), slope
 
 
-def delivered_residuals_and_jacobian(t, x, index=None):
+def delivered_residuals_and_jacobian(t, x, index=None, at=None):
     """True delivered-eps errors and their Jacobian in the constants ``x[index]``.
 
     One impact per point gives the errors and the engine's ``d eps / d alpha`` at the model's
-    alpha; the chain rule multiplies it by ``d alpha / d c`` of the closed form (central
-    differences, ``JACOBIAN_STEP`` relative), so a Jacobian costs no further impacts.  Points
-    not integrated (alpha not finite or above ``ALPHA_CAP``) get the clipped residual and zero
-    rows.
+    alpha (``delivered_residuals_and_slope``; pass its result as ``at`` when it is already
+    known at ``x``); the chain rule multiplies it by ``d alpha / d c`` of the closed form
+    (central differences, ``JACOBIAN_STEP`` relative), so a Jacobian costs no further impacts.
+    Points not integrated get zero rows.
 
     Returns
     -------
@@ -132,18 +152,8 @@ def delivered_residuals_and_jacobian(t, x, index=None):
     """
     x = np.asarray(x, dtype=float)
     index = np.arange(x.size) if index is None else np.asarray(index)
-    with np.errstate(all="ignore"):
-        a = cf.alpha_closed_form(t["eps"], t["xi"], x)
-    usable = np.isfinite(a) & (a >= 0) & (a <= ALPHA_CAP)
-    r = np.full(a.shape, RESIDUAL_CLIP)
-    slope = np.zeros(a.shape)
-    if np.any(usable):
-        res = impact(a[usable], t["xi"][usable])
-        r[usable] = np.clip(
-            np.nan_to_num(res.eps - t["eps"][usable], nan=RESIDUAL_CLIP), -RESIDUAL_CLIP, RESIDUAL_CLIP
-        )
-        slope[usable] = np.nan_to_num(np.asarray(res.deps_dalpha, dtype=float))
-    J = np.empty((a.size, index.size))
+    r, slope = delivered_residuals_and_slope(t, x) if at is None else at
+    J = np.empty((r.size, index.size))
     for j, i in enumerate(index):
         h = JACOBIAN_STEP * max(1.0, abs(x[i]))
         up, down = x.copy(), x.copy()
@@ -199,15 +209,25 @@ def fit_closed_form(t, start, *, polish_steps=0, max_nfev=MAX_NFEV, free=None):
     )
     fit.extra["stage"] = "linearised delivered eps"
     if polish_steps > 0:
+        # least_squares asks for the Jacobian at the point whose residuals it has just taken:
+        # the last impact pass (errors and slopes) serves both.
+        last = {}
+
+        def at(x):
+            if last.get("x") is None or not np.array_equal(last["x"], x):
+                last["x"], last["value"] = np.array(x), delivered_residuals_and_slope(fit_t, constants(x))
+            return last["value"]
+
+        start_cost = 0.5 * float(np.sum(at(fit.x)[0] ** 2))
         polish = least_squares_fit(
-            lambda x: delivered_residuals(fit_t, constants(x)),
+            lambda x: at(x)[0],
             fit.x,
             names,
             "closed form (delivered)",
             max_nfev=polish_steps,
-            jac=lambda x: delivered_residuals_and_jacobian(fit_t, constants(x), index),
+            jac=lambda x: delivered_residuals_and_jacobian(fit_t, constants(x), index, at=at(x)),
         )
-        if polish.cost < 0.5 * float(np.sum(delivered_residuals(fit_t, constants(fit.x)) ** 2)):
+        if polish.cost < start_cost:
             polish.x0 = x0
             polish.extra["stage"] = "delivered eps (polished)"
             fit = polish
