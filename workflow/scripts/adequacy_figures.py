@@ -6,6 +6,10 @@ Outputs: results/figures/adequacy_tol<tol>, adequacy_cheapest, adequacy_xi_ignor
 (.png and .pdf each), written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from pathlib import Path
 
 from contactalpha.io import load_dataset, script_logger

@@ -7,6 +7,10 @@ Outputs: results/adequacy/maps.h5 (netCDF4/HDF5, with provenance, the measured m
 the run time), written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from dataclasses import asdict
 
 import numba

@@ -7,6 +7,10 @@ Outputs: statements (markdown, paper.statements table), summary (markdown: area 
 xi_ignore, cheapest-model shares), written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.config import settings_from
 from contactalpha.io import load_dataset, script_logger, write_text_atomic
 from contactalpha.paper.statements import statements_markdown

@@ -7,6 +7,10 @@ Inputs: none.
 Outputs: data (netCDF4/HDF5 with provenance and run time), table (markdown), written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 
 from contactalpha.config import settings_from

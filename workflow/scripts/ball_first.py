@@ -8,6 +8,10 @@ Outputs: data (netCDF4/HDF5: per-run results and contact paths), table (markdown
 eps and end state of every combination); written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic
 from contactalpha.paper.ball.report import first_collision_table

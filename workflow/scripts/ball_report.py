@@ -9,6 +9,10 @@ fig11_ball_motion, fig12_ball_energy and the first-collision figures as (png, pd
 all written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import json
 
 from contactalpha.io import load_dataset, script_logger, write_text_atomic

@@ -6,6 +6,10 @@ Inputs: none.
 Outputs: table (failure_map.csv, one row per method and point), counts (failure_counts.csv).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger
 from contactalpha.paper.bench.report import BenchSettings, run_failures

@@ -5,6 +5,10 @@ Inputs: failure_map.csv.
 Outputs: png, pdf.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import pandas as pd
 
 from contactalpha.io import script_logger

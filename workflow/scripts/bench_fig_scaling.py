@@ -5,6 +5,10 @@ Inputs: scaling.json.
 Outputs: png, pdf.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import json
 from pathlib import Path
 

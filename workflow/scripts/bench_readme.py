@@ -5,6 +5,10 @@ Inputs: summary.md.
 Outputs: a flag file (touched by Snakemake); README.md is edited in place, atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from pathlib import Path
 
 from contactalpha.io import script_logger

@@ -6,6 +6,10 @@ Outputs: comparison (JSON: max and RMS |eps_delivered - eps|, end-state agreemen
 targets met, per model, with provenance and run time); figure (PNG and PDF error maps).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 
 from contactalpha.config import settings_from

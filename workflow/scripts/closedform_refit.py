@@ -7,6 +7,10 @@ the fit's report and delivered-eps scores on the fitted and the held-out points;
 `snakemake -c2 closedform_ship` copies it into the package.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 from dataclasses import asdict
 

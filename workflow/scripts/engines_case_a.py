@@ -7,6 +7,10 @@ Inputs: none.
 Outputs: case_A_opensim.nc (per-contact ledgers, counts and rest times in the attributes).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from dataclasses import replace
 
 from contactalpha.config import settings_from

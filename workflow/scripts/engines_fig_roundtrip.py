@@ -5,6 +5,10 @@ Inputs: roundtrip_*.nc.
 Outputs: png, pdf.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.io import load_dataset, script_logger
 from contactalpha.plotting import save_figure
 from contactalpha.studies.engines.figures import roundtrip_figure

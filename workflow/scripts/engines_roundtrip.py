@@ -7,6 +7,10 @@ Inputs: none.
 Outputs: roundtrip_{engine}.nc (dims run, epsilon, force), written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic
 from contactalpha.studies.engines.compute import EnginesSettings, round_trip, scene_from_config

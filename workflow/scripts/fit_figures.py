@@ -9,6 +9,10 @@ fig8 and lambda (the refit constants).
 Outputs: the figures, written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import json
 from functools import cache
 from pathlib import Path

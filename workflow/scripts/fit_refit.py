@@ -9,6 +9,10 @@ Nothing is written when a fit does not converge: the rule fails with scipy's mes
 The rule's threads are worker processes, each fit single-threaded (same bits for any number).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import os
 
 # Before numpy loads: BLAS on one thread in every process.  Snakemake sets these to the rule's
@@ -16,9 +20,9 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
-from contactalpha.io import load_surface, script_logger, write_json_atomic, write_text_atomic  # noqa: E402
-from contactalpha.paper.fit import report as fit_report  # noqa: E402
-from contactalpha.paper.fit.compute import FitNotConverged  # noqa: E402
+from contactalpha.io import load_surface, script_logger, write_json_atomic, write_text_atomic
+from contactalpha.paper.fit import report as fit_report
+from contactalpha.paper.fit.compute import FitNotConverged
 
 sm = snakemake  # noqa: F821  (injected by Snakemake)
 log = script_logger("fit_refit", sm.log[0])

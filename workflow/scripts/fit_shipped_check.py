@@ -9,6 +9,10 @@ of the same surface and reading but differ by more than tol_se standard errors (
 `snakemake -c2 ship` ships the fresh refit).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import json
 from pathlib import Path
 

@@ -7,6 +7,10 @@ Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md
 and the figure (png, pdf), drawn from the written file.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 
 from contactalpha.config import settings_from

@@ -8,6 +8,10 @@ warmup (the numba warm-up's records: they order the job after the compile, and a
 Outputs: the check as markdown; the rule fails if the table misses max_rel_err.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from pathlib import Path
 
 from contactalpha.engine.table import DEFAULT_FILE, load_table

@@ -7,6 +7,10 @@ Outputs: JSON with the seconds of each kernel family (contactalpha.warmup.ENTRY_
 their total, numba's version and cache folder, and the provenance every result carries.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 
 import numba

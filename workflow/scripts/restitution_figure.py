@@ -5,6 +5,10 @@ Inputs: none (convert_restitution on the grid).
 Outputs: data (netCDF, with settings, version, commit and compute time), png, pdf.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from contactalpha.io import script_logger, write_dataset_atomic
 from contactalpha.plotting import save_figure
 from contactalpha.studies.restitution.curves import RestitutionCurveSettings, restitution_curves

@@ -7,6 +7,10 @@ Outputs: results/models/alpha_table_kinematic.npz, written atomically, with its 
 package version, git commit and build time in its metadata.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import time
 
 from contactalpha.engine.table_build import (

@@ -6,6 +6,10 @@ Inputs: the table file; a built table is also compared with the shipped copy.
 Outputs: the check as markdown; the rule fails if the table misses max_rel_err.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from pathlib import Path
 
 from contactalpha.engine.table import KINEMATIC_ARRAY_NAMES, KINEMATIC_FILE, read_table_file

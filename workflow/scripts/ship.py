@@ -10,6 +10,10 @@ file itself is written atomically and is not a Snakemake output (Snakemake would
 tracked file before the job).
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 import hashlib
 from datetime import UTC, datetime
 from pathlib import Path

@@ -9,6 +9,10 @@ Outputs: the figures and, if named, summary (markdown: grid, timings, end states
 written atomically.
 """
 
+from contactalpha.prefork import delegate
+
+delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+
 from functools import cache
 
 from contactalpha.config import settings_from

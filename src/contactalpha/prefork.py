@@ -1,0 +1,305 @@
+"""Run the workflow's script jobs in forks of one process that has already imported everything.
+
+A job of the main workflow spends 1.5-2 s of CPU before its first line of work: a Python
+start, Snakemake's preamble, then numpy, xarray/pandas, numba, Matplotlib and the package.
+There are about 25 jobs, on 2 cores.  So, on a local run, the Snakefile's ``onstart`` hook
+starts one *server* (``start_server``) that imports all of that once (``PRELOAD``) and then
+waits on a Unix socket.  Each script calls ``delegate()`` first: its process (the *client*,
+still Snakemake's job process) sends its script path, working directory, environment and
+standard streams to the server, which forks a *child* that runs the script; the client waits
+and exits with the child's status.  Where no server runs (cluster jobs, a script run by hand,
+a server that could not start or answer), ``delegate()`` returns and the script runs in its
+own process as before.  The results are the same bits either way (the code is the same).
+
+Guarantees (tests/workflow/test_prefork.py):
+
+- the child has the client's working directory, environment (less ``SOCKET_ENV``), argv and
+  stdin/stdout/stderr, and its exit status (0, ``SystemExit`` codes, 1 after an uncaught exception, whose
+  traceback goes to the job's stderr) is the client's;
+- a SIGTERM, SIGINT or SIGHUP sent to the client (Snakemake cancelling a job) is forwarded to
+  the child, and a client killed outright takes its child along: the child watches the
+  connection and kills itself when the client is gone;
+- the server dies with the Snakemake process that started it (``PR_SET_PDEATHSIG``) and is
+  stopped by the ``onsuccess``/``onerror`` hooks; its socket lives in a private directory
+  (mode 700) and it serves only its own user (``SO_PEERCRED``).
+
+The server imports the package once, at the start of the run: an edit of the sources during a
+run reaches the jobs of the next run (Snakemake's code versions are taken at the start too).
+"""
+
+import importlib
+import json
+import os
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import traceback
+
+# The environment variable that tells scripts where the server listens.
+SOCKET_ENV = "CONTACTALPHA_PREFORK"
+# What the server imports before it serves: the libraries every job imports, and the package.
+PRELOAD = (
+    "numpy",
+    "scipy.optimize",
+    "xarray",
+    "h5netcdf",
+    "matplotlib.pyplot",
+    "snakemake.iocontainers",
+    "snakemake.logging",
+    "contactalpha.config",
+    "contactalpha.io",
+    "contactalpha.plotting",
+    "contactalpha.models",
+    "contactalpha.engine.driver",
+    "contactalpha.engine.solver",
+)
+# Seconds ``start_server`` waits for the server's socket before running without it.
+START_TIMEOUT = 30.0
+# BLAS on one thread in the server, before numpy loads: the jobs' numerics are numba kernels
+# and small fits, and 2 BLAS threads on 2 cores made the refit's SVDs ~12x slower.
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+_HEADER = struct.Struct("!I")  # request length, child pid, exit status
+_PR_SET_PDEATHSIG = 1
+_FORWARDED = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
+
+# True in a child of the server: ``delegate()`` then lets the script run.
+_in_child = False
+
+
+# --- client ---------------------------------------------------------------------------------
+
+
+def delegate(script=None):
+    """Run this script in a fork of the server, if one is running, and exit with its status.
+
+    Call it first in a workflow script.  Returns (and the script runs here) in a child of the
+    server, when no server is set (``SOCKET_ENV``), or when the server does not answer.
+    """
+    path = os.environ.get(SOCKET_ENV)
+    if _in_child or not path:
+        return
+    script = os.path.abspath(script or sys.argv[0])
+    try:
+        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        sock.connect(path)
+        body = json.dumps({"script": script, "cwd": os.getcwd(), "env": dict(os.environ), "argv": sys.argv})
+        body = body.encode()
+        socket.send_fds(sock, [_HEADER.pack(len(body))], [0, 1, 2])
+        sock.sendall(body)
+        pid = _read_int(sock)
+    except OSError as err:
+        print(f"contactalpha.prefork: no server at {path} ({err}); running in this process", file=sys.stderr)
+        return
+    sys.exit(_wait_for_child(sock, pid))
+
+
+def _wait_for_child(sock, pid):
+    forwarded = []
+
+    def forward(signum, frame):
+        forwarded.append(signum)
+        try:
+            os.kill(pid, signum)
+        except ProcessLookupError:
+            pass
+
+    for s in _FORWARDED:
+        signal.signal(s, forward)
+    try:
+        return _read_int(sock)
+    except OSError:
+        # The child died without a status: killed by a signal.  End the same way, if ours.
+        if forwarded:
+            signal.signal(forwarded[-1], signal.SIG_DFL)
+            os.kill(os.getpid(), forwarded[-1])
+        print(f"contactalpha.prefork: job process {pid} ended without an exit status", file=sys.stderr)
+        return 1
+
+
+def _read_exact(sock, n):
+    data = b""
+    while len(data) < n:
+        part = sock.recv(n - len(data))
+        if not part:
+            raise ConnectionError("connection closed")
+        data += part
+    return data
+
+
+def _read_int(sock):
+    return _HEADER.unpack(_read_exact(sock, _HEADER.size))[0]
+
+
+# --- server ---------------------------------------------------------------------------------
+
+
+def start_server(timeout=START_TIMEOUT):
+    """Start a server for this process's jobs and set ``SOCKET_ENV``; returns its ``Popen``.
+
+    Returns None (and the jobs run in their own processes) off Linux, or when the server does
+    not listen within ``timeout`` seconds.
+    """
+    if not sys.platform.startswith("linux"):  # PR_SET_PDEATHSIG and SO_PEERCRED are Linux's
+        return None
+    folder = tempfile.mkdtemp(prefix="contactalpha-prefork-")  # mode 700
+    path = os.path.join(folder, "socket")
+    cmd = [sys.executable, "-m", "contactalpha.prefork", path, str(os.getpid())]
+    server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL)
+    try:
+        _wait_until_listening(server, path, timeout)
+    except TimeoutError as err:
+        print(f"contactalpha.prefork: {err}; jobs run in their own processes", file=sys.stderr)
+        stop_server(server)
+        return None
+    server.socket_folder = folder
+    os.environ[SOCKET_ENV] = path
+    return server
+
+
+def _wait_until_listening(server, path, timeout):
+    import time
+
+    end = time.monotonic() + timeout
+    while not os.path.exists(path):
+        if server.poll() is not None:
+            raise TimeoutError(f"the server exited with status {server.returncode} before listening")
+        if time.monotonic() > end:
+            raise TimeoutError(f"the server did not listen within {timeout:g} s")
+        time.sleep(0.01)
+
+
+def stop_server(server):
+    """Stop a server of ``start_server`` (None: nothing) and remove its socket."""
+    os.environ.pop(SOCKET_ENV, None)
+    if server is None:
+        return
+    server.terminate()
+    server.wait()
+    shutil.rmtree(getattr(server, "socket_folder", ""), ignore_errors=True)
+
+
+def serve(path, parent_pid):
+    """Listen on ``path``, import ``PRELOAD``, then fork one child per request (never returns)."""
+    _die_with_parent(parent_pid)
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind(path + ".tmp")
+    listener.listen(64)
+    os.rename(path + ".tmp", path)  # clients queue in the backlog while the imports run
+    for var in BLAS_THREADS:
+        os.environ[var] = "1"
+    for name in PRELOAD:
+        importlib.import_module(name)
+    signal.signal(signal.SIGCHLD, _reap)
+    while True:
+        conn, _ = listener.accept()
+        try:
+            request, fds = _read_request(conn)
+        except (OSError, ValueError) as err:
+            print(f"contactalpha.prefork: bad request ({err})", file=sys.stderr)
+            conn.close()
+            continue
+        if os.fork() == 0:
+            listener.close()
+            _run_child(conn, request, fds)  # never returns
+        conn.close()
+        for fd in fds:
+            os.close(fd)
+
+
+def _die_with_parent(parent_pid):
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+    if os.getppid() != parent_pid:  # the parent died before prctl
+        sys.exit(0)
+
+
+def _reap(signum, frame):
+    while True:
+        try:
+            pid, _ = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
+def _read_request(conn):
+    uid = struct.unpack("3i", conn.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, 12))[1]
+    if uid != os.getuid():
+        raise ValueError(f"peer uid {uid} is not this user's")
+    head, fds, _, _ = socket.recv_fds(conn, _HEADER.size, 3)
+    if len(head) != _HEADER.size or len(fds) != 3:
+        for fd in fds:
+            os.close(fd)
+        raise ValueError("expected a length and 3 file descriptors")
+    return json.loads(_read_exact(conn, _HEADER.unpack(head)[0])), fds
+
+
+def _run_child(conn, request, fds):
+    global _in_child
+    _in_child = True
+    for s in (signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    for target, fd in enumerate(fds):
+        os.dup2(fd, target)
+        os.close(fd)
+    os.chdir(request["cwd"])
+    os.environ.clear()
+    os.environ.update(request["env"])
+    os.environ.pop(SOCKET_ENV, None)  # the job's own subprocesses run in their own processes
+    sys.argv = list(request["argv"])
+    conn.sendall(_HEADER.pack(os.getpid()))
+    threading.Thread(target=_die_without_client, args=(conn,), daemon=True).start()
+    status = _run_script(request["script"])
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    try:
+        conn.sendall(_HEADER.pack(status))
+    finally:
+        os._exit(status)
+
+
+def _die_without_client(conn):
+    conn.recv(1)  # the client sends nothing more: this returns when it is gone
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _run_script(script):
+    import logging
+    import runpy
+
+    try:
+        runpy.run_path(script, run_name="__main__")
+        status = 0
+    except SystemExit as exit_:
+        status = _exit_status(exit_.code)
+    except BaseException:  # the job's own error: reported as Python reports it, status 1
+        traceback.print_exc()
+        status = 1
+    logging.shutdown()
+    return status
+
+
+def _exit_status(code):
+    if code is None:
+        return 0
+    if isinstance(code, int):
+        return code & 0xFF
+    print(code, file=sys.stderr)
+    return 1
+
+
+if __name__ == "__main__":
+    # Through the package's module, not this __main__ copy: the children's scripts import
+    # contactalpha.prefork and must see its _in_child flag.
+    from contactalpha import prefork
+
+    prefork.serve(sys.argv[1], int(sys.argv[2]))

@@ -1,0 +1,184 @@
+"""The pre-imported job server (contactalpha.prefork): jobs run in its forks as in their own process."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+from contactalpha import prefork
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the server runs on Linux only")
+
+# A job script: reports where it runs, then does what its environment says.
+SCRIPT = textwrap.dedent(
+    """
+    import json, os, subprocess, sys, time
+    from contactalpha.prefork import delegate
+
+    delegate()
+    import contactalpha.prefork as p
+
+    info = {"ppid": os.getppid(), "pid": os.getpid(), "in_child": p._in_child, "cwd": os.getcwd(),
+            "x": os.environ.get("X"), "argv": sys.argv[1:]}
+    nested = subprocess.run([sys.executable, "-c", "import os; print(os.environ.get(%r))" % p.SOCKET_ENV],
+                            capture_output=True, text=True)
+    info["nested"] = nested.stdout.strip()
+    print(json.dumps(info), flush=True)
+    action = os.environ.get("ACTION", "")
+    if action == "exit3":
+        sys.exit(3)
+    if action == "message":
+        sys.exit("a message from the job")
+    if action == "raise":
+        raise ValueError("boom in the job")
+    if action == "sleep":
+        open(os.environ["PIDFILE"], "w").write(str(os.getpid()))
+        time.sleep(60)
+    """
+)
+
+
+@pytest.fixture
+def script(tmp_path):
+    path = tmp_path / "job.py"
+    path.write_text(SCRIPT)
+    return path
+
+
+@pytest.fixture(scope="module")
+def server():
+    """One server for the module's tests (its imports take a few seconds); SOCKET_ENV set meanwhile."""
+    before = os.environ.pop(prefork.SOCKET_ENV, None)
+    s = prefork.start_server()
+    assert s is not None
+    yield s
+    prefork.stop_server(s)
+    if before is not None:
+        os.environ[prefork.SOCKET_ENV] = before
+
+
+def run(script, cwd, action=""):
+    env = {**os.environ, "X": "from the client", "ACTION": action}
+    return subprocess.run(
+        [sys.executable, str(script), "one", "two"],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+
+
+def info(done):
+    return json.loads(done.stdout.splitlines()[0])
+
+
+def alive(pid):
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().split(") ")[1][0] != "Z"  # a zombie is gone
+    except (FileNotFoundError, IndexError):
+        return False
+
+
+def wait_dead(pid, seconds=10.0):
+    end = time.monotonic() + seconds
+    while alive(pid) and time.monotonic() < end:
+        time.sleep(0.05)
+    return not alive(pid)
+
+
+def test_a_job_runs_in_a_fork_with_the_clients_directory_environment_argv_and_streams(
+    server, script, tmp_path
+):
+    cwd = tmp_path / "work"
+    cwd.mkdir()
+    done = run(script, cwd)
+    assert done.returncode == 0, done.stderr
+    got = info(done)
+    assert got["in_child"] is True and got["ppid"] == server.pid  # a fork of the server
+    assert got["cwd"] == str(cwd) and got["x"] == "from the client" and got["argv"] == ["one", "two"]
+    assert got["nested"] == "None"  # the job's own subprocesses do not delegate
+
+
+def test_without_a_server_the_script_runs_in_its_own_process(script, tmp_path, monkeypatch):
+    monkeypatch.delenv(prefork.SOCKET_ENV, raising=False)
+    done = run(script, tmp_path)
+    got = info(done)
+    assert done.returncode == 0 and got["in_child"] is False and got["ppid"] == os.getpid()
+    assert got["x"] == "from the client" and got["argv"] == ["one", "two"]
+
+
+def test_a_server_that_is_gone_is_reported_and_the_script_runs_here(script, tmp_path, monkeypatch):
+    monkeypatch.setenv(prefork.SOCKET_ENV, str(tmp_path / "no-socket"))
+    done = run(script, tmp_path)
+    assert done.returncode == 0 and info(done)["in_child"] is False
+    assert "no server at" in done.stderr and "running in this process" in done.stderr
+
+
+@pytest.mark.parametrize(
+    ("action", "status", "stderr"),
+    [("exit3", 3, ""), ("message", 1, "a message from the job"), ("raise", 1, "ValueError: boom in the job")],
+)
+def test_exit_status_and_errors_are_the_jobs(server, script, tmp_path, action, status, stderr):
+    done = run(script, tmp_path, action)
+    assert info(done)["in_child"] is True
+    assert done.returncode == status
+    assert stderr in done.stderr
+    if action == "raise":
+        assert "Traceback" in done.stderr
+
+
+def _started_sleeper(script, tmp_path):
+    pidfile = tmp_path / "child.pid"
+    env = {**os.environ, "ACTION": "sleep", "PIDFILE": str(pidfile)}
+    client = subprocess.Popen([sys.executable, str(script)], cwd=tmp_path, env=env, stdout=subprocess.PIPE)
+    end = time.monotonic() + 30
+    while not (pidfile.exists() and pidfile.read_text()) and time.monotonic() < end:
+        time.sleep(0.05)
+    child = int(pidfile.read_text())
+    assert child != client.pid and alive(child)
+    return client, child
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_to_the_client_reaches_the_child(server, script, tmp_path, sig):
+    client, child = _started_sleeper(script, tmp_path)
+    client.send_signal(sig)
+    assert client.wait(timeout=30) != 0
+    assert wait_dead(child)
+
+
+def test_a_killed_client_takes_its_child_along(server, script, tmp_path):
+    client, child = _started_sleeper(script, tmp_path)
+    client.kill()
+    client.wait(timeout=30)
+    assert wait_dead(child)
+
+
+def test_the_server_dies_with_the_process_that_started_it(tmp_path):
+    code = (
+        "import os, time; from contactalpha import prefork; s = prefork.start_server(); "
+        "print(s.pid, os.environ[prefork.SOCKET_ENV], flush=True); time.sleep(60)"
+    )
+    env = {k: v for k, v in os.environ.items() if k != prefork.SOCKET_ENV}
+    owner = subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, text=True)
+    pid, socket_path = owner.stdout.readline().split()
+    assert alive(int(pid)) and Path(socket_path).exists()
+    owner.kill()
+    owner.wait()
+    assert wait_dead(int(pid))
+
+
+def test_stop_server_removes_the_socket_and_the_setting(monkeypatch):
+    monkeypatch.delenv(prefork.SOCKET_ENV, raising=False)
+    s = prefork.start_server()
+    path = Path(os.environ[prefork.SOCKET_ENV])
+    assert path.exists() and (path.parent.stat().st_mode & 0o777) == 0o700
+    prefork.stop_server(s)
+    assert not path.parent.exists() and prefork.SOCKET_ENV not in os.environ
+    assert s.returncode is not None
