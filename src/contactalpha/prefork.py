@@ -194,6 +194,7 @@ def serve(path, parent_pid):
         os.environ[var] = "1"
     for name in PRELOAD:
         importlib.import_module(name)
+    _load_numba_registries()
     signal.signal(signal.SIGCHLD, _reap)
     while True:
         conn, _ = listener.accept()
@@ -209,6 +210,14 @@ def serve(path, parent_pid):
         conn.close()
         for fd in fds:
             os.close(fd)
+
+
+def _load_numba_registries():
+    """Numba's typing and lowering tables, which its first cache load in a process builds (~0.5 s)."""
+    from numba.core.registry import cpu_target
+
+    cpu_target.typing_context.refresh()
+    cpu_target.target_context.refresh()
 
 
 def _die_with_parent(parent_pid):
