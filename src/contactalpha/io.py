@@ -10,7 +10,6 @@ from collections.abc import Mapping
 from pathlib import Path, PurePath
 
 import numpy as np
-import xarray as xr
 
 # netCDF4/HDF5 through h5py: no netCDF C library needed.
 ENGINE = "h5netcdf"
@@ -215,6 +214,8 @@ def write_dataset_atomic(ds, path):
 
 def load_dataset(path):
     """Read a netCDF4/HDF5 file fully into memory (the file is closed on return)."""
+    import xarray as xr  # here: io is imported by light processes (Snakemake's own) that read none
+
     return xr.load_dataset(path, engine=ENGINE)
 
 

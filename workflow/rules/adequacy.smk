@@ -47,8 +47,11 @@ rule adequacy_maps:
     priority: LONG_JOBS
     log:
         "logs/adequacy/maps.log",
-    # One parallel pass over every model x point impact.
-    threads: 2
+    # One pass over every model x point impact, its rows on `threads` threads (the same bits for
+    # any number).  One by default: a 2-thread job waits until both cores of a `snakemake -c2`
+    # run are free at once, and then the maps and their figures ended the run on one core.
+    # More: --set-threads adequacy_maps=N.
+    threads: 1
     conda:
         "../envs/contactalpha.yaml"
     script:
@@ -65,6 +68,7 @@ rule adequacy_thresholds:
         scenes=ADEQUACY["scenes"],
         vcrit_eps=ADEQUACY["vcrit_eps"],
         code_version=source_hash("contactalpha.studies.adequacy.report"),
+    priority: LONG_JOBS
     log:
         "logs/adequacy/thresholds.log",
     threads: 1

@@ -73,7 +73,8 @@ rule kinematic_table_check:
         code_version=KINEMATIC_CODE_VERSION,
     log:
         "logs/restitution/kinematic_table_check.log",
-    threads: 2
+    # One thread, as table_check (rules/models.smk).
+    threads: 1
     conda:
         "../envs/contactalpha.yaml"
     script:

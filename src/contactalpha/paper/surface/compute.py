@@ -18,7 +18,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 from contactalpha.engine.codes import (
     CREEP,
@@ -367,6 +366,8 @@ def _to_dataset(eps, xi, table):
         "steps": table[..., SOL_STEPS].astype(np.int64),
         "nfev": table[..., SOL_NFEV].astype(np.int64),
     }
+    import xarray as xr  # here: the Snakefile imports this module (through config) and builds none
+
     ds = xr.Dataset(
         {name: (("epsilon", "xi"), values) for name, values in data.items()},
         coords={"epsilon": eps, "xi": xi},
@@ -429,6 +430,8 @@ def merge_chunks(paths, config=None):
     ValueError
         If chunks are missing or repeated, or were computed with other settings.
     """
+    import xarray as xr
+
     from contactalpha.io import load_surface_chunk
 
     parts = [load_surface_chunk(p) for p in paths]
