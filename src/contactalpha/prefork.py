@@ -46,9 +46,11 @@ SOCKET_ENV = "CONTACTALPHA_PREFORK"
 PRELOAD = (
     "numpy",
     "scipy.optimize",
+    "scipy.integrate",
     "xarray",
     "h5netcdf",
     "matplotlib.pyplot",
+    "matplotlib.backends.backend_pdf",  # with fontTools: ~0.1 s at a job's first PDF
     "snakemake.iocontainers",
     "snakemake.logging",
     "contactalpha.config",
