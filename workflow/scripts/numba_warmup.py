@@ -7,10 +7,8 @@ Outputs: JSON with the seconds of each kernel family (contactalpha.warmup.ENTRY_
 their total, numba's version and cache folder, and the provenance every result carries.
 """
 
-from contactalpha.prefork import delegate
-
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
-
+# No contactalpha.prefork.delegate(): the warm-up jobs are the run's first, and in their own
+# processes they compile while the job server is still importing, instead of waiting for it.
 import time
 
 import numba
