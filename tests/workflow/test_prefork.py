@@ -182,3 +182,10 @@ def test_stop_server_removes_the_socket_and_the_setting(monkeypatch):
     prefork.stop_server(s)
     assert not path.parent.exists() and prefork.SOCKET_ENV not in os.environ
     assert s.returncode is not None
+
+
+def test_the_server_forks_from_one_thread(server, script, tmp_path):
+    # fork() copies only the calling thread: a preloaded library that started threads (a BLAS
+    # pool, numba's workers) would leave its locks held in every job.
+    assert run(script, tmp_path).returncode == 0  # the preload is done
+    assert len(os.listdir(f"/proc/{server.pid}/task")) == 1
