@@ -33,12 +33,17 @@ ALL_TARGETS = []
 
 # Local runs: the jobs' scripts run in forks of one process that has imported numpy, xarray,
 # numba, Matplotlib and the package once (contactalpha/prefork.py), about 1.5 s of CPU less per
-# job.  Cluster jobs run in their own processes.
+# job.  Cluster jobs, --sdm conda/apptainer jobs (their own Python) and --touch run without it.
 PREFORK = []
 
 
 onstart:
-    if workflow.is_main_process and workflow.local_exec:
+    if (
+        workflow.is_main_process
+        and workflow.local_exec
+        and not workflow.touch
+        and not workflow.deployment_settings.deployment_method
+    ):
         PREFORK.append(start_server())
 
 

@@ -7,21 +7,26 @@ starts one *server* (``start_server``) that imports all of that once (``PRELOAD`
 waits on a Unix socket.  Each script calls ``delegate()`` first: its process (the *client*,
 still Snakemake's job process) sends its script path, working directory, environment and
 standard streams to the server, which forks a *child* that runs the script; the client waits
-and exits with the child's status.  Where no server runs (cluster jobs, a script run by hand,
-a server that could not start or answer), ``delegate()`` returns and the script runs in its
-own process as before.  The results are the same bits either way (the code is the same).
+and exits with the child's status.  Where no server runs (cluster jobs, ``--sdm conda`` or
+container jobs, a script run by hand), in another Python environment than the server's, or
+when the server does not take the job within ``START_TIMEOUT``, ``delegate()`` returns and
+the script runs in its own process as before.  The results are the same bits either way.
 
 Guarantees (tests/workflow/test_prefork.py):
 
-- the child has the client's working directory, environment (less ``SOCKET_ENV``), argv and
-  stdin/stdout/stderr, and its exit status (0, ``SystemExit`` codes, 1 after an uncaught exception, whose
-  traceback goes to the job's stderr) is the client's;
-- a SIGTERM, SIGINT or SIGHUP sent to the client (Snakemake cancelling a job) is forwarded to
-  the child, and a client killed outright takes its child along: the child watches the
-  connection and kills itself when the client is gone;
-- the server dies with the Snakemake process that started it (``PR_SET_PDEATHSIG``) and is
-  stopped by the ``onsuccess``/``onerror`` hooks; its socket lives in a private directory
-  (mode 700) and it serves only its own user (``SO_PEERCRED``).
+- the child starts as ``python script`` would: the client's working directory, environment
+  (less this module's settings), argv and stdin/stdout/stderr, the script's folder first on
+  ``sys.path``, numpy's global generator seeded afresh, and its exit handlers run at the end;
+- the client ends as that process would: exit status 0, ``SystemExit`` codes, 1 after an
+  uncaught exception (its traceback on the job's stderr), killed by SIGINT after an uncaught
+  ``KeyboardInterrupt``;
+- a SIGTERM, SIGINT or SIGHUP sent to the client (Snakemake cancelling a job) reaches the
+  child; a client killed outright takes its child along (the child watches the connection),
+  and forks of the job (process pools) do not keep the client waiting;
+- the server forks from a single thread, reaps its children, dies with the Snakemake process
+  that started it (``PR_SET_PDEATHSIG``) removing its socket, and is stopped by the
+  ``onsuccess``/``onerror`` hooks; the socket lives in a private directory (mode 700) and the
+  server serves only its own user (``SO_PEERCRED``).
 
 The server imports the package once, at the start of the run: an edit of the sources during a
 run reaches the jobs of the next run (Snakemake's code versions are taken at the start too).
@@ -40,8 +45,10 @@ import tempfile
 import threading
 import traceback
 
-# The environment variable that tells scripts where the server listens.
+# The environment variables that tell scripts where the server listens, and which Python it
+# runs (a job in another environment, e.g. a conda env of --sdm conda, runs in its own process).
 SOCKET_ENV = "CONTACTALPHA_PREFORK"
+PREFIX_ENV = "CONTACTALPHA_PREFORK_PREFIX"
 # What the server imports before it serves: the libraries every job imports, and the package.
 PRELOAD = (
     "numpy",
@@ -60,12 +67,16 @@ PRELOAD = (
     "contactalpha.engine.driver",
     "contactalpha.engine.solver",
 )
-# Seconds ``start_server`` waits for the server's socket before running without it.
+# Seconds ``start_server`` waits for the server's socket, and a client for the server to take its
+# job (the server's imports included), before they run without it.
 START_TIMEOUT = 30.0
+# Seconds the server waits for a connected client's request before dropping it.
+REQUEST_TIMEOUT = 5.0
 # BLAS on one thread in the server, before numpy loads: the jobs' numerics are numba kernels
 # and small fits, and 2 BLAS threads on 2 cores made the refit's SVDs ~12x slower.
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-_HEADER = struct.Struct("!I")  # request length, child pid, exit status
+_HEADER = struct.Struct("!I")  # request length, child pid, exit status (256 + N: killed by signal N)
+_SIGNALLED = 256
 _PR_SET_PDEATHSIG = 1
 _FORWARDED = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 
@@ -80,21 +91,25 @@ def delegate(script=None):
     """Run this script in a fork of the server, if one is running, and exit with its status.
 
     Call it first in a workflow script.  Returns (and the script runs here) in a child of the
-    server, when no server is set (``SOCKET_ENV``), or when the server does not answer.
+    server, when no server is set (``SOCKET_ENV``), when this is another Python environment than
+    the server's, or when the server does not take the job within ``START_TIMEOUT`` seconds.
     """
     path = os.environ.get(SOCKET_ENV)
-    if _in_child or not path:
+    if _in_child or not path or os.environ.get(PREFIX_ENV) != sys.prefix:
         return
     script = os.path.abspath(script or sys.argv[0])
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
-        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        sock.settimeout(START_TIMEOUT)
         sock.connect(path)
         body = json.dumps({"script": script, "cwd": os.getcwd(), "env": dict(os.environ), "argv": sys.argv})
         body = body.encode()
         socket.send_fds(sock, [_HEADER.pack(len(body))], [0, 1, 2])
         sock.sendall(body)
         pid = _read_int(sock)
-    except OSError as err:
+        sock.settimeout(None)
+    except OSError as err:  # a late child finds the connection closed and never runs the job
+        sock.close()
         print(f"contactalpha.prefork: no server at {path} ({err}); running in this process", file=sys.stderr)
         return
     sys.exit(_wait_for_child(sock, pid))
@@ -113,14 +128,21 @@ def _wait_for_child(sock, pid):
     for s in _FORWARDED:
         signal.signal(s, forward)
     try:
-        return _read_int(sock)
+        status = _read_int(sock)
     except OSError:
         # The child died without a status: killed by a signal.  End the same way, if ours.
         if forwarded:
-            signal.signal(forwarded[-1], signal.SIG_DFL)
-            os.kill(os.getpid(), forwarded[-1])
+            _die_by(forwarded[-1])
         print(f"contactalpha.prefork: job process {pid} ended without an exit status", file=sys.stderr)
         return 1
+    if status >= _SIGNALLED:  # the job ended as Python ends on an uncaught KeyboardInterrupt
+        _die_by(status - _SIGNALLED)
+    return status
+
+
+def _die_by(signum):
+    signal.signal(signum, signal.SIG_DFL)
+    os.kill(os.getpid(), signum)
 
 
 def _read_exact(sock, n):
@@ -160,6 +182,7 @@ def start_server(timeout=START_TIMEOUT):
         return None
     server.socket_folder = folder
     os.environ[SOCKET_ENV] = path
+    os.environ[PREFIX_ENV] = sys.prefix
     return server
 
 
@@ -178,6 +201,7 @@ def _wait_until_listening(server, path, timeout):
 def stop_server(server):
     """Stop a server of ``start_server`` (None: nothing) and remove its socket."""
     os.environ.pop(SOCKET_ENV, None)
+    os.environ.pop(PREFIX_ENV, None)
     if server is None:
         return
     server.terminate()
@@ -187,7 +211,8 @@ def stop_server(server):
 
 def serve(path, parent_pid):
     """Listen on ``path``, import ``PRELOAD``, then fork one child per request (never returns)."""
-    _die_with_parent(parent_pid)
+    signal.signal(signal.SIGTERM, lambda signum, frame: _remove_and_exit(path))
+    _die_with_parent(parent_pid)  # SIGTERM when the parent dies
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(path + ".tmp")
     listener.listen(64)
@@ -201,7 +226,9 @@ def serve(path, parent_pid):
     while True:
         conn, _ = listener.accept()
         try:
+            conn.settimeout(REQUEST_TIMEOUT)  # a stalled client does not hold up the others
             request, fds = _read_request(conn)
+            conn.settimeout(None)
         except (OSError, ValueError) as err:
             print(f"contactalpha.prefork: bad request ({err})", file=sys.stderr)
             conn.close()
@@ -212,6 +239,16 @@ def serve(path, parent_pid):
         conn.close()
         for fd in fds:
             os.close(fd)
+
+
+def _remove_and_exit(path):
+    for remove in (os.unlink, os.rmdir):  # the socket, then its folder (``start_server``'s)
+        try:
+            remove(path)
+        except OSError:
+            pass
+        path = os.path.dirname(path)
+    os._exit(0)
 
 
 def _load_numba_registries():
@@ -254,28 +291,38 @@ def _read_request(conn):
 
 
 def _run_child(conn, request, fds):
+    """The forked child: become the client's process, run its script, report (never returns)."""
     global _in_child
-    _in_child = True
-    for s in (signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP):
-        signal.signal(s, signal.SIG_DFL)
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    for target, fd in enumerate(fds):
-        os.dup2(fd, target)
-        os.close(fd)
-    os.chdir(request["cwd"])
-    os.environ.clear()
-    os.environ.update(request["env"])
-    os.environ.pop(SOCKET_ENV, None)  # the job's own subprocesses run in their own processes
-    sys.argv = list(request["argv"])
-    conn.sendall(_HEADER.pack(os.getpid()))
-    threading.Thread(target=_die_without_client, args=(conn,), daemon=True).start()
-    status = _run_script(request["script"])
-    for stream in (sys.stdout, sys.stderr):
-        stream.flush()
+    status = 1
     try:
+        _in_child = True
+        for s in (signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP):
+            signal.signal(s, signal.SIG_DFL)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        for target, fd in enumerate(fds):
+            os.dup2(fd, target)
+            os.close(fd)
+        os.chdir(request["cwd"])
+        os.environ.clear()
+        os.environ.update(request["env"])
+        for var in (SOCKET_ENV, PREFIX_ENV):  # the job's own subprocesses run in their own processes
+            os.environ.pop(var, None)
+        script = request["script"]
+        sys.argv = list(request["argv"])
+        sys.path[0] = os.path.dirname(script)  # as `python script` sets it
+        if "numpy" in sys.modules:  # a fresh process seeds numpy's global generator afresh
+            sys.modules["numpy"].random.seed()
+        # The job's own forks (process pools) must not hold the client's connection open: the
+        # client waits for it to close when the job dies.
+        os.register_at_fork(after_in_child=conn.close)
+        conn.sendall(_HEADER.pack(os.getpid()))  # fails if the client gave up waiting: no job
+        threading.Thread(target=_die_without_client, args=(conn,), daemon=True).start()
+        status = _run_script(script)
+        for stream in (sys.stdout, sys.stderr):
+            stream.flush()
         conn.sendall(_HEADER.pack(status))
     finally:
-        os._exit(status)
+        os._exit(status & 0xFF)
 
 
 def _die_without_client(conn):
@@ -284,7 +331,8 @@ def _die_without_client(conn):
 
 
 def _run_script(script):
-    import logging
+    """Run ``script`` as ``__main__`` and return its exit status as Python's own exit would be."""
+    import atexit
     import runpy
 
     try:
@@ -292,10 +340,13 @@ def _run_script(script):
         status = 0
     except SystemExit as exit_:
         status = _exit_status(exit_.code)
+    except KeyboardInterrupt:  # Python ends by SIGINT then; the client does
+        traceback.print_exc()
+        status = _SIGNALLED + signal.SIGINT
     except BaseException:  # the job's own error: reported as Python reports it, status 1
         traceback.print_exc()
         status = 1
-    logging.shutdown()
+    atexit._run_exitfuncs()  # the job's and its imports' exit handlers (logging's among them)
     return status
 
 
