@@ -25,8 +25,9 @@ Guarantees (tests/workflow/test_prefork.py):
   and forks of the job (process pools) do not keep the client waiting;
 - the server forks from a single thread, reaps its children, dies with the Snakemake process
   that started it (``PR_SET_PDEATHSIG``) removing its socket, and is stopped by the
-  ``onsuccess``/``onerror`` hooks; the socket lives in a private directory (mode 700) and the
-  server serves only its own user (``SO_PEERCRED``).
+  ``onsuccess``/``onerror`` hooks; the socket of a server killed outright (SIGKILL) is removed
+  by the next one; the socket lives in a private directory (mode 700) and the server serves
+  only its own user (``SO_PEERCRED``).
 
 The server imports the package once, at the start of the run: an edit of the sources during a
 run reaches the jobs of the next run (Snakemake's code versions are taken at the start too).
@@ -44,6 +45,7 @@ import sys
 import tempfile
 import threading
 import traceback
+from pathlib import Path
 
 # The environment variables that tell scripts where the server listens, and which Python it
 # runs (a job in another environment, e.g. a conda env of --sdm conda, runs in its own process).
@@ -67,6 +69,8 @@ PRELOAD = (
     "contactalpha.engine.driver",
     "contactalpha.engine.solver",
 )
+# Prefix of the private folder (in the temporary directory) that holds a server's socket.
+FOLDER_PREFIX = "contactalpha-prefork-"
 # Seconds ``start_server`` waits for the server's socket, and a client for the server to take its
 # job (the server's imports included), before they run without it.
 START_TIMEOUT = 30.0
@@ -170,7 +174,8 @@ def start_server(timeout=START_TIMEOUT):
     """
     if not sys.platform.startswith("linux"):  # PR_SET_PDEATHSIG and SO_PEERCRED are Linux's
         return None
-    folder = tempfile.mkdtemp(prefix="contactalpha-prefork-")  # mode 700
+    remove_stale_sockets()
+    folder = tempfile.mkdtemp(prefix=FOLDER_PREFIX)  # mode 700
     path = os.path.join(folder, "socket")
     cmd = [sys.executable, "-m", "contactalpha.prefork", path, str(os.getpid())]
     server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL)
@@ -184,6 +189,30 @@ def start_server(timeout=START_TIMEOUT):
     os.environ[SOCKET_ENV] = path
     os.environ[PREFIX_ENV] = sys.prefix
     return server
+
+
+def remove_stale_sockets():
+    """Remove the socket folders of servers that are gone (killed with SIGKILL, which no handler sees).
+
+    A folder is stale when its socket refuses a connection (a live server takes it into its
+    backlog even while it imports), or has no socket ``START_TIMEOUT`` after it was made.
+    """
+    import time
+
+    for folder in Path(tempfile.gettempdir()).glob(FOLDER_PREFIX + "*"):
+        try:
+            made = folder.stat()
+            if made.st_uid != os.getuid():
+                continue
+            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+                probe.connect(str(folder / "socket"))
+        except ConnectionRefusedError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except FileNotFoundError:
+            if time.time() - made.st_mtime > START_TIMEOUT:  # not a server still starting
+                shutil.rmtree(folder, ignore_errors=True)
+        except OSError:
+            continue
 
 
 def _wait_until_listening(server, path, timeout):
@@ -229,6 +258,9 @@ def serve(path, parent_pid):
             conn.settimeout(REQUEST_TIMEOUT)  # a stalled client does not hold up the others
             request, fds = _read_request(conn)
             conn.settimeout(None)
+        except EOFError:
+            conn.close()
+            continue
         except (OSError, ValueError) as err:
             print(f"contactalpha.prefork: bad request ({err})", file=sys.stderr)
             conn.close()
@@ -283,6 +315,8 @@ def _read_request(conn):
     if uid != os.getuid():
         raise ValueError(f"peer uid {uid} is not this user's")
     head, fds, _, _ = socket.recv_fds(conn, _HEADER.size, 3)
+    if not head and not fds:
+        raise EOFError  # a probe of remove_stale_sockets: it connects and closes
     if len(head) != _HEADER.size or len(fds) != 3:
         for fd in fds:
             os.close(fd)

@@ -2,10 +2,12 @@
 
 import json
 import os
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import textwrap
 import time
 from pathlib import Path
@@ -279,3 +281,26 @@ def test_the_server_forks_from_one_thread(server, script, tmp_path):
     # pool, numba's workers) would leave its locks held in every job.
     assert run(script, tmp_path).returncode == 0  # the preload is done
     assert len(os.listdir(f"/proc/{server.pid}/task")) == 1
+
+
+def test_a_new_server_removes_the_sockets_of_killed_ones_only(server, script, tmp_path):
+    # SIGKILL (a killed process group) leaves a socket no handler could remove.
+    stale = Path(tempfile.mkdtemp(prefix=prefork.FOLDER_PREFIX))
+    dead = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    dead.bind(str(stale / "socket"))
+    dead.close()  # bound, never listening: refuses connections
+    empty = Path(tempfile.mkdtemp(prefix=prefork.FOLDER_PREFIX))  # a server still starting
+    live = Path(os.environ[prefork.SOCKET_ENV]).parent
+    try:
+        prefork.remove_stale_sockets()
+        assert not stale.exists()
+        assert empty.exists() and live.exists()
+        old = time.time() - 2 * prefork.START_TIMEOUT
+        os.utime(empty, (old, old))
+        prefork.remove_stale_sockets()
+        assert not empty.exists() and live.exists()
+        done = run(script, tmp_path)  # the probes did not disturb the live server
+        assert done.returncode == 0 and info(done)["in_child"] is True
+    finally:
+        shutil.rmtree(stale, ignore_errors=True)
+        shutil.rmtree(empty, ignore_errors=True)
