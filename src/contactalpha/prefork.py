@@ -178,7 +178,9 @@ def start_server(timeout=START_TIMEOUT):
     folder = tempfile.mkdtemp(prefix=FOLDER_PREFIX)  # mode 700
     path = os.path.join(folder, "socket")
     cmd = [sys.executable, "-m", "contactalpha.prefork", path, str(os.getpid())]
-    server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL)
+    # Its own session: a Ctrl-C meant for Snakemake does not reach it (onerror and the
+    # parent-death signal stop it).
+    server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, start_new_session=True)
     try:
         _wait_until_listening(server, path, timeout)
     except TimeoutError as err:

@@ -28,6 +28,8 @@ CHUNK0 = "results/surface/chunks/chunk_0.h5"
 # of its output and Snakemake's record of the job (the job's interpreter takes ~0.1 s to exit).
 POLL_SECONDS = 0.002
 RUN_TIMEOUT = 600
+# Ctrl-C presses at most, 0.2 s apart, until the run stops (see interrupt_when).
+CTRL_C_PRESSES = 5
 
 
 def command(workdir):
@@ -47,6 +49,15 @@ def interrupt_when(workdir, point, sig):
             assert time.monotonic() < deadline, "the point was never reached"
             time.sleep(POLL_SECONDS)
         os.killpg(proc.pid, sig)
+        if sig == signal.SIGINT:
+            # Snakemake drops a Ctrl-C that lands while it writes a log line (its log handler
+            # swallows KeyboardInterrupt, snakemake/logging.py); a user presses again.
+            for _ in range(CTRL_C_PRESSES - 1):
+                try:
+                    proc.wait(timeout=0.2)
+                    break
+                except subprocess.TimeoutExpired:
+                    os.killpg(proc.pid, sig)
         proc.wait(timeout=RUN_TIMEOUT)
     finally:
         if proc.poll() is None:
