@@ -44,6 +44,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 import traceback
 from pathlib import Path
 
@@ -76,8 +77,7 @@ FOLDER_PREFIX = "contactalpha-prefork-"
 START_TIMEOUT = 30.0
 # Seconds the server waits for a connected client's request before dropping it.
 REQUEST_TIMEOUT = 5.0
-# BLAS on one thread in the server, before numpy loads: the jobs' numerics are numba kernels
-# and small fits, and 2 BLAS threads on 2 cores made the refit's SVDs ~12x slower.
+# The BLAS libraries' thread settings (``one_blas_thread``).
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 _HEADER = struct.Struct("!I")  # request length, child pid, exit status (256 + N: killed by signal N)
 _SIGNALLED = 256
@@ -86,6 +86,16 @@ _FORWARDED = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 
 # True in a child of the server: ``delegate()`` then lets the script run.
 _in_child = False
+
+
+def one_blas_thread():
+    """BLAS on one thread in this process and its children; call it before numpy loads.
+
+    The jobs' numerics are numba kernels and small fits; Snakemake sets these variables to a
+    rule's threads, and 2 BLAS threads on 2 cores made the refit's SVDs about 12x slower.
+    """
+    for var in BLAS_THREADS:
+        os.environ[var] = "1"
 
 
 # --- client ---------------------------------------------------------------------------------
@@ -181,13 +191,13 @@ def start_server(timeout=START_TIMEOUT):
     # Its own session: a Ctrl-C meant for Snakemake does not reach it (onerror and the
     # parent-death signal stop it).
     server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, start_new_session=True)
+    server.socket_folder = folder
     try:
         _wait_until_listening(server, path, timeout)
     except TimeoutError as err:
         print(f"contactalpha.prefork: {err}; jobs run in their own processes", file=sys.stderr)
         stop_server(server)
         return None
-    server.socket_folder = folder
     os.environ[SOCKET_ENV] = path
     os.environ[PREFIX_ENV] = sys.prefix
     return server
@@ -199,8 +209,6 @@ def remove_stale_sockets():
     A folder is stale when its socket refuses a connection (a live server takes it into its
     backlog even while it imports), or has no socket ``START_TIMEOUT`` after it was made.
     """
-    import time
-
     for folder in Path(tempfile.gettempdir()).glob(FOLDER_PREFIX + "*"):
         try:
             made = folder.stat()
@@ -218,8 +226,6 @@ def remove_stale_sockets():
 
 
 def _wait_until_listening(server, path, timeout):
-    import time
-
     end = time.monotonic() + timeout
     while not os.path.exists(path):
         if server.poll() is not None:
@@ -237,7 +243,7 @@ def stop_server(server):
         return
     server.terminate()
     server.wait()
-    shutil.rmtree(getattr(server, "socket_folder", ""), ignore_errors=True)
+    shutil.rmtree(server.socket_folder, ignore_errors=True)
 
 
 def serve(path, parent_pid):
@@ -248,8 +254,7 @@ def serve(path, parent_pid):
     listener.bind(path + ".tmp")
     listener.listen(64)
     os.rename(path + ".tmp", path)  # clients queue in the backlog while the imports run
-    for var in BLAS_THREADS:
-        os.environ[var] = "1"
+    one_blas_thread()
     for name in PRELOAD:
         importlib.import_module(name)
     _load_numba_registries()

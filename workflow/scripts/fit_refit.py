@@ -9,16 +9,10 @@ Nothing is written when a fit does not converge: the rule fails with scipy's mes
 The rule's threads are worker processes, each fit single-threaded (same bits for any number).
 """
 
-from contactalpha.prefork import delegate
+from contactalpha.prefork import delegate, one_blas_thread
 
 delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
-
-import os
-
-# Before numpy loads: BLAS on one thread in every process.  Snakemake sets these to the rule's
-# threads, and the fits' SVDs run about 12x slower on 2 BLAS threads on 2 cores.
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
+one_blas_thread()  # before numpy loads, here and in the worker processes (the server's already is)
 
 from contactalpha.io import load_surface, script_logger, write_json_atomic, write_text_atomic
 from contactalpha.paper.fit import report as fit_report
