@@ -1,6 +1,8 @@
 import copy
+import io
 import logging
 import re
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +29,7 @@ from contactalpha.paper.surface.compute import (
 )
 from contactalpha.paper.surface.figures import plot_alpha_surface, plot_end_states, plot_section
 from contactalpha.paper.surface.report import surface_summary
-from contactalpha.plotting import new_figure, save_figure
+from contactalpha.plotting import PDF_FONT_UNUSED_TABLES, new_figure, save_figure
 
 ROOT = Path(__file__).resolve().parents[2]
 # A small grid that crosses every end state and the log-spaced ridge near xi = 0.
@@ -391,3 +393,49 @@ def test_save_figure_places_the_axes_once_for_every_format(tmp_path):
     assert [ax.get_position().bounds for ax in fig.axes] == placed
     assert placed[0] != (0.125, 0.11, 0.3522727272727273, 0.77)  # not matplotlib's default grid
     assert type(fig.get_layout_engine()).__name__ == "PlaceHolderLayoutEngine"
+
+
+def _pdf_objects(data):
+    """{number: (dictionary bytes, decompressed stream or b"")} of the objects of a Matplotlib PDF."""
+    out = {}
+    for m in re.finditer(rb"(?m)^(\d+) 0 obj\b(.*?)\bendobj", data, re.S):
+        head, is_stream, body = m.group(2).partition(b"stream\n")
+        if is_stream:
+            body = body[: body.rindex(b"endstream")]
+            body = zlib.decompressobj().decompress(body) if b"/FlateDecode" in head else body
+        out[int(m.group(1))] = (head, body)
+    return out
+
+
+def test_pdf_fonts_leave_out_only_the_layout_tables_and_the_pages_stay_the_same(tmp_path):
+    from fontTools import subset
+    from fontTools.ttLib import TTFont
+
+    defaults = list(subset.Options._drop_tables_default)
+
+    def figure():  # upright and oblique (mathtext) DejaVu, a ligature candidate ("fi"), Greek
+        fig, ax = new_figure(width=3.0)
+        ax.plot([0, 1], [0, 1], label="first fit δ (µm), ε = 0.5")
+        ax.set_title("$x^2$, ξ = 0.1")
+        ax.legend()
+        return fig
+
+    lean = save_figure(figure(), tmp_path / "lean.pdf")[0].read_bytes()
+    assert subset.Options._drop_tables_default == defaults  # restored
+    figure().savefig(tmp_path / "full.pdf")  # Matplotlib's own subsets
+    full = (tmp_path / "full.pdf").read_bytes()
+    fonts = {int(n) for n in re.findall(rb"/FontFile2 (\d+) 0 R", lean)}
+    assert len(fonts) >= 2
+    a, b = _pdf_objects(lean), _pdf_objects(full)
+    assert a.keys() == b.keys()
+    # Every object but the font programs and the creation date is the same bytes: the page
+    # content, glyph widths, CID-to-glyph maps and ToUnicode maps.
+    info = {n for n in a if b"/CreationDate" in a[n][0]}
+    assert len(info) == 1
+    assert {n for n in a if a[n] != b[n]} - info == fonts
+    for n in fonts:
+        mine, theirs = TTFont(io.BytesIO(a[n][1])), TTFont(io.BytesIO(b[n][1]))
+        assert set(theirs.keys()) - set(mine.keys()) == set(PDF_FONT_UNUSED_TABLES)
+        assert set(mine.keys()) < set(theirs.keys()) and mine.getGlyphOrder() == theirs.getGlyphOrder()
+        same = [t for t in mine.keys() if t not in ("GlyphOrder", "head")]
+        assert all(mine.getTableData(t) == theirs.getTableData(t) for t in same)
