@@ -82,17 +82,18 @@ def save_figure(fig, paths, *, close=True):
     """
     if isinstance(paths, str | Path):
         paths = [paths]
-    for path in paths:
-        fmt = Path(path).suffix.lstrip(".").lower()
-        if not fmt:
-            raise ValueError(f"path = {str(path)!r} has no suffix; valid: a name ending in .png, .pdf, .svg")
-        with lean_pdf_fonts():
+    with lean_pdf_fonts():
+        for path in paths:
+            fmt = Path(path).suffix.lstrip(".").lower()
+            if not fmt:
+                valid = "a name ending in .png, .pdf, .svg"
+                raise ValueError(f"path = {str(path)!r} has no suffix; valid: {valid}")
             write_atomic(path, lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt))
-        if fig.get_layout_engine() is not None:
-            # The first format placed the axes (constrained layout, in figure fractions, so
-            # the same at any dpi); the others keep that placement instead of solving it
-            # again, about a sixth of the time of a (png, pdf) pair.
-            fig.set_layout_engine("none")
+            if fig.get_layout_engine() is not None:
+                # The first format placed the axes (constrained layout, in figure fractions, so
+                # the same at any dpi); the others keep that placement instead of solving it
+                # again, about a sixth of the time of a (png, pdf) pair.
+                fig.set_layout_engine("none")
     if close:
         plt.close(fig)
     return [Path(p) for p in paths]
