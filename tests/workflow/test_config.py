@@ -9,6 +9,7 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
+import contactalpha.config as config_module
 from contactalpha.cli import main
 from contactalpha.config import check_config, read_yaml
 
@@ -79,6 +80,17 @@ def test_nan_passes_the_schema_alone():
     validate(config, str(SCHEMA))
     with pytest.raises(ValueError, match="surface.solver.tol = nan"):
         check_config(config, SCHEMA)
+
+
+PROJECT_YAML = ["config.yaml", "workflow/test-config.yaml", "workflow/schemas/config.schema.yaml"]
+
+
+@pytest.mark.parametrize("name", PROJECT_YAML)
+def test_read_yaml_gives_safe_loads_data(name):
+    """read_yaml's fast path (libyaml) reads the project's files exactly as yaml.safe_load does."""
+    text = (ROOT / name).read_text()
+    assert read_yaml(ROOT / name) == yaml.safe_load(text)
+    assert config_module.FAST_LOADER is getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
 def test_malformed_yaml_names_file_line_and_column(tmp_path):
