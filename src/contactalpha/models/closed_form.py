@@ -5,9 +5,9 @@ The formula (``alpha_closed_form``; 25 constants, ``CONSTANT_NAMES``), with
 static compression and ``w = x_eq^(5/4)`` (docs/science.md, Sects. 2-4):
 
     alpha_s = alpha_0(eps) exp(xi (s_xi + s_xi_eps2 eps^2)
-                               + (s_log eps^s_log_exp + s_log_eps eps) ln(1 - xi))
-    z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
-    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m) exp(on_eps eps) (1 + c z)^(-q),
+                               + (s_log eps^(-3/5) + s_log_eps eps) ln(1 - xi))
+    z       = eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2)),   g = A x_eq / (1/2 + A x_eq)
+    alpha_c = 2 x_eq^(-5/2) (1 + (on_b w)^on_m)^(1/on_m) exp(on_eps eps + on_g g) (1 + c z)^(-q),
               c = exp(c_0 + c_1 L),  q = exp(q_0 + q_1 L + q_2 L^2 + q_eps eps)
     k       = k_0 eps^k_1 exp(xi (k_xi + k_xi_eps eps + k_xi2 xi))
     r       = L - (3/2 ln eps - 3/5 ln(1 - eps) + sep_r0 (1 - eps) - (8/5) ln 2 eps)
@@ -26,14 +26,23 @@ heavy-damping limit of the unloaded relation ``x_m^(5/2) = 2 (a - ln(1 + a)) / a
 ``(8/5) (15/8)^(1/2) x_eq^(-5/4)``, for a heavy one; their ratio grows like ``w``, and the soft
 maximum ``(1 + (on_b w)^on_m)^(1/on_m)`` joins them (alone it fits the onset to 0.002 in
 ln alpha over 1e-4 <= xi <= 0.99, where a quartic in ``L`` is off by 0.1).  The factor
-``(1 + c z)^(-q)`` lowers alpha as the impact overshoots ``x_eq``.
+``(1 + c z)^(-q)`` lowers alpha as the impact overshoots ``x_eq``.  ``g`` is the load's share of
+the work that stops the compression at ``x_eq`` (the rest, 1/2, is the impact's kinetic energy):
+the exact onset approaches its heavy-load limit like ``1/(A x_eq)`` (measured
+``ln(alpha x_eq^(5/4)) = 1.0735 + 0.255/(A x_eq)`` for xi = 0.99 ... 0.9999), which the soft
+maximum alone (``~ w^(-on_m)``) does not follow; ``exp(on_g g)`` supplies it and leaves the
+light-load limit (``g -> 0``) exact.  The exponent -3/5 of ``alpha_s``'s ``ln(1 - xi)`` term is
+fixed: at small eps the load acts on a heavily damped impact whose maximum compression is
+``x_m ~ (2 eps)^(2/5)`` (``x_m^(5/2) = 2 (a - ln(1 + a)) / a^2``, ``a ~ 1/eps``), so the load
+against the contact force there is ``A / x_m^(3/2) ~ xi eps^(-3/5)`` (fitted free it lands on
+-0.600 to -0.603).
 Every other end state returns more energy, so the true alpha is at least ``alpha_c``;
 ``alpha_s`` is the unloaded alpha bent by the load, and the soft maximum switches between them
 along the creep boundary.  ``r = ln(A / A_b(eps))`` measures the distance from the separation
 boundary, across which the exact alpha is continuous but not smooth (docs/science.md, "Shape of
 the surface"): ``ln A_b`` runs linearly in eps between the boundary's exact limits
-(``log_separation_load``), and the odd bump ``sep_a r / (1 + sep_b r^2)^2`` (~1 % in alpha,
-peak at ``|r| ~ 0.3``) takes out the step of the smooth form's error there, which had left waves
+(``log_separation_load``), and the odd bump ``sep_a r / (1 + sep_b r^2)^2`` (~3 % in alpha,
+peak at ``|r| ~ 0.45``) takes out the step of the smooth form's error there, which had left waves
 parallel to the boundary; it vanishes as xi -> 0, eps -> 0 and eps -> 1 (``|r| -> inf``).
 ``alpha_crit`` is the creep boundary, exactly: an impact creeps iff its motion linearised about
 ``x_eq`` is overdamped (``LOG_CRITICAL``).  Just below it the rebound overshoots ``x_eq`` by a
@@ -70,11 +79,11 @@ CONSTANT_NAMES = (
     "s_xi",
     "s_xi_eps2",
     "s_log",
-    "s_log_exp",
     "s_log_eps",
     "on_b",
     "on_m",
     "on_eps",
+    "on_g",
     "c_0",
     "c_1",
     "q_0",
@@ -94,11 +103,14 @@ CONSTANT_NAMES = (
     "crit_r0",
 )
 # The constants' layout version; a shipped file of another version is refused.
-FORMAT_VERSION = 7
+FORMAT_VERSION = 8
 
 # ln(4/5) and ln 2 of x_eq = (4 A / 5)^(2/3) and alpha_c's prefactor 2 x_eq^(-5/2).
 LOG_FOUR_FIFTHS = float(np.log(0.8))
 LOG_TWO = float(np.log(2.0))
+# Fixed exponent of eps in alpha_s's ln(1 - xi) term: A / x_m^(3/2) with x_m ~ (2 eps)^(2/5), the
+# heavily damped unloaded maximum compression (module docstring).
+S_LOG_EXP = -0.6
 # ln of the critical damping of the motion linearised about x_eq, alpha_crit = (8/5) (15/8)^(1/2)
 # x_eq^(-5/4) (c^2 = 4 k with c = alpha A, k = (15/8) x_eq^(1/2): ``engine.events.linear_constants``):
 # the creep boundary, exactly (creep iff alpha > alpha_crit, ``engine.events.linear_turn``).
@@ -138,13 +150,17 @@ def log_branches(eps, xi, c):
     log_s = (
         np.log(alpha_unloaded_scalar(eps))
         + xi * (c[0] + c[1] * eps * eps)
-        + (c[2] * np.exp(c[3] * log_eps) + c[4] * eps) * log_free
+        + (c[2] * np.exp(S_LOG_EXP * log_eps) + c[3] * eps) * log_free
     )
     A = _scaled_load(xi)
     L = np.log(A)
     log_x_eq = (2.0 / 3.0) * (LOG_FOUR_FIFTHS + L)
-    onset = np.log1p(np.exp(c[6] * (np.log(c[5]) + 1.25 * log_x_eq))) / c[6] + c[7] * eps
     a_x_eq = 1.25 * np.exp(2.5 * log_x_eq)  # A x_eq = (5/4) x_eq^(5/2), as x_eq^(3/2) = 4 A / 5
+    onset = (
+        np.log1p(np.exp(c[5] * (np.log(c[4]) + 1.25 * log_x_eq))) / c[5]
+        + c[6] * eps
+        + c[7] * a_x_eq / (0.5 + a_x_eq)
+    )
     z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
     rate_z = np.exp(c[8] + L * c[9]) * z
     power = np.exp(c[10] + L * (c[11] + L * c[12]) + c[13] * eps)
