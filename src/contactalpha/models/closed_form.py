@@ -156,12 +156,9 @@ def log_branches(eps, xi, c):
     L = np.log(A)
     log_x_eq = (2.0 / 3.0) * (LOG_FOUR_FIFTHS + L)
     a_x_eq = 1.25 * np.exp(2.5 * log_x_eq)  # A x_eq = (5/4) x_eq^(5/2), as x_eq^(3/2) = 4 A / 5
-    onset = (
-        np.log1p(np.exp(c[5] * (np.log(c[4]) + 1.25 * log_x_eq))) / c[5]
-        + c[6] * eps
-        + c[7] * a_x_eq / (0.5 + a_x_eq)
-    )
-    z = eps * eps * (0.5 + a_x_eq) / (a_x_eq * (1.0 - eps * eps))
+    g = a_x_eq / (0.5 + a_x_eq)  # the load's share of the work to x_eq
+    onset = np.log1p(np.exp(c[5] * (np.log(c[4]) + 1.25 * log_x_eq))) / c[5] + c[6] * eps + c[7] * g
+    z = eps * eps / (g * (1.0 - eps * eps))  # eps^2 (1/2 + A x_eq) / (A x_eq (1 - eps^2))
     rate_z = np.exp(c[8] + L * c[9]) * z
     power = np.exp(c[10] + L * (c[11] + L * c[12]) + c[13] * eps)
     log_c = LOG_TWO - 2.5 * log_x_eq + onset - power * np.log1p(rate_z)
