@@ -29,7 +29,7 @@ from contactalpha.paper.surface.compute import (
 )
 from contactalpha.paper.surface.figures import plot_alpha_surface, plot_end_states, plot_section
 from contactalpha.paper.surface.report import surface_summary
-from contactalpha.plotting import PDF_FONT_UNUSED_TABLES, new_figure, save_figure
+from contactalpha.plotting import PDF_FONT_UNUSED_TABLES, lean_pdf_fonts, new_figure, save_figure
 
 ROOT = Path(__file__).resolve().parents[2]
 # A small grid that crosses every end state and the log-spaced ridge near xi = 0.
@@ -392,7 +392,33 @@ def test_save_figure_places_the_axes_once_for_every_format(tmp_path):
     save_figure(fig, [tmp_path / "f.png", tmp_path / "f.pdf", tmp_path / "f.svg"], close=False)
     assert [ax.get_position().bounds for ax in fig.axes] == placed
     assert placed[0] != (0.125, 0.11, 0.3522727272727273, 0.77)  # not matplotlib's default grid
-    assert type(fig.get_layout_engine()).__name__ == "PlaceHolderLayoutEngine"
+    assert fig.get_layout_engine() is None
+
+
+def test_save_figure_draws_later_formats_once_with_the_same_bytes(tmp_path, monkeypatch):
+    # Matplotlib's placeholder engine ("none") would cost every later format a dry draw first.
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "0")  # PDFs without today's date, to compare bytes
+
+    def figure():
+        fig, (a, b) = new_figure(2, width=4.0)
+        a.plot([0, 1], [0, 2], label="ε = 0.5")
+        a.legend()
+        fig.colorbar(b.imshow([[0, 1], [2, 3]]), ax=b)
+        draws = []
+        real_draw = fig.draw
+        fig.draw = lambda renderer: draws.append(type(renderer).__name__) or real_draw(renderer)
+        return fig, draws
+
+    fig, draws = figure()
+    save_figure(fig, [tmp_path / "f.png", tmp_path / "f.pdf"], close=False)
+    assert draws == ["RendererAgg", "MixedModeRenderer"]  # no dry draw for the layout
+    old, _ = figure()  # the placement kept the old way, behind the placeholder
+    old.savefig(tmp_path / "old.png")
+    old.set_layout_engine("none")
+    with lean_pdf_fonts():
+        old.savefig(tmp_path / "old.pdf")
+    assert (tmp_path / "f.pdf").read_bytes() == (tmp_path / "old.pdf").read_bytes()
+    assert (tmp_path / "f.png").read_bytes() == (tmp_path / "old.png").read_bytes()
 
 
 def _pdf_objects(data):
