@@ -84,13 +84,13 @@ def save_figure(fig, paths, *, close=True):
     if isinstance(paths, str | Path):
         paths = [paths]
     formats = [Path(path).suffix.lstrip(".").lower() for path in paths]
-    for path, fmt in zip(paths, formats):
+    for path, fmt in zip(paths, formats, strict=True):
         if not fmt:
             raise ValueError(f"path = {str(path)!r} has no suffix; valid: a name ending in .png, .pdf, .svg")
     if formats and formats[0] == "png":
         _place_axes_for_png(fig)
     with lean_pdf_fonts():
-        for path, fmt in zip(paths, formats):
+        for path, fmt in zip(paths, formats, strict=True):
             write_atomic(path, lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt))
             # The first format placed the axes (constrained layout, in figure fractions, so the
             # same at any dpi); the others keep that placement.
