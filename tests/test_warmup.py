@@ -4,10 +4,13 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from contactalpha.warmup import ENTRY_POINTS, PARTS, warm_up
+
+ROOT = Path(__file__).resolve().parents[1]
 
 # Calls of the kind the jobs make, with other sizes and arguments than the warm-up's own; then the
 # cache misses of every package kernel are counted. The RK4 baseline is not warmed (no default
@@ -78,22 +81,65 @@ def test_the_workflows_two_parts_warm_every_entry_point_once():
     assert sorted(names) == sorted(ENTRY_POINTS)
 
 
+# The calls of the jobs that wait only for the warm-up's "models" part (workflow/rules/warmup.smk:
+# the ball's two simulation jobs and the bounce thresholds), on the default config's settings but
+# shorter: then a kernel of part "engine", which must still miss.
+MODELS_PART_WORKLOAD = (
+    DISPATCHERS
+    + f"""
+import dataclasses, json, yaml
+import numpy as np
+from contactalpha.engine import driver
+from contactalpha.paper.ball.study import default_scene, run_cases, run_first_collision
+from contactalpha.studies.adequacy.report import scene_thresholds
+
+config = yaml.safe_load(open({str(ROOT / "config.yaml")!r}))
+ball, numerics = config["ball"], {{"rtol": 1e-10, "atol": 1e-12, "max_step": 0.02}}
+scene = default_scene(ball["scene"])
+short = dataclasses.replace(scene, eps=0.8, force=5.1, t_end=0.05)
+run_cases(short, ball["new_model"], ball["cases"]["variants"], **numerics)
+first = ball["first_collision"]
+run_first_collision(
+    scene, [60.0], [0.5], first["classical"], ball["new_model"], first["reference"],
+    formulas=first["formulas"], **numerics,
+)
+scene_thresholds([dict(s) for s in config["adequacy"]["scenes"]])
+
+def misses():
+    return sum(sum(v.stats.cache_misses.values()) for _, v in dispatchers())
+
+after_workload = misses()
+driver.impact(np.array([1.0, 2.0]), 0.2)  # the array path: driver.impact_rows
+print(json.dumps({{"workload": after_workload, "control": misses() - after_workload}}))
+"""
+)
+
+
+def _run_json(code, env):
+    done = subprocess.run(
+        [sys.executable, "-c", code], env=env, check=True, timeout=900, capture_output=True, text=True
+    )
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
 def test_after_the_warm_up_the_jobs_calls_compile_nothing(tmp_path):
-    # A private, empty numba cache: the first process compiles, the second must only load.
+    # A private, empty numba cache: the warm-up's processes compile, the others must only load.
+    # Its two parts run one after the other, as the workflow's jobs, which may start after one.
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "NUMBA_NUM_THREADS": "2"}
+
     # The warm-up compiles each kernel for one signature: numba compiles a callee again for each
     # literal constant or omitted default argument it is passed, which once tripled the compile.
-    warm = DISPATCHERS + (
-        "import json\nfrom contactalpha.warmup import warm_up\nwarm_up()\n"
-        "print(json.dumps({name: len(d.signatures) for name, d in dispatchers() if len(d.signatures) > 1}))"
-    )
-    compiled = subprocess.run(
-        [sys.executable, "-c", warm], env=env, check=True, timeout=900, capture_output=True, text=True
-    )
-    assert json.loads(compiled.stdout.strip().splitlines()[-1]) == {}
-    done = subprocess.run(
-        [sys.executable, "-c", WORKLOAD], env=env, check=True, timeout=900, capture_output=True, text=True
-    )
-    counts = json.loads(done.stdout.strip().splitlines()[-1])
+    def warm(part):
+        return DISPATCHERS + (
+            f"import json\nfrom contactalpha.warmup import PARTS, warm_up\nwarm_up(PARTS[{part!r}])\n"
+            "print(json.dumps({n: len(d.signatures) for n, d in dispatchers() if len(d.signatures) > 1}))"
+        )
+
+    assert _run_json(warm("models"), env) == {}
+    counts = _run_json(MODELS_PART_WORKLOAD, env)
+    assert counts["control"] > 0  # the counter sees a kernel of the other part
+    assert counts["workload"] == 0
+    assert _run_json(warm("engine"), env) == {}
+    counts = _run_json(WORKLOAD, env)
     assert counts["control"] > 0  # the counter sees a kernel the warm-up left cold
     assert counts["workload"] == 0

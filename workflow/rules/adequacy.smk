@@ -60,7 +60,7 @@ rule adequacy_maps:
 
 rule adequacy_thresholds:
     input:
-        warmup=WARMUP,
+        warmup=WARMUP_PART["models"],
     output:
         data="results/adequacy/thresholds.nc",
         table="results/adequacy/thresholds.md",

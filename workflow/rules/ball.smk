@@ -26,7 +26,7 @@ ALL_TARGETS += [
 
 rule ball_cases:
     input:
-        warmup=WARMUP,
+        warmup=WARMUP_PART["models"],
     output:
         case_a="results/ball/case_A.nc",
         case_b="results/ball/case_B.nc",
@@ -50,7 +50,7 @@ rule ball_cases:
 
 rule ball_first_collision:
     input:
-        warmup=WARMUP,
+        warmup=WARMUP_PART["models"],
     output:
         data="results/ball/first_collision.nc",
         table="results/ball/first_collision.md",
