@@ -27,6 +27,9 @@ def dispatchers():
             for name, v in vars(mod).items():
                 if isinstance(v, CPUDispatcher) and v.__module__ == mod.__name__:
                     yield f"{mod.__name__}.{name}", v
+
+def misses():
+    return sum(sum(v.stats.cache_misses.values()) for _, v in dispatchers())
 """
 
 WORKLOAD = (
@@ -51,9 +54,6 @@ shen.eq40_gradient(np.linspace(0.1, 0.9, 9), 0.3, reading="beta_a0")
 driver.trajectory(0.7, 0.5, max_step=0.1)
 threshold.critical_speed(np.array([0.2, 0.7]), 1.0, 1e9, 1.0)
 ball.simulate(ball.Scene(t_end=0.005, force=60.0), "shen_published", case="B")
-
-def misses():
-    return sum(sum(v.stats.cache_misses.values()) for _, v in dispatchers())
 
 after_workload = misses()
 from contactalpha.baselines import fixedstep
@@ -104,9 +104,6 @@ run_first_collision(
     formulas=first["formulas"], **numerics,
 )
 scene_thresholds([dict(s) for s in config["adequacy"]["scenes"]])
-
-def misses():
-    return sum(sum(v.stats.cache_misses.values()) for _, v in dispatchers())
 
 after_workload = misses()
 driver.impact(np.array([1.0, 2.0]), 0.2)  # the array path: driver.impact_rows
