@@ -1,4 +1,4 @@
-"""Speed against accuracy (issue 7): work-precision chart, failure maps, scaling, README numbers.
+"""Speed against accuracy (issue 7): work-precision chart, failure maps, scaling, docs/performance.md.
 
 Run (one command; ~15-25 min on 2 cores):
 
@@ -7,8 +7,8 @@ Run (one command; ~15-25 min on 2 cores):
 
 Writes into ``--out`` (default ``results/bench``): reference.csv, workprecision.csv,
 failure_map.csv, failure_counts.csv, scaling.json, summary.md and the figures
-workprecision/failure_map/scaling (.png, .pdf); with ``--readme`` it also puts
-summary.md between the bench markers of README.md.  The same stages run as the
+workprecision/failure_map/scaling (.png, .pdf); with ``--page`` it also puts
+summary.md between the bench markers of docs/performance.md.  The same stages run as the
 Snakemake target ``bench`` (``snakemake -c2 bench``).  Every time ratio is
 measured against the engine in this same run.
 """
@@ -29,7 +29,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="tiny settings from workflow/test-config.yaml")
     p.add_argument("--out", type=Path, default=ROOT / "results" / "bench", help="output folder")
-    p.add_argument("--readme", action="store_true", help="fill the README's bench section")
+    p.add_argument("--page", action="store_true", help="fill the bench block of docs/performance.md")
     p.add_argument(
         "--only",
         choices=["workprecision", "failures", "scaling", "report"],
@@ -62,7 +62,7 @@ def main(argv=None):
             out / "failure_counts.csv",
             out / "scaling.json",
             out / "summary.md",
-            readme=ROOT / "README.md" if args.readme else None,
+            page=ROOT / "docs" / "performance.md" if args.page else None,
             failure_csv=out / "failure_map.csv",
         )
         print(text)

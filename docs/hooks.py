@@ -27,9 +27,7 @@ def on_files(files, config):
     """Add every PNG of ``results/figures/`` to the site (none on a clean clone)."""
     folder = _root(config) / FIGURES
     for png in sorted(folder.glob("*.png")) if folder.is_dir() else []:
-        files.append(
-            File.generated(config, f"{SITE_FOLDER}/{png.name}", abs_src_path=str(png))
-        )
+        files.append(File.generated(config, f"{SITE_FOLDER}/{png.name}", abs_src_path=str(png)))
     return files
 
 

@@ -237,7 +237,7 @@ def test_the_paper_surface_costs_about_1_6_impacts_per_point():
 
 
 def test_slow_marker_is_registered_and_left_out_of_the_default_run(tmp_path):
-    # README: "Slow studies are marked `slow` and stay out of the default run (`pytest -m slow`)".
+    # docs/workflow.md: "Slow studies are marked `slow` and stay out of the default run (`pytest -m slow`)".
     import subprocess
     import sys
     from pathlib import Path

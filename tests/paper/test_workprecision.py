@@ -187,16 +187,16 @@ def test_cost_to_reach_takes_the_cheapest_setting_that_is_accurate_enough():
     assert np.isnan(wp.cost_to_reach(rows, "b", 1.0))
 
 
-def test_fill_readme_replaces_only_the_marked_block(tmp_path):
-    from contactalpha.paper.bench.report import README_END, README_START, fill_readme
+def test_fill_page_replaces_only_the_marked_block(tmp_path):
+    from contactalpha.paper.bench.report import PAGE_END, PAGE_START, fill_page
 
-    readme = tmp_path / "README.md"
-    readme.write_text(f"# head\n{README_START}\nold 1.0\n{README_END}\ntail\n")
-    fill_readme(readme, "new 2.0\n")
-    assert readme.read_text() == f"# head\n{README_START}\nnew 2.0\n{README_END}\ntail\n"
+    page = tmp_path / "performance.md"
+    page.write_text(f"# head\n{PAGE_START}\nold 1.0\n{PAGE_END}\ntail\n")
+    fill_page(page, "new 2.0\n")
+    assert page.read_text() == f"# head\n{PAGE_START}\nnew 2.0\n{PAGE_END}\ntail\n"
     (tmp_path / "bare.md").write_text("no markers\n")
     with pytest.raises(ValueError, match="bench:start"):
-        fill_readme(tmp_path / "bare.md", "x\n")
+        fill_page(tmp_path / "bare.md", "x\n")
 
 
 def test_brent_counts_a_round_off_nan_eps_as_zero():

@@ -147,7 +147,7 @@ def test_surface_file_contents_match_the_library(run):
 
 
 def test_a_built_table_records_its_settings_and_build_time(run):
-    """README: a table built by the workflow records its grid, tolerances and build time (wall_time_s)."""
+    """A table built by the workflow records its grid, tolerances and build time (wall_time_s)."""
     from contactalpha.engine.table import load_table
 
     meta = load_table(run["work"] / "results" / "models" / "alpha_table.npz").meta

@@ -1,8 +1,8 @@
 # Stage "bench" (issue 7): speed against accuracy. An explicit target, NOT in ALL_TARGETS:
 #   snakemake -c2 bench
 # (the same stages as `python benchmarks/bench_workprecision.py`). Tables, figures and
-# summary.md go to results/bench/; the README's "Speed and accuracy" numbers are filled
-# from summary.md.
+# summary.md go to results/bench/; the "Speed and accuracy" block of docs/performance.md is
+# filled from summary.md.
 
 BENCH = "results/bench"
 BENCH_FIGURES = ["workprecision", "failure_map", "scaling"]
@@ -12,7 +12,7 @@ rule bench:
     input:
         expand(f"{BENCH}/{{name}}.{{ext}}", name=BENCH_FIGURES, ext=["png", "pdf"]),
         f"{BENCH}/summary.md",
-        f"{BENCH}/readme.filled",
+        f"{BENCH}/page.filled",
 
 
 rule bench_workprecision:
@@ -128,18 +128,18 @@ rule bench_summary:
         "../scripts/bench_summary.py"
 
 
-# README.md is a tracked source file, so it is not a Snakemake output (Snakemake would
+# docs/performance.md is a tracked source file, so it is not a Snakemake output (Snakemake would
 # delete it before the job); a flag file records that the bench block was refilled.
-rule bench_readme:
+rule bench_page:
     input:
         f"{BENCH}/summary.md",
     output:
-        touch(f"{BENCH}/readme.filled"),
+        touch(f"{BENCH}/page.filled"),
     params:
-        readme="README.md",
+        page="docs/performance.md",
     log:
-        "logs/bench/readme.log",
+        "logs/bench/page.log",
     conda:
         "../envs/contactalpha.yaml"
     script:
-        "../scripts/bench_readme.py"
+        "../scripts/bench_page.py"

@@ -3,8 +3,8 @@
 # pip install -e ".[engines]"):
 #   snakemake -c2 engines
 # Round trips over the (eps, F) grid, static penetration checks and case A of Sect. 6 in OpenSim
-# go to results/engines/; the figure to results/figures/; the README's "Real engines" block is
-# filled from results/engines/summary.md.
+# go to results/engines/; the figure to results/figures/; the generated block of docs/engines/index.md
+# is filled from results/engines/summary.md.
 
 ENGINES = config["engines"]
 ENGINES_DIR = "results/engines"
@@ -14,7 +14,7 @@ ENGINE_NAMES = ["opensim", "exudyn"]
 rule engines:
     input:
         f"{ENGINES_DIR}/summary.md",
-        f"{ENGINES_DIR}/readme.filled",
+        f"{ENGINES_DIR}/page.filled",
         expand("results/figures/engines_roundtrip.{ext}", ext=["png", "pdf"]),
 
 
@@ -85,19 +85,19 @@ rule engines_summary:
         "../scripts/engines_summary.py"
 
 
-rule engines_readme:
+rule engines_page:
     input:
         f"{ENGINES_DIR}/summary.md",
     output:
-        touch(f"{ENGINES_DIR}/readme.filled"),
+        touch(f"{ENGINES_DIR}/page.filled"),
     params:
-        readme="README.md",
+        page="docs/engines/index.md",
     log:
-        "logs/engines/readme.log",
+        "logs/engines/page.log",
     conda:
         "../envs/contactalpha.yaml"
     script:
-        "../scripts/engines_readme.py"
+        "../scripts/engines_page.py"
 
 
 rule engines_fig_roundtrip:

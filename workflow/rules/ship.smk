@@ -5,7 +5,7 @@
 # surface (results/fit/shen_refit.json) and a freshly built, checked exact-alpha table
 # (results/models/alpha_table.npz, results/models/alpha_table_check.md) over the package's
 # files (config fit.package_coefficients, models.package_table); commit them afterwards.
-# Records of what was copied go to results/ship/. The README's generated blocks have their
+# Records of what was copied go to results/ship/. The docs pages' generated blocks have their
 # own targets (`bench`, `engines`).
 
 

@@ -10,7 +10,7 @@ impact is cut out of the samples at these events, each located on the interpolan
 - non-separation: ``delta_dot`` rises back through 0 while ``delta > 0``.
 
 Stronge's coefficient follows from the energy identity of the paper's Eq. 24 in physical units,
-with the load ``m a`` and the approach speed ``v_minus`` (docs in the README, "Engines"):
+with the load ``m a`` and the approach speed ``v_minus`` (docs/engines/index.md):
 
     eps^2 = (v_e^2 / 2 + a (delta_m - delta_e)) / (v_minus^2 / 2 + a delta_m),
 

@@ -1,9 +1,9 @@
-"""The speed-and-accuracy benchmark stage (issue 7): its runs, tables, figures and README text.
+"""The speed-and-accuracy benchmark stage (issue 7): its runs, tables, figures and docs text.
 
 ``run_workprecision``, ``run_failures`` and ``run_scaling`` run the measurements of
 ``workprecision`` and write ``results/bench/*.csv`` and ``scaling.json`` (long runs resume
-from a fingerprinted checkpoint).  The summary, figures and the README section between
-``README_START`` and ``README_END`` are made from those files only, so quoted numbers
+from a fingerprinted checkpoint).  The summary, figures and the block of docs/performance.md between
+``PAGE_START`` and ``PAGE_END`` are made from those files only, so quoted numbers
 cannot drift from the measured ones.
 """
 
@@ -82,8 +82,9 @@ class BenchSettings:
     scaling: ScalingSettings = field(default_factory=ScalingSettings)
 
 
-README_START = "<!-- bench:start -->"
-README_END = "<!-- bench:end -->"
+# Markers of the generated block in docs/performance.md.
+PAGE_START = "<!-- bench:start -->"
+PAGE_END = "<!-- bench:end -->"
 # The module whose source closure (every engine and baseline it runs) a checkpoint's rows depend on.
 BENCH_CODE = "contactalpha.paper.bench.workprecision"
 # Accuracy levels (relative error of alpha) at which costs are compared.
@@ -317,7 +318,7 @@ def failure_details(failures):
 
 
 def summary_markdown(wp, references, counts, scaling, grids, failures=None):
-    """The README section: machine, headline ratios, references, failure counts, scaling."""
+    """The performance page's block: machine, headline ratios, references, failure counts, scaling."""
     info = scaling["machine"]
     lines = [
         f"Measured on {info} (shared by other jobs while it ran; times are the best of "
@@ -395,15 +396,15 @@ def summary_markdown(wp, references, counts, scaling, grids, failures=None):
     return "\n".join(lines) + "\n"
 
 
-def fill_readme(readme, text, start=README_START, end=README_END):
-    """Replace the text between the markers ``start`` and ``end`` in ``readme`` (atomically)."""
-    readme = Path(readme)
-    old = readme.read_text(encoding="utf-8")
+def fill_page(page, text, start=PAGE_START, end=PAGE_END):
+    """Replace the text between the markers ``start`` and ``end`` in ``page`` (atomically)."""
+    page = Path(page)
+    old = page.read_text(encoding="utf-8")
     pattern = re.compile(re.escape(start) + ".*?" + re.escape(end), re.S)
     if not pattern.search(old):
-        raise ValueError(f"{readme} has no {start} ... {end} block; add the markers once")
+        raise ValueError(f"{page} has no {start} ... {end} block; add the markers once")
     new = pattern.sub(lambda _: f"{start}\n{text}{end}", old)
-    write_text_atomic(readme, new)
+    write_text_atomic(page, new)
     return new
 
 
@@ -574,10 +575,10 @@ def run_summary(
     counts_csv,
     scaling_json,
     summary_md,
-    readme=None,
+    page=None,
     failure_csv=None,
 ):
-    """Write the generated markdown and, if ``readme`` is given, put it between the README markers.
+    """Write the generated markdown and, if ``page`` is given, put it between that page's markers.
 
     ``settings`` is a ``BenchSettings``: its ``failure`` grids and ``scipy_max_nfev`` are named.
     """
@@ -588,8 +589,8 @@ def run_summary(
     failures = None if failure_csv is None else _read_csv(failure_csv)
     text = summary_markdown(wp, refs, counts, scaling, grid_description(settings), failures)
     write_text_atomic(summary_md, text)
-    if readme is not None:
-        fill_readme(readme, text)
+    if page is not None:
+        fill_page(page, text)
     return text
 
 

@@ -7,9 +7,9 @@ import numpy as np
 from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.studies.engines.compute import EXACT_RUNS, verdicts
 
-# Markers of the generated block in README.md.
-README_START = "<!-- engines:start -->"
-README_END = "<!-- engines:end -->"
+# Markers of the generated block in docs/engines/index.md.
+PAGE_START = "<!-- engines:start -->"
+PAGE_END = "<!-- engines:end -->"
 # Column heads of the runs in the round-trip table.
 RUN_HEADS = {
     "opensim_exact": "OpenSim, ours",
@@ -140,7 +140,7 @@ def _scene_eps(ds):
 
 
 def summary_markdown(roundtrips, static, case, eps_tol):
-    """The README block: round-trip table, error summary, static checks and case A."""
+    """The engines page's block: round-trip table, error summary, static checks and case A."""
     versions = {}
     for ds in [*roundtrips, case]:
         versions.update(json.loads(ds.attrs["engine_versions"]))
