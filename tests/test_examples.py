@@ -1,0 +1,78 @@
+"""The scripts in examples/ run and print numbers an independent computation confirms."""
+
+import math
+import os
+import re
+import runpy
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import contactalpha as ca
+from contactalpha.scene.engine_conventions import opensim_dissipation
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+def _printed(out, label):
+    """The first number after ``label`` at the start of a line of ``out``."""
+    match = re.search(rf"^{re.escape(label)}\s+([-+0-9.eE]+)", out, re.M)
+    assert match, f"{label!r} not printed:\n{out}"
+    return float(match.group(1))
+
+
+def test_drop_test_opensim_gives_parameters_that_deliver_the_measured_e_n(opensim, capsys):
+    runpy.run_path(str(EXAMPLES / "drop_test_opensim.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    v, e_n, k = (_printed(out, s) for s in ("approach speed", "measured e_N", "Hertz stiffness"))
+    assert v == pytest.approx(math.sqrt(2 * 9.81 * 0.5), rel=1e-5)
+    assert e_n == pytest.approx(math.sqrt(0.3 / 0.5), rel=1e-5)
+    assert k == pytest.approx(4 / 3 * 5e6 / 0.75 * math.sqrt(0.03), rel=1e-4)
+    alpha, xi = _printed(out, "alpha"), _printed(out, "xi")
+    # The table's alpha, integrated over one impact by the engine, gives back the measured e_N.
+    assert ca.impact(alpha, xi).e_n == pytest.approx(e_n, abs=1e-5)
+    # Simbody's conventions (docs/engines/index.md): E_i = 3 k / sqrt(2 R), c = 2 alpha / (3 v).
+    assert _printed(out, "OpenSim stiffness") == pytest.approx(3 * k / math.sqrt(2 * 0.03), rel=1e-5)
+    assert _printed(out, "OpenSim dissipation") == pytest.approx(2 * alpha / (3 * v), rel=1e-5)
+    assert _printed(out, "OpenSim dissipation") == pytest.approx(opensim_dissipation(alpha, v), rel=1e-5)
+    # The drop run inside OpenSim delivers the measured restitution.
+    assert _printed(out, "OpenSim delivers e_N") == pytest.approx(e_n, abs=1e-4)
+
+
+@pytest.mark.integration
+def test_c_export_cmake_example_matches_the_python_front_door(tmp_path):
+    for tool in ("cmake", "c++"):
+        if shutil.which(tool) is None:
+            if os.environ.get("CI") == "true":
+                pytest.fail(f"CI=true: {tool} is not installed")
+            pytest.skip(f"{tool} is not installed")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]))
+    build = tmp_path / "build"
+    subprocess.run(
+        [
+            "cmake",
+            "-S",
+            str(EXAMPLES / "c_export"),
+            "-B",
+            str(build),
+            f"-DPython3_EXECUTABLE={sys.executable}",
+        ],
+        check=True,
+        env=env,
+        capture_output=True,
+    )
+    subprocess.run(["cmake", "--build", str(build)], check=True, env=env, capture_output=True)
+    run = subprocess.run([str(build / "drop_test")], capture_output=True, text=True, check=True)
+    rows = [list(map(float, line.split())) for line in run.stdout.splitlines()[1:]]
+    assert [r[0] for r in rows] == [0.5, 0.25, 0.1]
+    for v, xi, alpha, damping in rows:
+        cp = ca.contact_parameters(
+            e_N=0.5, mass=0.5, stiffness=1.4e8, approach_speed=v, accel=9.81 + 5.1 / 0.5
+        )
+        assert (xi, alpha, damping) == pytest.approx((cp.xi, cp.alpha, cp.damping), rel=1e-12)
+        # Independent of the tables: one impact of the engine with that alpha gives e_N = 0.5.
+        assert ca.impact(alpha, xi).e_n == pytest.approx(0.5, abs=1e-6)
