@@ -1,10 +1,15 @@
-"""MkDocs hooks: show the figures of a workflow run on the site when they exist.
+"""MkDocs hooks: show the figures and reports of a workflow run on the site when they exist.
 
-``results/figures/`` is made by ``snakemake -c2`` and is not committed, so a page cannot link
-to it directly (``mkdocs build --strict`` would fail on a clean clone).  A page names a figure
-with a line ``<!-- figure: NAME | caption -->``; when ``results/figures/NAME.png`` exists the
-hook copies it into the site as ``figures/NAME.png`` and puts the image and its caption in place
-of the line, otherwise a note saying how to build it.
+``results/`` is made by ``snakemake -c2`` and is not committed, so a page cannot link to it
+directly (``mkdocs build --strict`` would fail on a clean clone).  Instead a page names
+
+- a figure with a line ``<!-- figure: NAME | caption -->``: when ``results/figures/NAME.png``
+  exists the hook copies it into the site as ``figures/NAME.png`` and puts the image and its
+  caption in place of the line;
+- a generated report with a line ``<!-- result: PATH | what it is -->`` (PATH under
+  ``results/``, a Markdown file): its text goes in place of the line, headings two levels down;
+
+and otherwise the line becomes a note saying how to build the file.
 """
 
 import re
@@ -16,7 +21,10 @@ from mkdocs.structure.files import File
 FIGURES = Path("results") / "figures"
 # Where the figures land in the site.
 SITE_FOLDER = "figures"
-MARKER = re.compile(r"^<!-- figure: *([\w.\-]+) *\| *(.+?) *-->$", re.MULTILINE)
+FIGURE = re.compile(r"^<!-- figure: *([\w.\-]+) *\| *(.+?) *-->$", re.MULTILINE)
+RESULT = re.compile(r"^<!-- result: *(results/[\w./\-]+\.md) *\| *(.+?) *-->$", re.MULTILINE)
+# Levels a report's headings move down, below the page's own section headings.
+HEADING_SHIFT = 2
 
 
 def _root(config):
@@ -31,24 +39,39 @@ def on_files(files, config):
     return files
 
 
+def _missing(what, path):
+    return (
+        f'!!! note "Not built yet: {path}"\n'
+        f"    {what}. Run `snakemake -c2`, then `mkdocs build`, to see it here."
+    )
+
+
 def figure_markdown(name, caption, available, depth):
     """The Markdown that replaces one figure marker on a page ``depth`` folders below docs/."""
     if available:
         return f"![{caption}]({'../' * depth}{SITE_FOLDER}/{name}.png)\n\n*{caption}*"
-    return (
-        f'!!! note "Figure not built: {name}"\n'
-        f"    {caption}. Run `snakemake -c2`, then `mkdocs build`, to see it here "
-        f"(`results/figures/{name}.png`)."
+    return _missing(caption, f"results/figures/{name}.png")
+
+
+def result_markdown(text):
+    """A report's Markdown with its headings moved ``HEADING_SHIFT`` levels down."""
+    return re.sub(
+        r"^(#{1,6}) ", lambda m: "#" * min(6, len(m.group(1)) + HEADING_SHIFT) + " ", text, flags=re.M
     )
 
 
 def on_page_markdown(markdown, page, config, files):
-    """Replace each figure marker with the figure or a note."""
-    folder = _root(config) / FIGURES
+    """Replace each figure and result marker with the file's content or a note."""
+    root = _root(config)
     depth = page.file.src_uri.count("/")
 
-    def replace(match):
+    def figure(match):
         name, caption = match.group(1), match.group(2)
-        return figure_markdown(name, caption, (folder / f"{name}.png").is_file(), depth)
+        return figure_markdown(name, caption, (root / FIGURES / f"{name}.png").is_file(), depth)
 
-    return MARKER.sub(replace, markdown)
+    def result(match):
+        path, what = match.group(1), match.group(2)
+        file = root / path
+        return result_markdown(file.read_text(encoding="utf-8")) if file.is_file() else _missing(what, path)
+
+    return RESULT.sub(result, FIGURE.sub(figure, markdown))
