@@ -1,0 +1,235 @@
+"""The README and the docs pages: every example runs, and the site builds strictly.
+
+Every ```python block of README.md and docs/**/*.md runs, in order, in one namespace per page.
+Every `contactalpha ...` command line of a ```console or ```bash block runs through the CLI's
+``main(argv)`` and must exit 0; in a console block, the lines that follow a `$ contactalpha`
+command (up to the next `$` line) are its output, and must be what the command prints.
+A block directly below a line `<!-- no-run: reason -->` is left out; one below
+`<!-- requires: module -->` runs only where that module imports (under CI=true a missing
+module fails, as for the engines' tests).
+"""
+
+import contextlib
+import importlib
+import io
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from contactalpha.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")])
+FENCE = re.compile(r"^```(\w*)\s*$")
+NO_RUN = re.compile(r"^<!-- no-run: .+ -->$")
+REQUIRES = re.compile(r"^<!-- requires: ([\w.]+) -->$")
+SHELL_LANGS = ("console", "bash", "sh", "shell")
+PROMPT = "$ "
+
+
+@dataclass(frozen=True)
+class Block:
+    """One fenced code block of a page."""
+
+    lang: str
+    text: str
+    line: int  # 1-based line of the opening fence
+    skip: bool  # below a no-run marker
+    requires: str | None  # below a requires marker
+
+
+def code_blocks(markdown):
+    """The fenced blocks of ``markdown``, with the marker on the line directly above each."""
+    lines = markdown.splitlines()
+    blocks, i = [], 0
+    while i < len(lines):
+        match = FENCE.match(lines[i])
+        if not match:
+            i += 1
+            continue
+        start, above = i, lines[i - 1].strip() if i else ""
+        i += 1
+        while i < len(lines) and lines[i].rstrip() != "```":
+            i += 1
+        if i == len(lines):
+            raise ValueError(f"code block opened on line {start + 1} is never closed")
+        requires = REQUIRES.match(above)
+        blocks.append(
+            Block(
+                match.group(1),
+                "\n".join(lines[start + 1 : i]) + "\n",
+                start + 1,
+                bool(NO_RUN.match(above)),
+                requires.group(1) if requires else None,
+            )
+        )
+        i += 1
+    return blocks
+
+
+def cli_commands(block):
+    """``(argv, expected output or None)`` of each `contactalpha` command line of a shell block."""
+    commands, lines = [], block.text.splitlines()
+    prompted = block.lang == "console"
+    for k, line in enumerate(lines):
+        text = line[len(PROMPT) :] if prompted and line.startswith(PROMPT) else line
+        if prompted and not line.startswith(PROMPT):
+            continue  # output of the command above
+        argv = shlex.split(text, comments=True)
+        if not argv or argv[0] != "contactalpha":
+            continue
+        expected = None
+        if prompted:
+            out = []
+            for follow in lines[k + 1 :]:
+                if follow.startswith(PROMPT):
+                    break
+                out.append(follow)
+            expected = "\n".join(out).strip("\n") or None
+        commands.append((argv[1:], expected))
+    return commands
+
+
+def _run_cli(argv):
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        try:
+            status = main(argv)
+        except SystemExit as stop:
+            status = stop.code
+    return status, out.getvalue()
+
+
+def _module_available(name):
+    try:
+        importlib.import_module(name)
+    except ImportError as err:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI=true: a docs block requires {name!r}, which does not import ({err})")
+        return False
+    return True
+
+
+def run_page(path, workdir):
+    """Run the examples of one page; returns the number of blocks and command lines run."""
+    namespace, ran = {"__name__": "__docs__"}, 0
+    for block in code_blocks(Path(path).read_text(encoding="utf-8")):
+        if block.skip or (block.requires and not _module_available(block.requires)):
+            continue
+        where = f"{path}:{block.line}"
+        if block.lang == "python":
+            with contextlib.chdir(workdir):
+                exec(compile(block.text, where, "exec"), namespace)  # noqa: S102
+            ran += 1
+        elif block.lang in SHELL_LANGS:
+            for argv, expected in cli_commands(block):
+                with contextlib.chdir(workdir):
+                    status, out = _run_cli(argv)
+                assert status == 0, f"{where}: `contactalpha {shlex.join(argv)}` exited {status}"
+                if expected is not None:
+                    assert out.strip("\n") == expected, f"{where}: the page shows another output"
+                ran += 1
+    return ran
+
+
+@pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+def test_page_examples_run(page, tmp_path):
+    run_page(page, tmp_path)
+
+
+def test_readme_leads_with_the_one_call():
+    lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 250
+    first_screen = "\n".join(lines[:40])
+    assert "ca.contact_parameters(" in first_screen
+    assert "$ contactalpha params " in first_screen
+    assert "pip install" in first_screen
+
+
+def test_markers_skip_blocks_and_a_failing_example_fails(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- no-run: a demo -->\n```python\nraise RuntimeError\n```\n\n"
+        "```python\nx = 2\n```\n\n```python\nassert x == 2\n```\n\n"
+        "<!-- requires: no_such_module_anywhere -->\n```python\nraise RuntimeError\n```\n",
+        encoding="utf-8",
+    )
+    if os.environ.get("CI") != "true":
+        assert run_page(page, tmp_path) == 2
+    page.write_text("```python\nassert 1 == 2\n```\n", encoding="utf-8")
+    with pytest.raises(AssertionError):
+        run_page(page, tmp_path)
+
+
+def test_command_lines_must_exit_0_and_print_what_the_page_shows(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text("```console\n$ contactalpha alpha 2 0.1\n```\n", encoding="utf-8")
+    with pytest.raises(AssertionError, match="exited 2"):
+        run_page(page, tmp_path)
+    page.write_text("```console\n$ contactalpha impact 0 0\nnot this\n```\n", encoding="utf-8")
+    with pytest.raises(AssertionError, match="another output"):
+        run_page(page, tmp_path)
+    page.write_text("```bash\ncontactalpha export-c out   # a comment\n```\n", encoding="utf-8")
+    assert run_page(page, tmp_path) == 1
+    assert (tmp_path / "out" / "contactalpha.h").is_file()
+
+
+def _mkdocs_or_skip():
+    if importlib.util.find_spec("mkdocs") is None or shutil.which("mkdocs") is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail('CI=true: mkdocs is not installed (pip install -e ".[docs]")')
+        pytest.skip('mkdocs is not installed (pip install -e ".[docs]")')
+
+
+def _build(root, site):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]))
+    run = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(site)],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+
+
+@pytest.mark.integration
+def test_site_builds_strictly_on_a_clean_clone(tmp_path):
+    """Only tracked files (no results/): every figure and report becomes a note, no warning."""
+    _mkdocs_or_skip()
+    tracked = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=ROOT,
+        capture_output=True,
+        check=True,
+    ).stdout.split(b"\0")
+    clone = tmp_path / "clone"
+    for name in filter(None, tracked):
+        src = ROOT / name.decode()
+        if src.is_file():
+            (clone / name.decode()).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, clone / name.decode())
+    assert not (clone / "results" / "figures").exists()
+    _build(clone, tmp_path / "site")
+    page = (tmp_path / "site" / "reproduction" / "index.html").read_text(encoding="utf-8")
+    assert "Not built yet: results/figures/fig4_alpha_surface.png" in page
+    assert (tmp_path / "site" / "api" / "index.html").read_text(encoding="utf-8").count(
+        "contact_parameters"
+    ) > 1
+
+
+@pytest.mark.integration
+def test_site_builds_strictly_with_this_checkout_results(tmp_path):
+    """With a run's results/ (if any), its figures are copied into the site and shown."""
+    _mkdocs_or_skip()
+    _build(ROOT, tmp_path / "site")
+    figures = sorted((ROOT / "results" / "figures").glob("*.png"))
+    for png in figures:
+        assert (tmp_path / "site" / "figures" / png.name).read_bytes() == png.read_bytes()
