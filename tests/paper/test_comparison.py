@@ -86,3 +86,26 @@ def test_claims_whose_panels_or_models_are_absent_are_not_checked(ds):
     # |post − pre| in a criterion must not split the table's cells: every row has 5 columns.
     rows = [line for line in text.splitlines() if line.startswith("| ") and line[2].isdigit()]
     assert rows and all(line.replace("\\|", "").count("|") == 6 for line in rows)
+
+
+def test_fig9_legend_stays_off_the_panels_and_crosses_leave_the_exact_line_visible():
+    from contactalpha.paper.fig9.figures import MARKER_SPACING, fig9
+
+    eps = np.round(np.arange(0.02, 1.0, 0.02), 2)
+    data = post_vs_pre(["hunt_crossley", "exact"], [0.0, 0.91], eps)
+    fig = fig9(data)
+    fig.canvas.draw()
+    (legend,) = fig.legends
+    box = legend.get_window_extent()
+    assert not any(box.overlaps(ax.get_window_extent()) for ax in fig.axes if ax.get_visible())
+    assert "impact ends without separation" in [t.get_text() for t in legend.get_texts()]
+    assert not fig.texts and fig._suptitle is None  # no in-figure "Fig. 9" title
+    ax = fig.axes[1]  # xi = 0.91: the exact impacts end without separation below eps_b
+    (exact,) = [ln for ln in ax.get_lines() if ln.get_label() == "exact"]
+    crosses = [ln for ln in ax.get_lines() if ln.get_marker() == "x"]
+    assert crosses and all(c.get_zorder() < exact.get_zorder() for c in crosses)
+    stuck = int(nonseparation_mask(data).sel(model="exact", xi=0.91).sum())
+    for c in crosses:
+        assert np.all(np.diff(c.get_xdata()) >= MARKER_SPACING - 1e-12)
+    (mine,) = [c for c in crosses if c.get_color() == exact.get_color()]
+    assert 0 < len(mine.get_xdata()) < stuck

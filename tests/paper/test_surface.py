@@ -344,6 +344,19 @@ def test_fig4_draws_the_surface_on_a_log_scale_and_marks_failed_points(surface):
     assert right.get_xscale() == "symlog" and right.get_yscale() == "log"
 
 
+def test_fig4_contour_labels_lie_inside_their_panels(surface):
+    fig = plot_alpha_surface(surface)
+    fig.canvas.draw()
+    labelled = 0
+    for ax in fig.axes[:2]:
+        box = ax.get_window_extent()
+        for text in ax.texts:
+            inner = text.get_window_extent()
+            assert box.x0 <= inner.x0 and inner.x1 <= box.x1 and box.y0 <= inner.y0 and inner.y1 <= box.y1
+            labelled += 1
+    assert labelled >= 2
+
+
 def test_end_state_map_colours_and_counts_every_state(surface):
     fig = plot_end_states(surface)
     codes = fig.axes[0].collections[0].get_array()

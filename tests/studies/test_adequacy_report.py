@@ -132,9 +132,23 @@ def test_figures_draw_the_maps(tiny_maps):
     _, ds = tiny_maps
     fig = figures.adequacy_figure(ds, 0.05)
     for ax, name in zip(fig.axes, ds["model"].values, strict=False):
-        drawn = np.asarray(ax.images[0].get_array())
+        drawn = np.asarray(ax.collections[0].get_array()).reshape(ds.sizes["epsilon"], ds.sizes["xi"])
         np.testing.assert_array_equal(drawn, ds["adequate"].sel(tol=0.05, model=name).values)
     fig = figures.cheapest_figure(ds)
-    np.testing.assert_array_equal(np.asarray(fig.axes[1].images[0].get_array()), ds["cheapest"].sel(tol=0.05))
+    drawn = np.asarray(fig.axes[1].collections[0].get_array()).reshape(ds.sizes["epsilon"], ds.sizes["xi"])
+    np.testing.assert_array_equal(drawn, ds["cheapest"].sel(tol=0.05))
+    # The xi axis is in xi values: cells meet halfway between grid values of xi, ticks name their
+    # own position, and the dotted line sits at xi = 0.1.
+    ax = fig.axes[1]
+    xi = ds["xi"].values
+    edges = ax.collections[0].get_coordinates()[0, :, 0]
+    np.testing.assert_allclose(edges[1:-1], 0.5 * (xi[1:] + xi[:-1]), rtol=1e-12)
+    assert np.all((edges[:-1] < xi) & (xi < edges[1:]))
+    assert [float(t.get_text()) for t in ax.get_xticklabels()] == list(ax.get_xticks())
+    assert [ln.get_xdata()[0] for ln in ax.get_lines() if ln.get_linestyle() == ":"] == [0.1]
+    assert "column" not in ax.get_xlabel()
+    xi = np.array([0.0, 1e-5, 1e-3, 0.1, 0.5, 0.99])
+    np.testing.assert_allclose(figures._xi_inverse(figures._xi_forward(xi)), xi, rtol=1e-9, atol=1e-15)
+    assert np.all(np.diff(figures._xi_forward(xi)) > 0)
     fig = figures.xi_ignore_figure(ds)
     np.testing.assert_array_equal(fig.axes[0].lines[0].get_ydata(), ds["xi_ignore"].sel(tol=0.01).values)

@@ -74,3 +74,16 @@ def test_figure_draws_one_curve_per_load_through_its_boundary(curves):
     np.testing.assert_array_equal(
         y[x > eps_b], curves["e_n"].sel(xi=0.8).values[curves["eps"].values > eps_b]
     )
+
+
+def test_figure_legend_explains_the_dotted_boundary_lines(curves):
+    fig = restitution_figure(curves)
+    ax = fig.axes[0]
+    dotted = [ln for ln in ax.get_lines() if ln.get_linestyle() == ":"]
+    boundaries = [b for b in curves["eps_boundary"].values if b > 0]
+    assert sorted(ln.get_xdata()[0] for ln in dotted) == sorted(boundaries)
+    entries = dict(
+        zip([t.get_text() for t in ax.get_legend().get_texts()], ax.get_legend().get_lines(), strict=True)
+    )
+    (label,) = [t for t in entries if t.startswith("separation boundary")]
+    assert entries[label].get_linestyle() == ":" and "e_N = 0" in label

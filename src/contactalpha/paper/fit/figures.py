@@ -38,7 +38,7 @@ def fig6_s1(xi=None, coef=shen.S21_COEF, refit=None):
         ax.plot(xi, shen.s21(xi, refit), "C1:", label=f"s21, refit ({refit:.4g})")
         bx.plot(xi, shen.s21(xi, refit) / s1 - 1, "C1:", label=f"refit {refit:.4g}")
     bx.axhline(0, color="0.6", lw=0.6)
-    ax.set(xlabel="ξ", ylabel="s", title="Fig. 6: s1 and s21")
+    ax.set(xlabel="ξ", ylabel="s", title="s1 and s21")
     bx.set(xlabel="ξ", ylabel="s21 / s1 − 1", title="relative difference")
     ax.legend()
     bx.legend()
@@ -55,7 +55,7 @@ def fig7_sa(ds, eps_lines=EPS_LINES):
         ax.plot(xi, d.s_a[j], color=f"C{i}", label=f"s_a, ε = {e:g}")
     xs = np.linspace(0.0, min(0.99, xi.max()), S1_POINTS)
     ax.plot(xs, shen.s1(xs), "k--", lw=1.5, label="s1 (undamped, Eq. 31)")
-    ax.set(xlabel="ξ", ylabel="compression damping integral", title="Fig. 7: s_a against s1")
+    ax.set(xlabel="ξ", ylabel="compression damping integral", title="s_a against s1")
     ax.set_xscale("symlog", linthresh=XI_LINTHRESH)
     ax.legend(ncols=2)
     return fig

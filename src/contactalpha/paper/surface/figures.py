@@ -29,6 +29,9 @@ STATE_COLOURS = {
     "creep": "#009E73",
     "no_restitution": "#CC79A7",
 }
+# Contour labels sit at least this far (axes fraction) from every edge of their panel, so that
+# none is clipped; a contour with no point that far in gets no label.
+LABEL_MARGIN = 0.08
 # Shading of the regions I, II, III in Fig. 5.
 REGION_COLOURS = {1: "#009E73", 2: "#E69F00", 3: "#0072B2"}
 REGION_NAMES = {1: "I", 2: "II", 3: "III"}
@@ -50,22 +53,45 @@ def plot_alpha_surface(ds):
     decades = 10.0 ** np.arange(np.ceil(np.log10(norm.vmin)), np.floor(np.log10(norm.vmax)) + 1)
     fig, axes = new_figure(2)
     xi, eps = ds["xi"].values, ds["epsilon"].values
+    _zoom_axes(axes[1])
     for ax in axes:
         mesh = ax.pcolormesh(
             xi, eps, alpha.values, norm=norm, shading="nearest", cmap="magma", rasterized=True
         )
         if eps.size > 1 and xi.size > 1:
             lines = ax.contour(xi, eps, alpha.values, levels=decades, colors="w", linewidths=0.6)
-            ax.clabel(lines, fmt=lambda v: f"{v:g}", fontsize=7)
+            _label_inside(ax, lines)
     axes[0].set_xlabel(r"influence factor $\xi$")
     axes[0].set_ylabel(r"restitution coefficient $\varepsilon$")
     axes[0].set_title(r"(a) $\alpha(\varepsilon, \xi)$")
-    _zoom_axes(axes[1])
     axes[1].set_title(r"(b) the ridge at small $\varepsilon$, small $\xi$")
     bar = fig.colorbar(mesh, ax=axes, shrink=0.95)
     bar.set_label(r"hysteresis damping factor $\alpha$")
     _mark_failed(axes, ds)
     return fig
+
+
+def _label_inside(ax, lines, margin=LABEL_MARGIN):
+    """Label each contour level once, at its point farthest from the panel's edges.
+
+    Matplotlib's own placement may put a label across an edge, where it is clipped.  Positions
+    are chosen in axes fractions (so on log and symlog axes too); a level whose every point lies
+    within ``margin`` of an edge is left unlabelled.
+    """
+    ax.autoscale_view()
+    to_axes = ax.transData + ax.transAxes.inverted()
+    levels, positions = [], []
+    for level, path in zip(lines.levels, lines.get_paths(), strict=True):
+        if path.vertices.size == 0:
+            continue
+        frac = to_axes.transform(path.vertices)
+        room = np.min(np.hstack([frac, 1.0 - frac]), axis=1)
+        best = int(np.argmax(room))
+        if room[best] >= margin:
+            levels.append(level)
+            positions.append(tuple(path.vertices[best]))
+    if levels:
+        ax.clabel(lines, levels=levels, manual=positions, fmt=lambda v: f"{v:g}", fontsize=7)
 
 
 def _mark_failed(axes, ds):

@@ -12,26 +12,49 @@ from contactalpha.studies.adequacy.report import SMALL_XI
 FIT_POINTS = 200
 # Panels per row of the per-model adequacy figure.
 MAP_COLUMNS = 4
-# The maps are drawn against the xi column's index, so the log-spaced small-xi columns get as
-# much room as the linear ones (and an image draws far faster than a mesh on a symlog axis);
-# the ticks name these xi values, at the nearest column.
-XI_TICKS = (0.0, 1e-4, 1e-2, 0.5, 0.9)
+# The maps' xi axis: a scale that is logarithmic below about XI_SCALE_KNEE and linear above, so
+# the log-spaced small-xi columns and the linear ones both get room; cells sit at their xi values.
+XI_SCALE_KNEE = 1e-4
+# Points of the table that inverts the xi scale (it has no closed-form inverse).
+XI_SCALE_POINTS = 4001
+XI_TICKS = (0.0, 1e-3, 0.1, 0.5, 0.9)
 EPS_TICKS = (0.1, 0.3, 0.5, 0.7, 0.9)
 
 
-def _grid_image(ax, values, ds, **kwargs):
-    """``values`` (eps x xi) as an image over the row and column index; xi = 0.1 dotted.
+def _xi_forward(xi):
+    """The xi axis coordinate: asinh(xi / knee) / asinh(1 / knee) + xi, 0 at xi = 0, 2 at xi = 1."""
+    xi = np.asarray(xi, dtype=float)
+    return np.arcsinh(xi / XI_SCALE_KNEE) / np.arcsinh(1.0 / XI_SCALE_KNEE) + xi
 
-    Ticks name the grid values nearest ``XI_TICKS`` and ``EPS_TICKS`` (the index axes stay right
-    on a non-uniform grid, e.g. one with extra ``values``).
-    """
+
+_XI_TABLE = np.concatenate([[0.0], np.geomspace(1e-9, 1.0, XI_SCALE_POINTS)])
+# Newton steps that refine the table's inverse to rounding.
+XI_INVERSE_NEWTON = 3
+
+
+def _xi_inverse(u):
+    """Inverse of ``_xi_forward``: a table lookup refined by Newton (the scale is strictly increasing)."""
+    u = np.asarray(u, dtype=float)
+    xi = np.interp(u, _xi_forward(_XI_TABLE), _XI_TABLE)
+    for _ in range(XI_INVERSE_NEWTON):
+        slope = (
+            1.0 / (XI_SCALE_KNEE * np.hypot(1.0, xi / XI_SCALE_KNEE) * np.arcsinh(1.0 / XI_SCALE_KNEE)) + 1.0
+        )
+        xi = xi - (_xi_forward(xi) - u) / slope
+    return xi
+
+
+def _grid_image(ax, values, ds, **kwargs):
+    """``values`` (eps x xi) as cells over the grid's xi and eps values; xi = 0.1 dotted."""
     xi, eps = ds["xi"].values, ds["epsilon"].values
-    image = ax.imshow(values, origin="lower", aspect="auto", interpolation="nearest", **kwargs)
-    ticks = sorted({int(np.argmin(np.abs(xi - t))) for t in XI_TICKS if xi.min() <= t <= xi.max()})
-    ax.set_xticks(ticks, [f"{xi[i]:.0e}" if 0 < xi[i] < 0.01 else f"{xi[i]:g}" for i in ticks], fontsize=6)
-    rows = sorted({int(np.argmin(np.abs(eps - t))) for t in EPS_TICKS if eps.min() <= t <= eps.max()})
-    ax.set_yticks(rows, [f"{eps[i]:g}" for i in rows])
-    ax.axvline(int(np.argmin(np.abs(xi - SMALL_XI))), color="k", lw=0.6, ls=":")
+    image = ax.pcolormesh(xi, eps, values, shading="nearest", rasterized=True, **kwargs)
+    ax.set_xscale("function", functions=(_xi_forward, _xi_inverse))
+    ax.set_xlim(xi.min(), xi.max())
+    ticks = [t for t in XI_TICKS if xi.min() <= t <= xi.max()]
+    ax.set_xticks(ticks, [f"{t:g}" for t in ticks], fontsize=6)
+    ax.xaxis.set_minor_locator(plt.NullLocator())
+    ax.set_yticks([t for t in EPS_TICKS if eps.min() <= t <= eps.max()])
+    ax.axvline(SMALL_XI, color="k", lw=0.6, ls=":")
     return image
 
 
@@ -54,11 +77,11 @@ def adequacy_figure(ds, tol):
         ok = ds["adequate"].sel(tol=tol, model=name).values
         _grid_image(ax, ok, ds, cmap=cmap, vmin=0, vmax=1)
         share = float(ds["area_share"].sel(tol=tol, model=name))
-        ax.set_title(f"{name} ({share:.0%})", fontsize=8)
+        ax.set_title(f"{name} ({share:.1%})", fontsize=8)
     for ax in axes.flat[len(names) :]:
         ax.set_visible(False)
     for ax in axes[-1]:
-        ax.set_xlabel("ξ (axis: grid columns)")
+        ax.set_xlabel("ξ")
     for ax in axes[:, 0]:
         ax.set_ylabel("ε")
     fig.suptitle(f"Adequate (green): |ε delivered − ε| ≤ {tol:g} and the exact end state; dotted: ξ = 0.1")
@@ -80,7 +103,7 @@ def cheapest_figure(ds):
     for ax, t in zip(axes, tols, strict=True):
         mesh = _grid_image(ax, ds["cheapest"].sel(tol=t).values, ds, cmap=cmap, norm=norm)
         ax.set_title(f"tol = {t:g}")
-        ax.set_xlabel("ξ (axis: grid columns)")
+        ax.set_xlabel("ξ")
     axes[0].set_ylabel("ε")
     bar = fig.colorbar(mesh, ax=axes, ticks=np.arange(NONE_ADEQUATE, len(names)))
     bar.ax.set_yticklabels(["none", *names], fontsize=7)
