@@ -10,6 +10,10 @@ directly (``mkdocs build --strict`` would fail on a clean clone).  Instead a pag
   ``results/``, a Markdown file): its text goes in place of the line, headings two levels down;
 
 and otherwise the line becomes a note saying how to build the file.
+
+Engine pages: every ``docs/engines/*.md`` that ``mkdocs.yml`` does not list yet is added to the
+"Engines" section of the navigation, titled by its first heading, so a new engine's how-to
+appears without editing the navigation.
 """
 
 import re
@@ -29,6 +33,41 @@ HEADING_SHIFT = 2
 
 def _root(config):
     return Path(config["config_file_path"]).parent
+
+
+ENGINES_SECTION = "Engines"
+ENGINES_FOLDER = "engines"
+
+
+def _listed(nav):
+    """Every page path named anywhere in a (nested) nav list."""
+    for item in nav:
+        value = next(iter(item.values())) if isinstance(item, dict) else item
+        if isinstance(value, list):
+            yield from _listed(value)
+        else:
+            yield value
+
+
+def _title(page):
+    heading = re.search(r"^# +(.+?) *$", page.read_text(encoding="utf-8"), re.MULTILINE)
+    return heading.group(1) if heading else page.stem
+
+
+def on_config(config):
+    """Add engine how-to pages missing from the navigation to its "Engines" section."""
+    nav = config["nav"] or []
+    section = next(
+        (item[ENGINES_SECTION] for item in nav if isinstance(item, dict) and ENGINES_SECTION in item), None
+    )
+    if section is None:
+        return config
+    listed = set(_listed(nav))
+    for page in sorted((Path(config["docs_dir"]) / ENGINES_FOLDER).glob("*.md")):
+        path = f"{ENGINES_FOLDER}/{page.name}"
+        if path not in listed:
+            section.append({_title(page): path})
+    return config
 
 
 def on_files(files, config):

@@ -233,3 +233,27 @@ def test_site_builds_strictly_with_this_checkout_results(tmp_path):
     figures = sorted((ROOT / "results" / "figures").glob("*.png"))
     for png in figures:
         assert (tmp_path / "site" / "figures" / png.name).read_bytes() == png.read_bytes()
+
+
+def _hooks():
+    _mkdocs_or_skip()
+    spec = importlib.util.spec_from_file_location("docs_hooks", ROOT / "docs" / "hooks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_hooks_add_new_engine_pages_to_the_nav_and_show_figures_or_a_note(tmp_path):
+    hooks = _hooks()
+    (tmp_path / "engines").mkdir()
+    for name, heading in (("opensim.md", "# OpenSim"), ("newton.md", "# Newton engine")):
+        (tmp_path / "engines" / name).write_text(f"{heading}\n\ntext\n", encoding="utf-8")
+    nav = [{"Home": "index.md"}, {"Engines": [{"OpenSim": "engines/opensim.md"}]}]
+    hooks.on_config({"nav": nav, "docs_dir": str(tmp_path)})
+    assert nav[1]["Engines"] == [{"OpenSim": "engines/opensim.md"}, {"Newton engine": "engines/newton.md"}]
+    shown = hooks.figure_markdown("fig4", "the surface", True, 1)
+    assert shown.startswith("![the surface](../figures/fig4.png)")
+    assert "Not built yet: results/figures/fig4.png" in hooks.figure_markdown("fig4", "the surface", False, 0)
+    assert hooks.result_markdown("# Title\n\n## Part\ntext # not a heading\n") == (
+        "### Title\n\n#### Part\ntext # not a heading\n"
+    )
