@@ -257,3 +257,20 @@ def test_hooks_add_new_engine_pages_to_the_nav_and_show_figures_or_a_note(tmp_pa
     assert hooks.result_markdown("# Title\n\n## Part\ntext # not a heading\n") == (
         "### Title\n\n#### Part\ntext # not a heading\n"
     )
+
+
+@pytest.mark.parametrize(
+    ("rules", "module"),
+    [
+        ("bench.smk", "contactalpha.paper.bench.report"),
+        ("engines.smk", "contactalpha.studies.engines.report"),
+    ],
+)
+def test_generated_blocks_have_their_markers_on_the_page_their_rule_fills(rules, module):
+    text = (ROOT / "workflow" / "rules" / rules).read_text(encoding="utf-8")
+    (page,) = re.findall(r'^\s+page="([^"]+)",$', text, re.M)
+    report = importlib.import_module(module)
+    body = (ROOT / page).read_text(encoding="utf-8")
+    assert body.count(report.PAGE_START) == 1 and body.count(report.PAGE_END) == 1
+    assert body.index(report.PAGE_START) < body.index(report.PAGE_END)
+    assert report.PAGE_START not in (ROOT / "README.md").read_text(encoding="utf-8")
