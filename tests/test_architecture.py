@@ -17,7 +17,7 @@ RANKS = {
     "export": 2,
     "baselines": 3,
     "scene": 4,
-    "adapters": 5,
+    "adapters": 4,  # peers of scene: the front door iterates the adapters' registry
     "warmup": 5,
     "paper": 6,
     "studies": 6,

@@ -1,0 +1,32 @@
+"""The one list of engine adapters: the front door, the command line, the engines study and the
+tests iterate it.  Adding an engine is one module with an object keeping
+``contactalpha.adapters.contract.EngineAdapter`` and one line here (docs/adding-an-engine.md).
+"""
+
+import importlib.util
+
+from contactalpha.adapters import exudyn_contact, opensim_hc
+from contactalpha.adapters.contract import check_adapter
+
+# Every engine adapter, in the order tables and the command line list them.
+ADAPTERS = tuple(
+    check_adapter(a)
+    for a in (
+        opensim_hc.ADAPTER,
+        exudyn_contact.ADAPTER,
+    )
+)
+ENGINE_NAMES = tuple(a.name for a in ADAPTERS)
+
+
+def adapter(name):
+    """The registered adapter called ``name``; ValueError naming the valid choices otherwise."""
+    for a in ADAPTERS:
+        if a.name == name:
+            return a
+    raise ValueError(f"engine = {name!r} is outside the valid choices {ENGINE_NAMES}")
+
+
+def installed(a):
+    """True when the Python module of adapter ``a``'s engine can be imported here."""
+    return importlib.util.find_spec(a.module) is not None
