@@ -5,7 +5,7 @@ tests iterate it.  Adding an engine is one module with an object keeping
 
 import importlib.util
 
-from contactalpha.adapters import exudyn_contact, opensim_hc
+from contactalpha.adapters import drake_point, exudyn_contact, mujoco_soft, opensim_hc, pybullet_kv
 from contactalpha.adapters.contract import check_adapter
 
 # Every engine adapter, in the order tables and the command line list them.
@@ -14,6 +14,9 @@ ADAPTERS = tuple(
     for a in (
         opensim_hc.ADAPTER,
         exudyn_contact.ADAPTER,
+        mujoco_soft.ADAPTER,
+        drake_point.ADAPTER,
+        pybullet_kv.ADAPTER,
     )
 )
 ENGINE_NAMES = tuple(a.name for a in ADAPTERS)

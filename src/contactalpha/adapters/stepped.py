@@ -129,7 +129,7 @@ def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS):
     """Warn (``ContactStepsWarning``) when the contact spans < ``min_steps`` steps or the phases spread > ``tol``."""
     if result.contact_steps < min_steps or result.spread > tol:
         warnings.warn(
-            f"{engine}: the contact spans {result.contact_steps} steps (< {min_steps} is coarse) and "
+            f"{engine}: the contact spans {result.contact_steps} steps (coarse below {min_steps}) and "
             f"one drop's e_N depends on where touchdown falls within a step by up to {result.spread:.3g} "
             f"(tolerance {tol:g}); the mean over touchdown phases is what the parameters deliver; "
             "a smaller time step narrows it",
