@@ -213,11 +213,14 @@ class OpenSimAdapter:
         return version()
 
     def parameters(self, damping, scene):
-        """``dissipation`` c = 2 alpha / (3 v_minus), s/m, and each geometry's ``stiffness``, Pa."""
-        return {
-            "dissipation": opensim_dissipation(damping, scene.approach_speed),
-            "stiffness": opensim_stiffness(scene.stiffness, scene.radius),
-        }
+        """``dissipation`` c = 2 alpha / (3 v_minus), s/m, and each geometry's ``stiffness``, Pa.
+
+        The stiffness needs the sphere's radius: without one (``scene.radius`` None) it is left out.
+        """
+        out = {"dissipation": opensim_dissipation(damping, scene.approach_speed)}
+        if scene.radius is not None:
+            out["stiffness"] = opensim_stiffness(scene.stiffness, scene.radius)
+        return out
 
     def build_drop(self, scene, params, settings):
         """The OpenSim model with the ball at touchdown, moving at the approach speed."""

@@ -33,3 +33,12 @@ def adapter(name):
 def installed(a):
     """True when the Python module of adapter ``a``'s engine can be imported here."""
     return importlib.util.find_spec(a.module) is not None
+
+
+def engine_parameters(law, damping, scene):
+    """Every registered engine's parameters for ``law`` with the law's ``damping`` in ``scene``.
+
+    ``scene`` needs ``mass``, ``stiffness``, ``approach_speed`` and ``radius`` (None allowed: the
+    parameters that need a geometry are left out).  Engines whose law is another are not listed.
+    """
+    return {a.name: a.parameters(damping, scene) for a in ADAPTERS if a.law == law}

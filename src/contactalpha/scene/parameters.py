@@ -21,10 +21,21 @@ from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
-from .engine_conventions import exudyn_restitution_input, opensim_dissipation, opensim_stiffness
+from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
+from contactalpha.adapters.registry import engine_parameters
 
-# Exudyn's impact model whose built-in mapping covers every alpha > 0 (see engine_conventions).
-EXUDYN_IMPACT_MODEL = 2
+# The contact law this front door solves for (Hunt-Crossley, n = 3/2).
+LAW = "hunt_crossley"
+
+
+@dataclass(frozen=True)
+class _EngineScene:
+    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
+
+    mass: float
+    stiffness: float
+    approach_speed: float
+    radius: object
 
 
 @dataclass(frozen=True)
@@ -166,19 +177,8 @@ def contact_parameters(
     r = impact(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
-    engines = {
-        "opensim": {"dissipation": opensim_dissipation(alpha, v)},
-        "exudyn": {
-            "contactStiffness": k,
-            "contactStiffnessExponent": 1.5,
-            "impactModel": EXUDYN_IMPACT_MODEL,
-            "restitutionCoefficient": exudyn_restitution_input(alpha, EXUDYN_IMPACT_MODEL),
-            "contactDamping": 0.0,
-            "minimumImpactVelocity": 0.0,
-        },
-    }
-    if radius is not None:
-        engines["opensim"]["stiffness"] = opensim_stiffness(k, _positive("radius", radius))
+    sphere = None if radius is None else _positive("radius", radius)
+    engines = engine_parameters(LAW, alpha, _EngineScene(m, k, v, sphere))
     return frozen_instance(
         ContactParameters,
         xi=xi,
