@@ -32,6 +32,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from contactalpha.laws import get_law
 from contactalpha.validation import check_positive, check_range
 
 
@@ -141,3 +142,27 @@ def drop(adapter, scene, params, settings=None):
     model = adapter.build_drop(scene, params, settings)
     samples = adapter.run(model, scene, settings)
     return adapter.measure(samples, scene), samples
+
+
+def law_damping(law, scene, target, restitution="kinematic", *, per_unit_mass=False):
+    """The law's exact damping parameter for ``target`` in ``scene`` (``law.damping_for``), and its load factor.
+
+    Parameters
+    ----------
+    law : contactalpha.laws.ContactLaw or str
+    scene : DropScene
+    target : float
+        Target restitution (Newton's e_N by default).
+    restitution : {"kinematic", "energetic"}
+    per_unit_mass : bool
+        True for a law written per unit mass (MuJoCo's): it sees mass 1 and stiffness k/m.
+
+    Returns
+    -------
+    (DampingSolution, float)
+        The law's solution (``.damping``, ``.status``) and the load factor xi.
+    """
+    law = get_law(law)
+    m, k = (1.0, scene.stiffness / scene.mass) if per_unit_mass else (scene.mass, scene.stiffness)
+    xi = float(law.load_factor(law.load(m, k, scene.approach_speed, scene.accel)))
+    return law.damping_for(target, xi, restitution), xi

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.measure import measure_with_rest_check
 from contactalpha.adapters.stepped import (
     delivered as summarise,
@@ -36,6 +36,7 @@ from contactalpha.adapters.stepped import (
     touchdown_state,
     warn_if_coarse,
 )
+from contactalpha.laws import get_law
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'Drake is an optional engine: pip install -e ".[engines]" (PyPI package "drake")'
@@ -78,7 +79,7 @@ class DrakeAdapter:
     """Drake's point contact (``hunt_crossley_dissipation``): the engine adapter (``adapters.contract``)."""
 
     name = "drake"
-    law = "hunt_crossley_linear"
+    law = get_law("hunt_crossley_linear")
     module = "pydrake"
     settings = DrakeSettings()
 
@@ -222,12 +223,19 @@ class DrakeAdapter:
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    def calibrate(self, scene, target, start, settings=None):
+    def law_damping(self, scene, target, settings=None):
+        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        settings = self.settings if settings is None else settings
+        return law_damping(self.law, scene, target, per_unit_mass=False)
+
+    def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.time_step``, refined from the law's ``start`` alpha.
 
         Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
         """
         settings = self.settings if settings is None else settings
+        if start is None:
+            start = float(self.law_damping(scene, target, settings)[0].damping)
         ref = refine(lambda a: self.delivered(scene, a, settings).e_n, target, start, settings.tol)
         alpha = ref.damping if math.isfinite(ref.damping) else start
         got = self.delivered(scene, alpha, settings)

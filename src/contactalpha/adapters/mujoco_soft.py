@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
     delivered as summarise,
     measure_steps,
@@ -41,6 +41,7 @@ from contactalpha.adapters.stepped import (
     touchdown_state,
     warn_if_coarse,
 )
+from contactalpha.laws import get_law
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'MuJoCo is an optional engine: pip install -e ".[engines]" (PyPI package "mujoco")'
@@ -105,7 +106,7 @@ class MuJoCoAdapter:
     """MuJoCo's soft contact in direct mode: the engine adapter (``adapters.contract``)."""
 
     name = "mujoco"
-    law = "mujoco_soft"
+    law = get_law("mujoco_soft", impedance=IMPEDANCE)
     module = "mujoco"
     settings = MuJoCoSettings()
 
@@ -200,7 +201,12 @@ class MuJoCoAdapter:
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    def calibrate(self, scene, target, start, settings=None):
+    def law_damping(self, scene, target, settings=None):
+        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        settings = self.settings if settings is None else settings
+        return law_damping(get_law("mujoco_soft", impedance=settings.impedance), scene, target, per_unit_mass=True)
+
+    def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start``.
 
         Returns
@@ -210,6 +216,8 @@ class MuJoCoAdapter:
             they deliver; warns (``ContactStepsWarning``) when the contact is coarse.
         """
         settings = self.settings if settings is None else settings
+        if start is None:
+            start = float(self.law_damping(scene, target, settings)[0].damping)
         ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
         zeta = ref.damping if math.isfinite(ref.damping) else start
         got = self.delivered(scene, zeta, settings)

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
     delivered as summarise,
     measure_steps,
@@ -36,6 +36,7 @@ from contactalpha.adapters.stepped import (
     touchdown_state,
     warn_if_coarse,
 )
+from contactalpha.laws import get_law
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'PyBullet is an optional engine: pip install -e ".[engines]" (PyPI package "pybullet")'
@@ -77,7 +78,7 @@ class PyBulletAdapter:
     """Bullet's compliant contact through PyBullet: the engine adapter (``adapters.contract``)."""
 
     name = "pybullet"
-    law = "kelvin_voigt"
+    law = get_law("kelvin_voigt")
     module = "pybullet"
     settings = PyBulletSettings()
 
@@ -196,12 +197,19 @@ class PyBulletAdapter:
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    def calibrate(self, scene, target, start, settings=None):
+    def law_damping(self, scene, target, settings=None):
+        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        settings = self.settings if settings is None else settings
+        return law_damping(self.law, scene, target, per_unit_mass=False)
+
+    def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start`` zeta.
 
         Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
         """
         settings = self.settings if settings is None else settings
+        if start is None:
+            start = float(self.law_damping(scene, target, settings)[0].damping)
         ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
         zeta = ref.damping if math.isfinite(ref.damping) else 0.0
         got = self.delivered(scene, zeta, settings)

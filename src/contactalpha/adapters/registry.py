@@ -7,6 +7,7 @@ import importlib.util
 
 from contactalpha.adapters import drake_point, exudyn_contact, mujoco_soft, opensim_hc, pybullet_kv
 from contactalpha.adapters.contract import check_adapter
+from contactalpha.laws import get_law
 
 # Every engine adapter, in the order tables and the command line list them.
 ADAPTERS = tuple(
@@ -41,4 +42,5 @@ def engine_parameters(law, damping, scene):
     ``scene`` needs ``mass``, ``stiffness``, ``approach_speed`` and ``radius`` (None allowed: the
     parameters that need a geometry are left out).  Engines whose law is another are not listed.
     """
-    return {a.name: a.parameters(damping, scene) for a in ADAPTERS if a.law == law}
+    name = get_law(law).name
+    return {a.name: a.parameters(damping, scene) for a in ADAPTERS if a.law.name == name}
