@@ -129,9 +129,10 @@ def test_static_penetrations_confirm_the_conversions(mujoco, pydrake, pybullet):
 
     sc = DropScene(0.5, 1.0e4, 0.5, force=5.1)
     d = adapter("mujoco").settings.impedance
-    assert adapter("mujoco").static_penetration(sc) == pytest.approx((1 - d) * sc.accel * sc.mass / sc.stiffness, rel=1e-9)
-    assert adapter("drake").static_penetration(sc) == pytest.approx(sc.mass * sc.accel / sc.stiffness, rel=1e-9)
-    assert adapter("pybullet").static_penetration(sc) == pytest.approx(sc.mass * sc.accel / sc.stiffness, rel=1e-9)
+    rest = sc.mass * sc.accel / sc.stiffness
+    assert adapter("mujoco").static_penetration(sc) == pytest.approx((1 - d) * rest, rel=1e-9)
+    assert adapter("drake").static_penetration(sc) == pytest.approx(rest, rel=1e-9)
+    assert adapter("pybullet").static_penetration(sc) == pytest.approx(rest, rel=1e-9)
 
 
 @pytest.mark.integration
@@ -165,7 +166,8 @@ def test_law_scaled_load_is_a_over_omega_v(name):
     from contactalpha.laws import get_law
 
     sc = scene(100.0, 0.3)
-    assert get_law(name).load(sc.mass, sc.stiffness, sc.approach_speed, sc.accel) == pytest.approx(0.3, rel=1e-12)
+    load = get_law(name).load(sc.mass, sc.stiffness, sc.approach_speed, sc.accel)
+    assert load == pytest.approx(0.3, rel=1e-12)
 
 
 @pytest.mark.integration

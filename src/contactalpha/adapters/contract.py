@@ -145,7 +145,7 @@ def drop(adapter, scene, params, settings=None):
 
 
 def law_damping(law, scene, target, restitution="kinematic", *, per_unit_mass=False):
-    """The law's exact damping parameter for ``target`` in ``scene`` (``law.damping_for``), and its load factor.
+    """The law's exact damping for ``target`` in ``scene`` (``law.damping_for``) and the load factor.
 
     Parameters
     ----------

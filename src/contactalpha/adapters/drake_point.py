@@ -30,9 +30,9 @@ import numpy as np
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.measure import measure_with_rest_check
 from contactalpha.adapters.stepped import (
-    delivered as summarise,
     measure_steps,
     refine,
+    summarise,
     touchdown_state,
     warn_if_coarse,
 )
@@ -44,12 +44,14 @@ INSTALL_HINT = 'Drake is an optional engine: pip install -e ".[engines]" (PyPI p
 TIMESTEP = 1e-3
 APPROXIMATIONS = ("lagged", "tamsi", "similar")
 
+
 def _drake():
     try:
         import pydrake.all as drake
     except ImportError as err:  # pragma: no cover - depends on the machine
         raise ImportError(INSTALL_HINT) from err
     return drake
+
 
 @dataclass(frozen=True)
 class DrakeSettings:
@@ -68,12 +70,14 @@ class DrakeSettings:
     reports: int = 2000
     tol: float = 1e-3
 
+
 @dataclass
 class _Drop:
     diagram: object
     plant: object
     joint: object
     states: list
+
 
 class DrakeAdapter:
     """Drake's point contact (``hunt_crossley_dissipation``): the engine adapter (``adapters.contract``)."""
@@ -91,7 +95,7 @@ class DrakeAdapter:
         return importlib.metadata.version("drake")
 
     def parameters(self, damping, scene, settings=None):
-        """Each geometry's ``point_contact_stiffness`` (N/m) and ``hunt_crossley_dissipation`` (s/m), and the pair's.
+        """Each geometry's ``point_contact_stiffness`` (N/m), ``hunt_crossley_dissipation`` (s/m); the pair's.
 
         ``damping`` is the law's alpha (>= 0): ``d = alpha / v_minus``; arrays go through.
         """
@@ -127,9 +131,15 @@ class DrakeAdapter:
             return p
 
         ground = plant.world_body()
-        plant.RegisterCollisionGeometry(ground, dk.RigidTransform(), dk.HalfSpace(), "ground", props(k_each[1], d_each[1]))
-        plant.RegisterCollisionGeometry(body, dk.RigidTransform(), dk.Sphere(scene.radius), "ball", props(k_each[0], d_each[0]))
-        joint = plant.AddJoint(dk.PrismaticJoint("z", plant.world_frame(), body.body_frame(), [0.0, 0.0, 1.0]))
+        plant.RegisterCollisionGeometry(
+            ground, dk.RigidTransform(), dk.HalfSpace(), "ground", props(k_each[1], d_each[1])
+        )
+        plant.RegisterCollisionGeometry(
+            body, dk.RigidTransform(), dk.Sphere(scene.radius), "ball", props(k_each[0], d_each[0])
+        )
+        joint = plant.AddJoint(
+            dk.PrismaticJoint("z", plant.world_frame(), body.body_frame(), [0.0, 0.0, 1.0])
+        )
         plant.set_contact_model(dk.ContactModel.kPoint)
         if settings.time_step > 0.0:
             approx = {
@@ -196,7 +206,7 @@ class DrakeAdapter:
         """Deformation (m) where the continuous plant's acceleration of the resting ball is zero (Brent)."""
         from scipy.optimize import brentq
 
-        dk = _drake()
+        _drake()
         params = params or self.parameters(0.0, scene)
         model = self.build_drop(scene, params, DrakeSettings(time_step=0.0))
         root = model.diagram.CreateDefaultContext()
@@ -224,12 +234,12 @@ class DrakeAdapter:
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
     def law_damping(self, scene, target, settings=None):
-        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
         return law_damping(self.law, scene, target, per_unit_mass=False)
 
     def calibrate(self, scene, target, start=None, settings=None):
-        """Parameters delivering the target e_N at ``settings.time_step``, refined from the law's ``start`` alpha.
+        """Parameters delivering the target e_N at ``settings.time_step``, refined from ``start`` (alpha).
 
         Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
         """
@@ -243,8 +253,10 @@ class DrakeAdapter:
             warn_if_coarse(self.name, got, settings.tol)
         return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
 
+
 def _out(arr):
     arr = np.asarray(arr, dtype=float)
     return float(arr) if arr.ndim == 0 else arr
+
 
 ADAPTER = DrakeAdapter()

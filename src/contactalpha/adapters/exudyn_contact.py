@@ -34,8 +34,8 @@ from contactalpha.adapters.contract import DropScene, Samples
 from contactalpha.adapters.measure import measure_with_rest_check
 from contactalpha.adapters.opensim_hc import STATIC_BRACKET
 from contactalpha.engine.scaling import length_scale, time_scale
-from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
 from contactalpha.laws import get_law
+from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
 from contactalpha.validation import check_positive, check_range
 
 INSTALL_HINT = 'Exudyn is an optional engine: pip install -e ".[engines]" (PyPI package "exudyn")'

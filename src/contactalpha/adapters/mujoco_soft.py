@@ -35,9 +35,9 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
-    delivered as summarise,
     measure_steps,
     refine,
+    summarise,
     touchdown_state,
     warn_if_coarse,
 )
@@ -80,7 +80,8 @@ def _xml(scene, settings):
     d = settings.impedance
     imp = f'solimp="{d!r} {d!r} 0.001 0.5 2"'
     return f"""<mujoco model="contactalpha_drop">
-  <option timestep="{settings.timestep!r}" gravity="0 0 {-scene.gravity!r}" integrator="{settings.integrator}"/>
+  <option timestep="{settings.timestep!r}" gravity="0 0 {-scene.gravity!r}"
+          integrator="{settings.integrator}"/>
   <worldbody>
     <geom name="ground" type="plane" size="1 1 0.1" condim="1" solref="-1 -1" {imp}/>
     <body name="ball" pos="0 0 {scene.radius!r}">
@@ -152,7 +153,7 @@ class MuJoCoAdapter:
         return _Drop(model, mj.MjData(model), states, -scene.force, nstep)
 
     def run(self, model, scene, settings):
-        """Every phase's steps in one ``mujoco.rollout`` call; ``Samples`` of the first phase, all in ``extra``."""
+        """Every phase in one ``mujoco.rollout`` call: ``Samples`` of the first phase, all in ``extra``."""
         mj = _mujoco()
         control = np.full((len(model.states), model.nstep, 1), model.push)
         start = time.perf_counter()
@@ -196,15 +197,17 @@ class MuJoCoAdapter:
     def delivered(self, scene, damping, settings=None):
         """``stepped.Delivered``: the mean e_N over touchdown phases with the law's ``damping`` zeta."""
         settings = self.settings if settings is None else settings
-        samples = self.run(self.build_drop(scene, self.parameters(damping, scene, settings), settings), scene, settings)
+        model = self.build_drop(scene, self.parameters(damping, scene, settings), settings)
+        samples = self.run(model, scene, settings)
         self.measure(samples, scene)
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
     def law_damping(self, scene, target, settings=None):
-        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
-        return law_damping(get_law("mujoco_soft", impedance=settings.impedance), scene, target, per_unit_mass=True)
+        law = get_law("mujoco_soft", impedance=settings.impedance)
+        return law_damping(law, scene, target, per_unit_mass=True)
 
     def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start``.

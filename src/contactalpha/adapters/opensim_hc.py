@@ -26,8 +26,8 @@ from scipy.optimize import brentq
 from contactalpha.adapters.contract import DropScene, Samples
 from contactalpha.adapters.measure import measure_impact, measure_with_rest_check
 from contactalpha.engine.scaling import time_scale
-from contactalpha.scene.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
 from contactalpha.laws import get_law
+from contactalpha.scene.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
 from contactalpha.validation import check_positive, check_range
 
 INSTALL_HINT = 'OpenSim is an optional engine: pip install -e ".[engines]" (PyPI package "opensim")'

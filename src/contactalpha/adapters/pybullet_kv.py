@@ -9,8 +9,9 @@ an ERP and a CFM at its step (``btSequentialImpulseConstraintSolver``: ``denom =
 So each body gets ``contactStiffness = 2k`` and ``contactDamping = c/2``, and the pair is (k, c)
 with ``c = 2 zeta sqrt(k m)``.  Checked in the engine: the ball rests at δ = m a / k, and small steps
 approach the law's e_N.  The contact surface sits ``LINEAR_SLOP`` = 1e-5 m below the geometric
-one (the solver's penetration is ``distance + m_linearSlop``); heights here are measured from it.  Bullet's own ``restitution`` is set to 0 here (it adds a velocity target
-of its own); ``bullet_restitution_drop`` measures what it delivers instead.
+one (the solver's penetration is ``distance + m_linearSlop``); heights here are measured from it.
+Bullet's own ``restitution`` is set to 0 here (it adds a velocity target of its own);
+``delivered(..., restitution=e)`` measures what it delivers instead.
 
 Bullet's implicit step is strongly dissipative when a contact spans few steps: at its default
 1/240 s a contact of k/m = 1e4 s^-2 rebounds with e_N ~ 0.4 even without damping, and higher targets
@@ -30,9 +31,9 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
-    delivered as summarise,
     measure_steps,
     refine,
+    summarise,
     touchdown_state,
     warn_if_coarse,
 )
@@ -58,7 +59,7 @@ def _pybullet():
 
 @dataclass(frozen=True)
 class PyBulletSettings:
-    """Settings of a PyBullet drop: ``timestep`` (s; PyBullet's default), ``phases``, ``window`` (periods), ``tol``."""
+    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``."""
 
     timestep: float = TIMESTEP
     phases: int = 4
@@ -110,7 +111,9 @@ class PyBulletAdapter:
         plane_shape = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=client)
         plane = pb.createMultiBody(0.0, plane_shape, physicsClientId=client)
         shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=scene.radius, physicsClientId=client)
-        ball = pb.createMultiBody(scene.mass, shape, basePosition=[0.0, 0.0, 2.0 * scene.radius], physicsClientId=client)
+        ball = pb.createMultiBody(
+            scene.mass, shape, basePosition=[0.0, 0.0, 2.0 * scene.radius], physicsClientId=client
+        )
         for body in (plane, ball):
             pb.changeDynamics(
                 body,
@@ -139,14 +142,18 @@ class PyBulletAdapter:
         start = time.perf_counter()
         try:
             for i, (z0, v0) in enumerate(model.states):
-                pb.resetBasePositionAndOrientation(b, [0.0, 0.0, scene.radius - LINEAR_SLOP + z0], [0, 0, 0, 1], physicsClientId=c)
+                pb.resetBasePositionAndOrientation(
+                    b, [0.0, 0.0, scene.radius - LINEAR_SLOP + z0], [0, 0, 0, 1], physicsClientId=c
+                )
                 pb.resetBaseVelocity(b, [0.0, 0.0, v0], [0.0, 0.0, 0.0], physicsClientId=c)
                 zs[i, 0], vs[i, 0] = z0, v0
                 for j in range(1, n + 1):
                     if scene.force:
                         pb.applyExternalForce(b, -1, push, [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c)
                     pb.stepSimulation(physicsClientId=c)
-                    zs[i, j] = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - (scene.radius - LINEAR_SLOP)
+                    zs[i, j] = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - (
+                        scene.radius - LINEAR_SLOP
+                    )
                     vs[i, j] = pb.getBaseVelocity(b, physicsClientId=c)[0][2]
         finally:
             pb.disconnect(physicsClientId=c)
@@ -164,20 +171,24 @@ class PyBulletAdapter:
         return results[0]
 
     def static_penetration(self, scene, params=None, settings=None):
-        """Deformation (m) below the contact surface after the engine settles (critical damping by default)."""
+        """Deformation (m) below the contact surface once the engine settles (critical damping by default)."""
         pb = _pybullet()
         settings = self.settings if settings is None else settings
         params = params or self.parameters(1.0, scene)
         model = self.build_drop(scene, params, settings)
         c, b = model.client, model.ball
         predicted = scene.mass * scene.accel / scene.stiffness
-        pb.resetBasePositionAndOrientation(b, [0.0, 0.0, scene.radius - LINEAR_SLOP - predicted], [0, 0, 0, 1], physicsClientId=c)
+        pb.resetBasePositionAndOrientation(
+            b, [0.0, 0.0, scene.radius - LINEAR_SLOP - predicted], [0, 0, 0, 1], physicsClientId=c
+        )
         pb.resetBaseVelocity(b, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=c)
         n = int(math.ceil(40.0 * 2.0 * math.pi * math.sqrt(scene.mass / scene.stiffness) / settings.timestep))
         try:
             for _ in range(n):
                 if scene.force:
-                    pb.applyExternalForce(b, -1, [0.0, 0.0, -scene.force], [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c)
+                    pb.applyExternalForce(
+                        b, -1, [0.0, 0.0, -scene.force], [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c
+                    )
                 pb.stepSimulation(physicsClientId=c)
             z = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2]
         finally:
@@ -198,12 +209,12 @@ class PyBulletAdapter:
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
     def law_damping(self, scene, target, settings=None):
-        """The law's exact damping for the target e_N in ``scene`` (``contract.law_damping``): ``(solution, xi)``."""
+        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
         return law_damping(self.law, scene, target, per_unit_mass=False)
 
     def calibrate(self, scene, target, start=None, settings=None):
-        """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start`` zeta.
+        """Parameters delivering the target e_N at ``settings.timestep``, refined from ``start`` (zeta).
 
         Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
         """

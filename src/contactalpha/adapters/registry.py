@@ -1,6 +1,8 @@
-"""The one list of engine adapters: the front door, the command line, the engines study and the
-tests iterate it.  Adding an engine is one module with an object keeping
-``contactalpha.adapters.contract.EngineAdapter`` and one line here (docs/adding-an-engine.md).
+"""The one list of engine adapters.
+
+The front door, the command line, the engines study and the tests iterate it.  Adding an engine
+is one module with an object keeping ``contactalpha.adapters.contract.EngineAdapter`` and one
+line here (docs/adding-an-engine.md).
 """
 
 import importlib.util

@@ -13,7 +13,7 @@ velocity at a step's end is ``v - a h / 2`` (the stored velocity is the mean ove
   rebound height.
 
 **Touchdown phase.**  A spring-dashpot contact switches its force on at touchdown, so where
-touchdown falls within a step moves the rebound by O(h / contact time).  ``delivered`` averages
+touchdown falls within a step moves the rebound by O(h / contact time).  ``summarise`` averages
 e_N over ``phases`` touchdowns spread evenly over one step and reports the spread; the
 adapters warn when that spread, or the contact's length in steps, makes one drop's e_N untrustworthy.
 
@@ -45,7 +45,7 @@ class ContactStepsWarning(UserWarning):
 
 
 def touchdown_state(approach_speed, accel, h, phase):
-    """Stored ``(z, v)`` one fraction ``phase`` of a step before the parabola meets z = 0 at ``-approach_speed``.
+    """Stored ``(z, v)`` a fraction ``phase`` of a step before the parabola meets z = 0 at ``-v_minus``.
 
     Parameters
     ----------
@@ -119,14 +119,14 @@ class Delivered:
     separated: bool
 
 
-def delivered(e_n_per_phase, contact_steps, separated):
+def summarise(e_n_per_phase, contact_steps, separated):
     """``Delivered`` from per-phase results (arrays over the phases)."""
     e = np.asarray(e_n_per_phase, dtype=float)
     return Delivered(float(e.mean()), float(np.ptp(e)), int(np.min(contact_steps)), bool(np.all(separated)))
 
 
 def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS):
-    """Warn (``ContactStepsWarning``) when the contact spans < ``min_steps`` steps or the phases spread > ``tol``."""
+    """Warn (``ContactStepsWarning``): a contact under ``min_steps`` steps or a phase spread over ``tol``."""
     if result.contact_steps < min_steps or result.spread > tol:
         warnings.warn(
             f"{engine}: the contact spans {result.contact_steps} steps (coarse below {min_steps}) and "

@@ -15,14 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
+from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
-
-from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import engine_parameters
 
 # The contact law this front door solves for (Hunt-Crossley, n = 3/2).
 LAW = "hunt_crossley"

@@ -163,7 +163,7 @@ RUN_INPUTS = {
     "opensim_exact": lambda eps, alpha, v: _opensim_input(alpha, v),
     "opensim_hunt_crossley": lambda eps, alpha, v: _opensim_input(float(hunt_crossley(eps)), v),
     "exudyn_exact": lambda eps, alpha, v: _exudyn_input(float(exudyn_restitution_input(alpha, 2)), 2),
-    "exudyn_exact_implicit": lambda eps, alpha, v: _exudyn_input(float(exudyn_restitution_input(alpha, 2)), 2),
+    "exudyn_exact_implicit": lambda eps, alpha, v: RUN_INPUTS["exudyn_exact"](eps, alpha, v),
     "exudyn_model1": lambda eps, alpha, v: _exudyn_input(float(eps), 1),
     "exudyn_model2": lambda eps, alpha, v: _exudyn_input(float(eps), 2),
 }
@@ -327,7 +327,7 @@ def static_checks(scene, forces, engines=ENGINES):
     )
 
 
-def case_a(scene, model="exact", settings=OpenSimSettings(), config=None):
+def case_a(scene, model="exact", settings=opensim_hc.ADAPTER.settings, config=None):
     """Case A of Sect. 6 in OpenSim (dissipation reset per touchdown, and frozen) and in the package.
 
     ``settings`` (``OpenSimSettings``) are OpenSim's integrator and sampling settings.
