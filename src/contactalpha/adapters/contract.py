@@ -14,6 +14,8 @@ The parts of the contract:
 - ``parameters(damping, scene)``: the engine's own parameters (its names, its units) that make
   it apply the law with the law's damping parameter ``damping`` (alpha for Hunt-Crossley, the
   damping ratio zeta for the spring-dashpot laws) in ``scene``; numpy arrays go through;
+- ``law_damping(scene, target, restitution)``: the law's exact damping parameter for a target
+  restitution in ``scene`` (``contactalpha.laws``), with the scene's load factor;
 - ``build_drop(scene, params, settings)``: the drop scene built in the engine, the ball at
   touchdown at ``scene.approach_speed``;
 - ``run(model, scene, settings)``: the engine's own integration, sampled (``Samples``);
@@ -100,6 +102,9 @@ class EngineAdapter(Protocol):
     def parameters(self, damping, scene) -> dict:
         """The engine's parameters, in its names and units, for the law's ``damping`` in ``scene``."""
 
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(DampingSolution, xi)``: the law's exact damping for ``target`` in ``scene``."""
+
     def build_drop(self, scene, params, settings):
         """The drop built in the engine, the ball at touchdown at ``scene.approach_speed``."""
 
@@ -118,7 +123,16 @@ class EngineAdapter(Protocol):
 
 # The contract's parts: attributes (data) and methods (callables).
 DATA_PARTS = ("name", "law", "module", "settings")
-METHOD_PARTS = ("version", "parameters", "build_drop", "run", "measure", "static_penetration", "timestep")
+METHOD_PARTS = (
+    "version",
+    "parameters",
+    "law_damping",
+    "build_drop",
+    "run",
+    "measure",
+    "static_penetration",
+    "timestep",
+)
 
 
 def missing_parts(adapter):

@@ -233,10 +233,10 @@ class DrakeAdapter:
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    def law_damping(self, scene, target, settings=None):
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
-        return law_damping(self.law, scene, target, per_unit_mass=False)
+        return law_damping(self.law, scene, target, restitution)
 
     def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.time_step``, refined from ``start`` (alpha).
@@ -245,7 +245,7 @@ class DrakeAdapter:
         """
         settings = self.settings if settings is None else settings
         if start is None:
-            start = float(self.law_damping(scene, target, settings)[0].damping)
+            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
         ref = refine(lambda a: self.delivered(scene, a, settings).e_n, target, start, settings.tol)
         alpha = ref.damping if math.isfinite(ref.damping) else start
         got = self.delivered(scene, alpha, settings)

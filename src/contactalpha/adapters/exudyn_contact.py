@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.contract import DropScene, Samples
+from contactalpha.adapters.contract import DropScene, Samples, law_damping
 from contactalpha.adapters.measure import measure_with_rest_check
 from contactalpha.adapters.opensim_hc import STATIC_BRACKET
 from contactalpha.engine.scaling import length_scale, time_scale
@@ -248,6 +248,10 @@ class ExudynAdapter:
     def measure(self, samples, scene):
         """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
         return measure_with_rest_check(samples, scene)
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
+        return law_damping(self.law, scene, target, restitution)
 
     def static_penetration(self, scene):
         """Deformation (m) at which Exudyn's contact carries the load at rest (``static_penetration``)."""

@@ -203,11 +203,11 @@ class MuJoCoAdapter:
         x = samples.extra
         return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    def law_damping(self, scene, target, settings=None):
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
         law = get_law("mujoco_soft", impedance=settings.impedance)
-        return law_damping(law, scene, target, per_unit_mass=True)
+        return law_damping(law, scene, target, restitution, per_unit_mass=True)
 
     def calibrate(self, scene, target, start=None, settings=None):
         """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start``.
@@ -220,7 +220,7 @@ class MuJoCoAdapter:
         """
         settings = self.settings if settings is None else settings
         if start is None:
-            start = float(self.law_damping(scene, target, settings)[0].damping)
+            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
         ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
         zeta = ref.damping if math.isfinite(ref.damping) else start
         got = self.delivered(scene, zeta, settings)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.contract import DropScene, Samples
+from contactalpha.adapters.contract import DropScene, Samples, law_damping
 from contactalpha.adapters.measure import measure_impact, measure_with_rest_check
 from contactalpha.engine.scaling import time_scale
 from contactalpha.laws import get_law
@@ -243,6 +243,10 @@ class OpenSimAdapter:
     def measure(self, samples, scene):
         """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
         return measure_with_rest_check(samples, scene)
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
+        return law_damping(self.law, scene, target, restitution)
 
     def static_penetration(self, scene):
         """Deformation (m) at which OpenSim's contact carries the load at rest (``static_penetration``)."""

@@ -152,6 +152,8 @@ def contact_parameters(
     Returns
     -------
     ContactParameters
+        Or, when any input is an array, ``scene.batched.BatchedParameters``: every engine's
+        parameters as arrays over the broadcast scenes (the table's alpha, no impact integrated).
 
     Raises
     ------
@@ -161,6 +163,8 @@ def contact_parameters(
     RuntimeError
         If the solver fails outside the table's domain (never a plausible wrong number).
     """
+    if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
+        return _batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -190,6 +194,26 @@ def contact_parameters(
         delta_star=float(length_scale(m, k, v)),
         alpha_source=source,
         engines=engines,
+    )
+
+
+def _batch(*values):
+    """True when any input is an array (or a list) of more than a plain number."""
+    return any(v is not None and type(v) not in PLAIN_FLOATS and np.ndim(v) > 0 for v in values)
+
+
+def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
+    """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
+    from contactalpha.scene.batched import batched_parameters
+
+    if (eps is None) == (e_n is None):
+        raise ValueError("give exactly one of eps (energetic) and e_N (kinematic) arrays")
+    if (accel is None) == (force is None):
+        raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
+    a = accel if force is None else np.asarray(force, dtype=float) / np.asarray(mass, dtype=float)
+    target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
+    return batched_parameters(
+        mass, stiffness, approach_speed, a, target, restitution=restitution, law=LAW, radius=radius
     )
 
 
