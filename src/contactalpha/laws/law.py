@@ -55,6 +55,7 @@ class ContactLaw:
     impedance : MuJoCo's constant impedance d (0 for the other laws).
     impedance_range : valid (lo, hi) of ``impedance``, hi excluded; None if the law has none.
     force : jitted scaled force argument ``f(x, v, p, A, d)`` (``forces.py``).
+    code : its position in the kernels' force table (``forces.scaled_force``).
     backend : where its reference numbers come from (``backends.py``).
     evaluator : what the fast evaluator is ("engine table", "closed form", "table").
     """
@@ -73,6 +74,7 @@ class ContactLaw:
     end_states: tuple
     force: Callable
     evaluator: str
+    code: int
     backend: object = FAMILY
     restitutions: tuple = RESTITUTIONS
     load_domain: tuple = (0.0, XI_MAX)
@@ -209,6 +211,7 @@ LAWS = [
         floor_reached=False,
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_force,
+        code=forces.HUNT_CROSSLEY,
         evaluator="engine table",
         backend=ENGINE,
         restitution_domain=(0.01, 1.0),
@@ -227,6 +230,7 @@ LAWS = [
         floor_reached=False,
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_linear_force,
+        code=forces.HUNT_CROSSLEY_LINEAR,
         evaluator="table",
     ),
     ContactLaw(
@@ -243,6 +247,7 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.kelvin_voigt_force,
+        code=forces.KELVIN_VOIGT,
         evaluator="closed form",
     ),
     ContactLaw(
@@ -259,6 +264,7 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.mujoco_soft_force,
+        code=forces.MUJOCO_SOFT,
         evaluator="closed form",
         impedance=0.9,
         impedance_range=(0.0, 1.0),
@@ -277,6 +283,7 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
+        code=forces.HERTZ_TSUJI,
         evaluator="table",
     ),
 ]

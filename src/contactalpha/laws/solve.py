@@ -20,8 +20,10 @@ P_MAX = 1e8
 # First upper end of the bracket.
 P_START = 1.0
 # Relative width of the bracket, and distance to the target, at which the root is accepted.
-P_RTOL = 4e-16
+P_RTOL = 1e-14
 E_TOL = 1e-15
+# Every BISECT_EVERY-th step bisects, so that rounding noise near the root cannot stall the bracket.
+BISECT_EVERY = 4
 MAX_ITER = 300
 
 
@@ -35,31 +37,31 @@ def _value(row, kinematic):
 
 
 @njit(cache=True, error_model="numpy")
-def damping_kernel(force, target, kinematic, A, s, x_eq, rtol, atol, max_steps):
+def damping_kernel(code, target, kinematic, A, s, x_eq, rtol, atol, max_steps):
     """Damping ``p`` at which the law's restitution is ``target``; returns (p, status)."""
     if target >= 1.0:
         return 0.0, OK
     lo = 0.0
     glo = 1.0 - target
     hi = P_START
-    ghi = _value(impact_kernel(force, hi, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
+    ghi = _value(impact_kernel(code, hi, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
     while ghi > 0.0:
         lo = hi
         glo = ghi
         hi *= 4.0
         if hi > P_MAX:
             return np.nan, NO_BRACKET
-        ghi = _value(impact_kernel(force, hi, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
+        ghi = _value(impact_kernel(code, hi, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
     if ghi != ghi:
         return np.nan, NOT_CONVERGED
     if ghi == 0.0:
         return hi, OK
     last = 0
-    for _ in range(MAX_ITER):
+    for it in range(MAX_ITER):
         mid = hi - ghi * (hi - lo) / (ghi - glo)
-        if not (lo < mid < hi):
+        if not (lo < mid < hi) or it % BISECT_EVERY == BISECT_EVERY - 1:
             mid = 0.5 * (lo + hi)
-        gm = _value(impact_kernel(force, mid, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
+        gm = _value(impact_kernel(code, mid, A, s, x_eq, rtol, atol, max_steps), kinematic) - target
         if gm != gm:
             return np.nan, NOT_CONVERGED
         if gm == 0.0:
@@ -82,11 +84,11 @@ def damping_kernel(force, target, kinematic, A, s, x_eq, rtol, atol, max_steps):
 
 
 @njit(cache=True, error_model="numpy")
-def damping_rows(force, target, kinematic, A, s, x_eq, rtol, atol, max_steps):
+def damping_rows(code, target, kinematic, A, s, x_eq, rtol, atol, max_steps):
     """``damping_kernel`` over flat arrays; returns (p, status) arrays."""
     n = target.size
     p = np.empty(n)
     status = np.empty(n, dtype=np.int64)
     for i in range(n):
-        p[i], status[i] = damping_kernel(force, target[i], kinematic, A[i], s, x_eq[i], rtol, atol, max_steps)
+        p[i], status[i] = damping_kernel(code, target[i], kinematic, A[i], s, x_eq[i], rtol, atol, max_steps)
     return p, status
