@@ -13,7 +13,7 @@ import numpy as np
 from contactalpha.engine.codes import STATE_CODES, STATUS
 
 from .integrate import ATOL, MAX_STEPS, R_EN, R_EPS2, R_STATE, R_STATUS, R_VE, R_XE, R_XM, RTOL, impact_rows
-from .solve import damping_rows
+from .solve import solve_damping
 
 _STATUS_CODES = {word: code for code, word in STATUS.items()}
 
@@ -42,7 +42,7 @@ class FamilyBackend:
 
     def damping(self, law, target, kinematic, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """(p, status code) that meet flat ``target`` restitutions at flat ``A``, ``xi``."""
-        return damping_rows(
+        return solve_damping(
             law.code, target, kinematic, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps
         )
 
