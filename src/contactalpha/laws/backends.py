@@ -13,7 +13,7 @@ import numpy as np
 from contactalpha.engine.codes import STATE_CODES, STATUS
 
 from .integrate import ATOL, MAX_STEPS, R_EN, R_EPS2, R_STATE, R_STATUS, R_VE, R_XE, R_XM, RTOL, impact_rows
-from .solve import damping_rows
+from .solve import solve_damping
 
 _STATUS_CODES = {word: code for code, word in STATUS.items()}
 
@@ -26,7 +26,7 @@ class FamilyBackend:
 
     def impact(self, law, p, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """Rows (eps, e_N, state, status, x_m, x_e, v_e) of impacts at flat ``p``, ``A``, ``xi``."""
-        rows = impact_rows(law.force, p, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps)
+        rows = impact_rows(law.code, p, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps)
         eps = np.sqrt(np.maximum(rows[:, R_EPS2], 0.0))
         eps = np.where(np.isnan(rows[:, R_EPS2]), np.nan, eps)
         cols = (
@@ -42,8 +42,8 @@ class FamilyBackend:
 
     def damping(self, law, target, kinematic, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """(p, status code) that meet flat ``target`` restitutions at flat ``A``, ``xi``."""
-        return damping_rows(
-            law.force, target, kinematic, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps
+        return solve_damping(
+            law.code, target, kinematic, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps
         )
 
 

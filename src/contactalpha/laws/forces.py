@@ -52,3 +52,27 @@ def hertz_tsuji_force(x, v, p, A, s):
         return 0.0
     q = np.sqrt(np.sqrt(x))
     return HERTZ * x * np.sqrt(x) + TSUJI_GAMMA * p * q * v
+
+
+# Kernel codes: the position of each law's force in ``scaled_force``'s table.  One compiled kernel
+# serves every law (numba cannot cache a kernel that takes a function argument, and compiles one
+# copy per function, seconds each).
+HUNT_CROSSLEY = 0
+HUNT_CROSSLEY_LINEAR = 1
+KELVIN_VOIGT = 2
+MUJOCO_SOFT = 3
+HERTZ_TSUJI = 4
+
+
+@njit(cache=True, error_model="numpy")
+def scaled_force(code, x, v, p, A, s):
+    """The force argument of the law with kernel code ``code`` (the table above)."""
+    if code == HUNT_CROSSLEY_LINEAR:
+        return hunt_crossley_linear_force(x, v, p, A, s)
+    if code == KELVIN_VOIGT:
+        return kelvin_voigt_force(x, v, p, A, s)
+    if code == MUJOCO_SOFT:
+        return mujoco_soft_force(x, v, p, A, s)
+    if code == HERTZ_TSUJI:
+        return hertz_tsuji_force(x, v, p, A, s)
+    return hunt_crossley_force(x, v, p, A, s)

@@ -35,6 +35,8 @@ from contactalpha.engine.tableau import E3, E5, N_STAGES
 from contactalpha.engine.tableau import A as RK_A
 from contactalpha.engine.tableau import B as RK_B
 
+from .forces import scaled_force
+
 # Slots of the row the kernel returns.
 R_EPS2, R_EN, R_STATE, R_STATUS, R_XM, R_XE, R_VE, R_TE, R_STEPS = range(9)
 N_ROW = 9
@@ -45,23 +47,27 @@ MAX_STEPS = 2_000_000
 # Within this relative distance of the equilibrium the law is taken as linear there, and an
 # overdamped approach that the linear motion shows to need no further turn of v is taken to its limit.
 SETTLE = 1e-6
+# Relative margin of the critical damping test, above the finite-difference error of the slope K.
+CRITICAL = 1e-8
 # Samples of the force along a free flight, to find a re-contact.
 FLIGHT_SAMPLES = 64
+# A compression standing for 0+ when the law's sign at the rim is needed.
+TINY = 1e-300
 # Illinois iterations when placing an event inside a step.
 LOCATE_ITER = 200
 
 
 @njit(cache=True, error_model="numpy")
-def _deriv(force, x, v, p, A, s):
-    return A - max(0.0, force(x, v, p, A, s))
+def _deriv(code, x, v, p, A, s):
+    return A - max(0.0, scaled_force(code, x, v, p, A, s))
 
 
 @njit(cache=True, error_model="numpy")
-def _step(force, x, v, h, p, A, s, K):
+def _step(code, x, v, h, p, A, s, K):
     """One DOP853 step of ``(x, v)``; returns ``(x1, v1, err_ratio_numerators)`` via K rows."""
     # K[j, 0] = dx, K[j, 1] = dv for stage j.
     K[0, 0] = v
-    K[0, 1] = _deriv(force, x, v, p, A, s)
+    K[0, 1] = _deriv(code, x, v, p, A, s)
     for st in range(1, N_STAGES):
         ax = 0.0
         av = 0.0
@@ -71,7 +77,7 @@ def _step(force, x, v, h, p, A, s, K):
         xs = x + h * ax
         vs = v + h * av
         K[st, 0] = vs
-        K[st, 1] = _deriv(force, xs, vs, p, A, s)
+        K[st, 1] = _deriv(code, xs, vs, p, A, s)
     bx = 0.0
     bv = 0.0
     for j in range(N_STAGES):
@@ -80,7 +86,7 @@ def _step(force, x, v, h, p, A, s, K):
     x1 = x + h * bx
     v1 = v + h * bv
     K[N_STAGES, 0] = v1
-    K[N_STAGES, 1] = _deriv(force, x1, v1, p, A, s)
+    K[N_STAGES, 1] = _deriv(code, x1, v1, p, A, s)
     return x1, v1
 
 
@@ -107,23 +113,23 @@ def _error(K, h, x, v, x1, v1, rtol, atol):
 
 
 @njit(cache=True, error_model="numpy")
-def _event_value(force, kind, x, v, p, A, s):
+def _event_value(code, kind, x, v, p, A, s):
     """Event functions: 0 maximum/capture (v), 1 separation (x), 2 floor (f)."""
     if kind == 0:
         return v
     if kind == 1:
         return x
-    return force(x, v, p, A, s)
+    return scaled_force(code, x, v, p, A, s)
 
 
 @njit(cache=True, error_model="numpy")
-def _locate(force, kind, x, v, h, g0, p, A, s, K):
+def _locate(code, kind, x, v, h, g0, p, A, s, K):
     """Length ``h* in (0, h]`` of the step from ``(x, v)`` on which event ``kind`` is 0 (Illinois)."""
     lo = 0.0
     glo = g0
     hi = h
-    x1, v1 = _step(force, x, v, hi, p, A, s, K)
-    ghi = _event_value(force, kind, x1, v1, p, A, s)
+    x1, v1 = _step(code, x, v, hi, p, A, s, K)
+    ghi = _event_value(code, kind, x1, v1, p, A, s)
     side = 0
     for _ in range(LOCATE_ITER):
         if ghi == glo:
@@ -132,8 +138,8 @@ def _locate(force, kind, x, v, h, g0, p, A, s, K):
             mid = hi - ghi * (hi - lo) / (ghi - glo)
         if not (lo < mid < hi):
             mid = 0.5 * (lo + hi)
-        xm, vm = _step(force, x, v, mid, p, A, s, K)
-        gm = _event_value(force, kind, xm, vm, p, A, s)
+        xm, vm = _step(code, x, v, mid, p, A, s, K)
+        gm = _event_value(code, kind, xm, vm, p, A, s)
         if gm == 0.0:
             return mid, xm, vm, True
         if (gm > 0.0) == (glo > 0.0):
@@ -151,23 +157,25 @@ def _locate(force, kind, x, v, h, g0, p, A, s, K):
         if hi - lo <= 4e-16 * max(hi, 1e-300):
             break
     # Return the end on the crossed side so that the event has happened.
-    x1, v1 = _step(force, x, v, hi, p, A, s, K)
+    x1, v1 = _step(code, x, v, hi, p, A, s, K)
     return hi, x1, v1, True
 
 
 @njit(cache=True, error_model="numpy")
-def _trapped(force, x, v, p, A, s, x_eq):
+def _trapped(code, x, v, p, A, s, x_eq):
     """True if the law, linearised at ``x_eq``, reaches ``x_eq`` from ``(x, v)`` with no turn of v."""
     if A <= 0.0 or abs(x - x_eq) > SETTLE * x_eq:
         return False
     dx = 1e-4 * x_eq
-    K = (force(x_eq + dx, 0.0, p, A, s) - force(x_eq - dx, 0.0, p, A, s)) / (2.0 * dx)
-    C = force(x_eq, 1.0, p, A, s) - force(x_eq, 0.0, p, A, s)
+    K = (scaled_force(code, x_eq + dx, 0.0, p, A, s) - scaled_force(code, x_eq - dx, 0.0, p, A, s)) / (
+        2.0 * dx
+    )
+    C = scaled_force(code, x_eq, 1.0, p, A, s) - scaled_force(code, x_eq, 0.0, p, A, s)
     disc = 0.25 * C * C - K
-    if K <= 0.0 or C <= 0.0 or disc < 0.0:
+    if K <= 0.0 or C <= 0.0 or disc < -CRITICAL * K:
         return False  # oscillates about x_eq: v turns within half a period
     u = x - x_eq
-    r = np.sqrt(disc)
+    r = np.sqrt(max(disc, 0.0))
     slow = -0.5 * C + r
     fast = -0.5 * C - r
     if r == 0.0:
@@ -183,7 +191,7 @@ def _trapped(force, x, v, p, A, s, x_eq):
 
 
 @njit(cache=True, error_model="numpy")
-def _flight(force, x0, v0, p, A, s):
+def _flight(code, x0, v0, p, A, s):
     """Free flight under the load from ``(x0, v0)``, ``v0 < 0``: (kind, t, x, v).
 
     kind 0: capture (v = 0 at x > 0); 1: separation (x = 0); 2: re-contact (f = 0 rising).
@@ -201,17 +209,16 @@ def _flight(force, x0, v0, p, A, s):
     prev = 0.0
     for i in range(1, FLIGHT_SAMPLES + 1):
         t = t_end * i / FLIGHT_SAMPLES
-        xt = x0 + t * (v0 + 0.5 * A * t)
-        if kind == 1 and i == FLIGHT_SAMPLES:
-            break
-        ft = force(xt, v0 + A * t, p, A, s)
+        # The law's sign just inside the contact (x > 0 tiny) at the separation end, too.
+        xt = max(x0 + t * (v0 + 0.5 * A * t), TINY)
+        ft = scaled_force(code, xt, v0 + A * t, p, A, s)
         if ft > 0.0:
             lo = prev
             hi = t
             for _ in range(200):
                 mid = 0.5 * (lo + hi)
-                xm = x0 + mid * (v0 + 0.5 * A * mid)
-                if force(xm, v0 + A * mid, p, A, s) > 0.0:
+                xm = max(x0 + mid * (v0 + 0.5 * A * mid), TINY)
+                if scaled_force(code, xm, v0 + A * mid, p, A, s) > 0.0:
                     hi = mid
                 else:
                     lo = mid
@@ -225,8 +232,8 @@ def _flight(force, x0, v0, p, A, s):
 
 
 @njit(cache=True, error_model="numpy")
-def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
-    """One impact of the law ``force`` at damping ``p``, scaled load ``A``, shape ``s``.
+def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
+    """One impact of the law with kernel code ``code`` at damping ``p``, scaled load ``A``, shape ``s``.
 
     Returns a row: eps^2, e_N, end state code, status code, x_m, x_e, v_e, t_e, steps.
     """
@@ -250,7 +257,7 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
             break
         if floor:
             floor = False
-            kind, dt, x, v = _flight(force, x, v, p, A, s)
+            kind, dt, x, v = _flight(code, x, v, p, A, s)
             t += dt
             if kind == 1:
                 state = SEPARATION
@@ -264,7 +271,7 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
                 h = 1e-6
             continue
         # Settled next to the equilibrium without a turn of v: the limit.
-        if _trapped(force, x, v, p, A, s, x_eq):
+        if _trapped(code, x, v, p, A, s, x_eq):
             if compressing:
                 state = NO_RESTITUTION
                 x_m = x_eq
@@ -275,7 +282,7 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
             t = np.inf
             break
         steps += 1
-        x1, v1 = _step(force, x, v, h, p, A, s, K)
+        x1, v1 = _step(code, x, v, h, p, A, s, K)
         err = _error(K, h, x, v, x1, v1, rtol, atol)
         if not np.isfinite(err) or err > 1.0:
             fac = MIN_FACTOR if not np.isfinite(err) else max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT)
@@ -290,8 +297,8 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
         bx = 0.0
         bv = 0.0
         for kind in range(3):
-            g0 = _event_value(force, kind, x, v, p, A, s)
-            g1 = _event_value(force, kind, x1, v1, p, A, s)
+            g0 = _event_value(code, kind, x, v, p, A, s)
+            g1 = _event_value(code, kind, x1, v1, p, A, s)
             if kind == 0:
                 hit = (compressing and g1 <= 0.0) or ((not compressing) and g1 >= 0.0 and g0 < 0.0)
             elif kind == 1:
@@ -299,7 +306,7 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
             else:
                 hit = (not compressing) and g1 < 0.0 <= g0 and x1 > 0.0
             if hit:
-                hs, xs, vs, good = _locate(force, kind, x, v, h, g0, p, A, s, K)
+                hs, xs, vs, good = _locate(code, kind, x, v, h, g0, p, A, s, K)
                 if not good:
                     status = EVENT_FAILED
                 if hs < best:
@@ -317,6 +324,11 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
                 status = NON_FINITE
                 break
             continue
+        if bk == 0 and not compressing and bx < 0.0:
+            # v turned below x = 0: the motion left the contact inside the step (a parabola that
+            # dips under x = 0 and back), so separation came first, on [0, best].
+            best, bx, bv, good = _locate(code, 1, x, v, best, x, p, A, s, K)
+            bk = 1
         t += best
         if bk == 0 and compressing:
             x = bx
@@ -355,12 +367,12 @@ def impact_kernel(force, p, A, s, x_eq, rtol, atol, max_steps):
 
 
 @njit(cache=True, error_model="numpy")
-def impact_rows(force, p, A, s, x_eq, rtol, atol, max_steps):
+def impact_rows(code, p, A, s, x_eq, rtol, atol, max_steps):
     """``impact_kernel`` over flat arrays ``p``, ``A``, ``x_eq`` (``s`` one value)."""
     n = p.size
     out = np.empty((n, N_ROW))
     for i in range(n):
-        row = impact_kernel(force, p[i], A[i], s, x_eq[i], rtol, atol, max_steps)
+        row = impact_kernel(code, p[i], A[i], s, x_eq[i], rtol, atol, max_steps)
         for j in range(N_ROW):
             out[i, j] = row[j]
     return out

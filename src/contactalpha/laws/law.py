@@ -21,6 +21,7 @@ from contactalpha.validation import check_positive, check_range
 from . import forces
 from .backends import ENGINE, FAMILY
 from .domain import RESTITUTIONS, check_restitution
+from .fast import CLOSED_FORM, ENGINE_TABLE
 
 # The load factors every law covers: the paper's 0 <= xi <= 0.99.
 XI_MAX = 0.99
@@ -55,8 +56,9 @@ class ContactLaw:
     impedance : MuJoCo's constant impedance d (0 for the other laws).
     impedance_range : valid (lo, hi) of ``impedance``, hi excluded; None if the law has none.
     force : jitted scaled force argument ``f(x, v, p, A, d)`` (``forces.py``).
+    code : its position in the kernels' force table (``forces.scaled_force``).
     backend : where its reference numbers come from (``backends.py``).
-    evaluator : what the fast evaluator is ("engine table", "closed form", "table").
+    fast : its fast evaluator (``fast.py``): the closed form, the engine's table, or None.
     """
 
     name: str
@@ -72,7 +74,8 @@ class ContactLaw:
     floor_reached: bool
     end_states: tuple
     force: Callable
-    evaluator: str
+    fast: object
+    code: int
     backend: object = FAMILY
     restitutions: tuple = RESTITUTIONS
     load_domain: tuple = (0.0, XI_MAX)
@@ -175,13 +178,13 @@ class ContactLaw:
         return damping_for(self, target, xi, restitution, **settings)
 
     def fast_damping(self, target, xi, restitution="energetic"):
-        """Fast evaluator of the inverse (see ``evaluator``)."""
+        """Fast evaluator of the inverse (``fast``; None: not yet, a ValueError says so)."""
         from .fast import fast_damping
 
         return fast_damping(self, target, xi, restitution)
 
     def fast_restitution(self, p, xi, restitution="energetic"):
-        """Fast evaluator of the forward map (see ``evaluator``)."""
+        """Fast evaluator of the forward map (``fast``; None: not yet, a ValueError says so)."""
         from .fast import fast_restitution
 
         return fast_restitution(self, p, xi, restitution)
@@ -209,7 +212,8 @@ LAWS = [
         floor_reached=False,
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_force,
-        evaluator="engine table",
+        code=forces.HUNT_CROSSLEY,
+        fast=ENGINE_TABLE,
         backend=ENGINE,
         restitution_domain=(0.01, 1.0),
     ),
@@ -227,7 +231,8 @@ LAWS = [
         floor_reached=False,
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_linear_force,
-        evaluator="table",
+        code=forces.HUNT_CROSSLEY_LINEAR,
+        fast=None,
     ),
     ContactLaw(
         name="kelvin_voigt",
@@ -243,7 +248,8 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.kelvin_voigt_force,
-        evaluator="closed form",
+        code=forces.KELVIN_VOIGT,
+        fast=CLOSED_FORM,
     ),
     ContactLaw(
         name="mujoco_soft",
@@ -259,7 +265,8 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.mujoco_soft_force,
-        evaluator="closed form",
+        code=forces.MUJOCO_SOFT,
+        fast=CLOSED_FORM,
         impedance=0.9,
         impedance_range=(0.0, 1.0),
     ),
@@ -277,7 +284,8 @@ LAWS = [
         floor_reached=True,
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
-        evaluator="table",
+        code=forces.HERTZ_TSUJI,
+        fast=None,
     ),
 ]
 
