@@ -40,7 +40,7 @@ def stepping_figure(datasets):
     for ax, ds in zip(axes[0], run, strict=False):
         targets = ds["target"].values
         ax.plot([0, 1], [0, 1], color="0.6", lw=0.8, zorder=0)
-        for name, (var, marker, color, label) in SETS.items():
+        for var, marker, color, label in SETS.values():
             for j in range(ds.sizes["load"]):
                 y = ds[var].isel(load=j).values
                 ax.scatter(
