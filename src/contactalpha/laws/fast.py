@@ -78,18 +78,11 @@ def _shaped(a, shape):
 
 def _fast_of(law):
     if law.fast is None:
-        with_fast = ", ".join(other.name for other in _laws() if other.fast is not None)
         raise ValueError(
-            f"law {law.name!r} has no fast evaluator yet; law.impact and law.damping_for compute it "
-            f"exactly (laws with one: {with_fast})"
+            f"law {law.name!r} has no fast evaluator yet; law.impact and law.damping_for compute it exactly "
+            "(laws with one: see ContactLaw.fast)"
         )
     return law.fast
-
-
-def _laws():
-    from .law import LAWS
-
-    return LAWS
 
 
 def fast_restitution(law, p, xi, restitution="energetic"):
