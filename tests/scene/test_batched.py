@@ -49,3 +49,16 @@ def test_bad_input_names_the_value():
         batched_parameters([1.0, -1.0], 1e8, 1.0, 10.0, 0.5)
     with pytest.raises(ValueError, match="kinematic"):
         batched_parameters(1.0, 1e8, 1.0, 10.0, [0.5, 1.5])
+
+
+def test_n1_laws_batched_damping_is_the_laws_exact_inverse():
+    from contactalpha.laws import get_law
+
+    law = get_law("kelvin_voigt")
+    out = batched_parameters([0.5, 0.5], [1e4, 2e4], [0.5, 1.0], [9.81, 30.0], [0.5, 0.8], law=law)
+    assert sorted(out.engines) == ["pybullet"]
+    for i in range(2):
+        exact = law.damping_for([0.5, 0.8][i], float(out.xi[i]), "kinematic").damping
+        assert out.damping[i] == pytest.approx(float(exact), rel=1e-7)
+        c = 2 * out.damping[i] * ([1e4, 2e4][i] * 0.5) ** 0.5
+        assert out.engines["pybullet"]["pair_damping"][i] == pytest.approx(c, rel=1e-14)

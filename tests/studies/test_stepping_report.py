@@ -37,3 +37,13 @@ def test_scene_for_spans_the_steps_and_loads():
     omega = (sc.stiffness / sc.mass) ** 0.5
     assert abs(np.pi / omega / 0.002 - 30.0) < 1e-9
     assert abs(sc.accel / (omega * sc.approach_speed) - 0.3) < 1e-12
+
+
+def test_usual_mappings_are_models_of_each_engines_law():
+    from contactalpha.adapters.registry import adapter
+    from contactalpha.models.registry import ALL_MODELS
+    from contactalpha.studies.engines.stepping import STEPS, USUAL
+
+    assert set(USUAL) == set(STEPS)
+    for engine, model in USUAL.items():
+        assert ALL_MODELS[model].law == adapter(engine).law.name

@@ -93,7 +93,7 @@ class PyBulletAdapter:
         ``damping`` is the law's damping ratio zeta (>= 0): ``c = 2 zeta sqrt(k m)``; arrays go through.
         """
         zeta = np.asarray(check_range("damping", damping, 0.0, math.inf, hi_open=True))
-        c = 2.0 * zeta * math.sqrt(scene.stiffness * scene.mass)
+        c = 2.0 * zeta * np.sqrt(scene.stiffness * scene.mass)
         k = np.broadcast_to(scene.stiffness, c.shape)
         return {
             "contactStiffness": _out(2.0 * k),

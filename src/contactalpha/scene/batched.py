@@ -2,8 +2,10 @@
 
 ``contact_parameters`` sends array input here.  Each scene is a mass, a stiffness, an approach
 speed, a load and a target restitution; the arrays broadcast.  The law's damping comes from the
-law's fast evaluator (the shipped exact table for Hunt-Crossley, n = 3/2), and each registered
-engine of that law converts it (``adapters.registry.engine_parameters``).  No impact is integrated
+law's fast evaluator (``ContactLaw.fast_damping``; for Hunt-Crossley, n = 3/2, the shipped exact
+table at ``engine.scaling``'s xi, as the scalar front door), and each registered engine of that law
+converts it (``adapters.registry.engine_parameters``).  A law written per unit mass (MuJoCo's) takes
+mass 1 and the stiffness per unit mass, as ``contactalpha.laws`` documents.  No impact is integrated
 per scene: the restitutions delivered are the evaluator's (the table's ~1e-7 in alpha).
 
 Scenes outside the evaluator's domain (a target below its smallest restitution, a load factor above
@@ -20,10 +22,8 @@ from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_scalar
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
+from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_positive, check_range
-
-# The laws whose fast evaluator is the shipped exact table of the engine (n = 3/2).
-ENGINE_TABLE = "engine table"
 
 
 @dataclass(frozen=True)
@@ -117,7 +117,7 @@ def batched_parameters(
     a = np.asarray(check_range("accel", accel, 0.0, np.inf, hi_open=True), dtype=float)
     e = np.asarray(check_range(restitution, target, 0.0, 1.0, lo_open=True), dtype=float)
     m, k, v, a, e = np.broadcast_arrays(m, k, v, a, e)
-    if law.evaluator == ENGINE_TABLE:
+    if law.fast is ENGINE_TABLE:  # n = 3/2: the front door's own xi and table, bit for bit
         xi = hertz_load_factor(m, k, v, a)
         ok = (e >= EPS_MIN) & (xi <= XI_MAX)
         damping = np.full(e.shape, np.nan)

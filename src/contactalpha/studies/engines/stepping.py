@@ -6,12 +6,9 @@ go into the engine, and the mean e_N over touchdown phases is measured (``adapte
 
 - ``law``: the continuous law's exact inverse at the scene's load (``ContactLaw.damping_for``);
 - ``refined``: that damping refined by secant steps on the engine's own drops (``calibrate``);
-- ``usual``: the engine's usual mapping of a restitution (``USUAL``).
-
-The usual mappings are held here until ``contactalpha.laws`` registers them as models (issue 26):
-the classic damping ratio of an undamped-floorless oscillator ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``
-(MuJoCo's dampratio, Bullet's damping) and Drake's documented guidance "1/d is the maximum bounce
-speed" (``contact_defaults_doxygen.h``), ``d = 1 / (e v)``.
+- ``usual``: the engine's usual mapping of a restitution, a registered model (``USUAL``:
+  ``contactalpha.models.engine_mappings``): MuJoCo's dampratio and Bullet's damping by the classic
+  ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``, Drake's bound "1/d is the bounce speed", ``alpha = 1/e``.
 """
 
 import math
@@ -24,6 +21,7 @@ import xarray as xr
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter, installed
 from contactalpha.adapters.stepped import ContactStepsWarning
+from contactalpha.models.registry import ALL_MODELS
 
 # Engines with a fixed step, and the steps their test scenes' contacts span (Bullet's and Drake's
 # implicit steps lose too much at 30 even without damping: e_N = 0.8 is then out of reach).
@@ -32,16 +30,8 @@ TARGETS = (0.2, 0.5, 0.8)
 LOADS = (0.05, 0.3, 0.6)
 
 
-def _classic_zeta(e, scene):
-    return -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
-
-
-def _drake_guidance(e, scene):
-    return 1.0 / e  # alpha = d v with d = 1 / (e v)
-
-
-# Engine -> its usual mapping of a restitution to the law's damping parameter.
-USUAL = {"mujoco": _classic_zeta, "drake": _drake_guidance, "pybullet": _classic_zeta}
+# Engine -> the registered model of its usual mapping of a restitution to the law's damping.
+USUAL = {"mujoco": "mujoco_dampratio", "drake": "drake_bound", "pybullet": "classic_zeta"}
 # Per-scene variables: name -> (units, meaning).
 FIELDS = {
     "xi": ("1", "the law's load factor of the scene"),
@@ -88,7 +78,8 @@ def round_trips(engine, targets=TARGETS, loads=LOADS):
                 warnings.simplefilter("ignore", ContactStepsWarning)
                 _, ref, got = a.calibrate(sc, e, p_law)
             seconds = time.perf_counter() - start
-            p_usual = USUAL[engine](e, sc)
+            model = ALL_MODELS[USUAL[engine]]
+            p_usual = float(model.fn(np.array(e), np.array(xi)))
             usual = a.delivered(sc, p_usual)
             values = {
                 "xi": xi,
