@@ -93,3 +93,16 @@ def test_hunt_crossley_law_is_the_engine_unchanged():
     np.testing.assert_array_equal(r.e_n, ref.e_n)
     s = law.damping_for(0.5, 0.2325)
     assert s.damping == solve_alpha(0.5, 0.2325).alpha
+
+
+def test_length_scale_and_load_are_the_laws_scaling():
+    """delta_s is the undamped unloaded maximum compression: v / omega for n = 1, Eq. 8's delta* for 3/2."""
+    from contactalpha.engine.scaling import influence_factor, length_scale
+
+    m, k, v, a = 0.5, 1.4e8, 0.5, 129.81
+    tsuji = get_law("hertz_tsuji")
+    assert tsuji.length_scale(m, k, v) == pytest.approx(float(length_scale(m, k, v)), rel=1e-15)
+    assert tsuji.load_factor(tsuji.load(m, k, v, a)) == pytest.approx(influence_factor(m, k, v, a), rel=1e-13)
+    linear = get_law("kelvin_voigt")
+    assert linear.length_scale(2.0, 800.0, 0.5) == pytest.approx(0.5 / 20.0, rel=1e-15)
+    assert linear.load(2.0, 800.0, 0.5, 9.81) == pytest.approx(9.81 / (20.0 * 0.5), rel=1e-15)
