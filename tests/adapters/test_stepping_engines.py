@@ -8,8 +8,8 @@ steps of its default step (60 for Bullet and Drake's discrete plant, whose impli
 dissipative: at 30 steps even zero damping rebounds below 0.8 in them).
 
 The law's inverse that the refinement starts from is computed here by an independent SciPy
-integration of the law (a stopgap until ``contactalpha.laws`` provides the inverses; it is never
-the adapters' code path).  Skipped without the engine, except under CI=true (conftest).
+integration of the law (never the adapters' code path); ``test_calibrate_starts_from_the_laws_inverse``
+runs the adapters' own start, ``ContactLaw.damping_for``.  Skipped without the engine, except under CI=true (conftest).
 """
 
 import math
@@ -156,11 +156,6 @@ def test_unreachable_target_is_said_not_hidden(pybullet):
     np.testing.assert_array_less(got.e_n, 0.8)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="contactalpha.laws: ContactLaw.length_scale computes ((n+1) m v^2 / k)^(1/(n+1)), "
-    "twice (under the root) its docstring's ((n+1) m v^2 / (2k)); reported for the laws branch",
-)
 @pytest.mark.parametrize("name", ["kelvin_voigt", "hunt_crossley_linear"])
 def test_law_scaled_load_is_a_over_omega_v(name):
     from contactalpha.laws import get_law

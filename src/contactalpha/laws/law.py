@@ -136,7 +136,7 @@ class ContactLaw:
             check_positive(n, x)
             for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
         )
-        return _plain((2.0 * self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
+        return _plain((self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
 
     def load(self, mass, stiffness, approach_speed, accel):
         """Scaled load ``A = a delta_s / v^2`` of a scene."""

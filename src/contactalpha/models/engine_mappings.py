@@ -8,7 +8,8 @@ mappings ignore the load.  Their sources:
 - ``mujoco_dampratio``: MuJoCo's solref = (timeconst, dampratio) in its standard mode makes the soft
   contact's stiffness 1/(timeconst dampratio)^2 and damping 2/timeconst per unit mass whatever the
   impedance, so dampratio *is* zeta; users set it with the classic formula.  ``mujoco_default`` is
-  MuJoCo's default dampratio 1.  Both with MuJoCo's default impedance 0.9 (solimp[0]).
+  MuJoCo's default dampratio 1.  Neither depends on the impedance; ``mujoco_soft_exact`` assumes
+  MuJoCo's default 0.9 (solimp[0]).
 - ``tsuji_beta``: the DEM codes' Hertz damping (LIGGGHTS, LAMMPS granular, Chrono SMC)
   gamma_n = 2 sqrt(5/6) beta sqrt(S_n m), S_n = 2 Y* sqrt(R* delta), beta = ln e / sqrt(ln^2 e + pi^2):
   with k = (4/3) Y* sqrt(R*), eta = sqrt(5) |beta| sqrt(m k), i.e. this package's beta = sqrt(5) |beta|.
@@ -97,24 +98,22 @@ ENGINE_MAPPINGS = [
     Model(
         "mujoco_dampratio",
         "MuJoCo dampratio = classic ζ(e)",
-        "MuJoCo solref (timeconst, dampratio), solimp d = 0.9",
+        "MuJoCo solref (timeconst, dampratio): dampratio = ζ for any impedance",
         "dampratio = −ln e / √(π² + ln² e)",
         False,
         classic_zeta,
         law="mujoco_soft",
         restitutions=KINEMATIC,
-        impedance=MUJOCO_DEFAULT_IMPEDANCE,
     ),
     Model(
         "mujoco_default",
         "MuJoCo default dampratio 1",
-        "MuJoCo solref default (0.02, 1), solimp d = 0.9",
+        "MuJoCo solref default (0.02, 1)",
         "dampratio = 1",
         False,
         mujoco_default,
         law="mujoco_soft",
         restitutions=KINEMATIC,
-        impedance=MUJOCO_DEFAULT_IMPEDANCE,
     ),
     Model(
         "tsuji_beta",

@@ -21,10 +21,13 @@ from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
+from .law_scene import law_contact_parameters
+
 # The contact law this front door solves for (Hunt-Crossley, n = 3/2).
-LAW = "hunt_crossley"
+LAW = DEFAULT_LAW
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,7 @@ def contact_parameters(
     accel=None,
     force=None,
     radius=None,
+    law=None,
 ):
     """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
 
@@ -148,12 +152,16 @@ def contact_parameters(
         included if it acts), or the constant force (N, >= 0; ``accel = force / mass``).
     radius : float, optional
         Radius of a sphere meeting a half space, m (> 0): adds OpenSim's ``stiffness``.
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        returns ``scene.law_scene.LawParameters``, with ``stiffness`` in that law's units.
 
     Returns
     -------
     ContactParameters
-        Or, when any input is an array, ``scene.batched.BatchedParameters``: every engine's
-        parameters as arrays over the broadcast scenes (the table's alpha, no impact integrated).
+        Or, when any input is an array, ``scene.batched.BatchedParameters`` (any ``law``): every
+        engine's parameters as arrays over the broadcast scenes (the law's fast evaluator, no
+        impact integrated).
 
     Raises
     ------
@@ -164,7 +172,7 @@ def contact_parameters(
         If the solver fails outside the table's domain (never a plausible wrong number).
     """
     if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
-        return _batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return _batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -173,6 +181,8 @@ def contact_parameters(
     k = _positive("stiffness", stiffness)
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_contact_parameters(law, value, restitution, m, k, v, a)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")
@@ -202,7 +212,7 @@ def _batch(*values):
     return any(v is not None and type(v) not in PLAIN_FLOATS and np.ndim(v) > 0 for v in values)
 
 
-def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
+def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law):
     """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
     from contactalpha.scene.batched import batched_parameters
 
@@ -213,7 +223,7 @@ def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
     a = accel if force is None else np.asarray(force, dtype=float) / np.asarray(mass, dtype=float)
     target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
     return batched_parameters(
-        mass, stiffness, approach_speed, a, target, restitution=restitution, law=LAW, radius=radius
+        mass, stiffness, approach_speed, a, target, restitution=restitution, law=law or LAW, radius=radius
     )
 
 
