@@ -9,7 +9,8 @@ dissipative: at 30 steps even zero damping rebounds below 0.8 in them).
 
 The law's inverse that the refinement starts from is computed here by an independent SciPy
 integration of the law (never the adapters' code path); ``test_calibrate_starts_from_the_laws_inverse``
-runs the adapters' own start, ``ContactLaw.damping_for``.  Skipped without the engine, except under CI=true (conftest).
+runs the adapters' own start, ``ContactLaw.damping_for``.  Skipped without the engine, except
+under CI=true (conftest).
 """
 
 import math
