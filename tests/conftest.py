@@ -43,3 +43,18 @@ def opensim():
 @pytest.fixture(scope="session")
 def exudyn():
     return _require_engine("exudyn")
+
+
+@pytest.fixture(scope="session")
+def mujoco():
+    return _require_engine("mujoco")
+
+
+@pytest.fixture(scope="session")
+def pydrake():
+    return _require_engine("pydrake")
+
+
+@pytest.fixture(scope="session")
+def pybullet():
+    return _require_engine("pybullet")

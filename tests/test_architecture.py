@@ -13,11 +13,12 @@ RANKS = {
     "provenance": 0,
     "plotting": 0,
     "engine": 1,
+    "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
     "baselines": 3,
     "scene": 4,
-    "adapters": 5,
+    "adapters": 4,  # peers of scene: the front door iterates the adapters' registry
     "warmup": 5,
     "paper": 6,
     "studies": 6,

@@ -4,6 +4,7 @@ import argparse
 import re
 import sys
 
+from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
 
@@ -85,6 +86,14 @@ def build_parser():
     f_load.add_argument("--force", type=_number, help="constant force into the contact, N")
     f.add_argument("--radius", type=_number, help="sphere radius, m (adds OpenSim's stiffness)")
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
+    f.add_argument(
+        "--engine",
+        choices=ENGINE_NAMES,
+        help="print only this engine's block; for n = 1 engines --stiffness is in N/m",
+    )
+    f.add_argument(
+        "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
+    )
     x = sub.add_parser("export-c", help="write the exact-alpha tables and evaluator as C99 source")
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     return p
@@ -94,6 +103,24 @@ def _print_advice(adv):
     from contactalpha.scene.advisor import format_advice
 
     print(format_advice(adv))
+
+
+def _print_engine(args):
+    """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
+    from contactalpha.io import json_text
+    from contactalpha.scene.engine_params import engine_block, format_block
+
+    accel = args.accel if args.accel is not None else args.force / args.mass
+    target, kind = (args.e_n, "kinematic") if args.e_n is not None else (args.eps, "energetic")
+    params, notes = engine_block(
+        args.engine, target, args.mass, args.stiffness, args.speed, accel,
+        restitution=kind, radius=args.radius, refine=args.refine,
+    )  # fmt: skip
+    if args.json:
+        print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
+    else:
+        print(format_block(args.engine, params, notes))
+    return 0
 
 
 def main(argv=None):
@@ -122,6 +149,8 @@ def main(argv=None):
             for path in export_c(args.directory):
                 print(path)
             return 0
+        if args.command == "params" and args.engine is not None:
+            return _print_engine(args)
         if args.command == "params":
             from dataclasses import asdict
 

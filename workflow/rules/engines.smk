@@ -9,6 +9,8 @@
 ENGINES = config["engines"]
 ENGINES_DIR = "results/engines"
 ENGINE_NAMES = ["opensim", "exudyn"]
+# Stepping engines (issue 27): each one's round trips at its own step; a missing one is skipped.
+STEPPING_ENGINES = ["mujoco", "drake", "pybullet"]
 
 
 rule engines:
@@ -16,6 +18,8 @@ rule engines:
         f"{ENGINES_DIR}/summary.md",
         f"{ENGINES_DIR}/page.filled",
         expand("results/figures/engines_roundtrip.{ext}", ext=["png", "pdf"]),
+        expand("results/figures/engines_stepping.{ext}", ext=["png", "pdf"]),
+        "docs/engines-table.md",
 
 
 rule engines_roundtrip:
@@ -112,3 +116,32 @@ rule engines_fig_roundtrip:
         "../envs/contactalpha.yaml"
     script:
         "../scripts/engines_fig_roundtrip.py"
+
+
+rule engines_stepping:
+    output:
+        f"{ENGINES_DIR}/stepping_{{engine}}.nc",
+    wildcard_constraints:
+        engine="|".join(STEPPING_ENGINES),
+    log:
+        "logs/engines/stepping_{engine}.log",
+    threads: 1
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_stepping.py"
+
+
+rule engines_stepping_report:
+    input:
+        expand(f"{ENGINES_DIR}/stepping_{{engine}}.nc", engine=STEPPING_ENGINES),
+    output:
+        png="results/figures/engines_stepping.png",
+        pdf="results/figures/engines_stepping.pdf",
+        table="docs/engines-table.md",
+    log:
+        "logs/engines/stepping_report.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_stepping_report.py"

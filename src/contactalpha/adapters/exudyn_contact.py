@@ -25,14 +25,17 @@ Importing this module does not need Exudyn; the functions that run it raise ``Im
 
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.measure import measure_impact
-from contactalpha.adapters.opensim_hc import STATIC_BRACKET, Samples
+from contactalpha.adapters.contract import DropScene, Samples, law_damping
+from contactalpha.adapters.measure import measure_with_rest_check
+from contactalpha.adapters.opensim_hc import STATIC_BRACKET
 from contactalpha.engine.scaling import length_scale, time_scale
-from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS
+from contactalpha.laws import get_law
+from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
 from contactalpha.validation import check_positive, check_range
 
 INSTALL_HINT = 'Exudyn is an optional engine: pip install -e ".[engines]" (PyPI package "exudyn")'
@@ -45,6 +48,8 @@ TOLERANCE = 1e-10
 STEPS_PER_TSTAR = 400
 # Window of one measured impact, in t*.
 WINDOW_TSTAR = 40.0
+# Exudyn's impact model whose built-in mapping covers every alpha > 0 (see engine_conventions).
+IMPACT_MODEL = 2
 
 
 def _exudyn():
@@ -134,6 +139,132 @@ def static_penetration(mass, radius, stiffness, gravity, force):
     return brentq(imbalance, lo, hi, xtol=1e-16 * predicted, rtol=1e-15)
 
 
+@dataclass(frozen=True)
+class ExudynSettings:
+    """Settings of an Exudyn drop: the workflow's ``engines.exudyn`` section.
+
+    ``tolerance`` of Exudyn's DOPRI5 (relative; absolute = tolerance delta*), ``steps_per_tstar``
+    (generalized-alpha steps, or DOPRI5's largest step, per t*), ``window`` of one measured
+    impact in t*.
+    """
+
+    tolerance: float = TOLERANCE
+    steps_per_tstar: int = STEPS_PER_TSTAR
+    window: float = WINDOW_TSTAR
+
+
+@dataclass
+class _Drop:
+    mbs: object
+    container: object
+    handles: dict
+    sensors: list
+
+
+class ExudynAdapter:
+    """Exudyn's ``ObjectContactSphereSphere``: the engine adapter (``adapters.contract``).
+
+    The law is Hunt-Crossley with n = 3/2; its damping parameter alpha enters through the
+    ``restitutionCoefficient`` of ``impactModel`` 2 (``contactalpha.scene.engine_conventions``).
+    ``solver`` is one of ``SOLVERS``; the registry's adapter uses DOPRI5.
+    """
+
+    name = "exudyn"
+    law = get_law("hunt_crossley")
+    module = "exudyn"
+    settings = ExudynSettings()
+
+    def __init__(self, solver="dopri5"):
+        if solver not in SOLVERS:
+            raise ValueError(f"solver = {solver!r} is outside the valid choices {SOLVERS}")
+        self.solver = solver
+
+    def version(self):
+        """Exudyn's version string."""
+        return version()
+
+    def parameters(self, damping, scene):
+        """The connector's parameters for alpha = ``damping``: impactModel 2, contactDamping 0."""
+        return {
+            "contactStiffness": scene.stiffness,
+            "contactStiffnessExponent": 1.5,
+            "impactModel": IMPACT_MODEL,
+            "restitutionCoefficient": exudyn_restitution_input(damping, IMPACT_MODEL),
+            "contactDamping": 0.0,
+            "minimumImpactVelocity": 0.0,
+        }
+
+    def build_drop(self, scene, params, settings):
+        """The Exudyn system, assembled, with the ball at touchdown moving at the approach speed."""
+        exu = _exudyn()
+        ii = exu.itemInterface
+        s = scene
+        e, model = params["restitutionCoefficient"], params.get("impactModel", IMPACT_MODEL)
+        sc, mbs, h = build_drop(s.mass, s.radius, s.stiffness, e, model, s.gravity, s.force)
+        mbs.SetNodeParameter(h["ball"], "initialVelocities", [0.0, -s.approach_speed, 0.0])
+        sensors = [
+            mbs.AddSensor(
+                ii.SensorNode(
+                    nodeNumber=h["ball"], storeInternal=True, writeToFile=False, outputVariableType=kind
+                )
+            )
+            for kind in (exu.OutputVariableType.Position, exu.OutputVariableType.Velocity)
+        ]
+        mbs.Assemble()
+        return _Drop(mbs, sc, h, sensors)
+
+    def run(self, model, scene, settings):
+        """Solve over ``settings.window`` t* with ``self.solver``; states at every step."""
+        exu = _exudyn()
+        mbs, v = model.mbs, scene.approach_speed
+        ds = float(length_scale(scene.mass, scene.stiffness, v))
+        ts = float(time_scale(scene.mass, scene.stiffness, v))
+        n = int(math.ceil(settings.window * settings.steps_per_tstar))
+        sim = exu.SimulationSettings()
+        ti = sim.timeIntegration
+        ti.endTime = settings.window * ts
+        ti.numberOfSteps = n
+        ti.verboseMode = 0
+        sim.solution.file.write = False
+        sim.solution.sensors.writePeriod = 0.5 * ts / settings.steps_per_tstar
+        if self.solver == "dopri5":
+            kind = exu.DynamicSolverType.DOPRI5
+            ti.automaticStepSize = True
+            ti.relativeTolerance = float(settings.tolerance)
+            ti.absoluteTolerance = float(settings.tolerance) * ds
+        else:
+            kind = exu.DynamicSolverType.GeneralizedAlpha
+            ti.generalizedAlpha.spectralRadius = 1.0
+        start = time.perf_counter()
+        ok = mbs.SolveDynamic(sim, solverType=kind)
+        seconds = time.perf_counter() - start
+        if not ok:
+            raise RuntimeError(f"Exudyn's {self.solver} solver failed")
+        pos, vel = (mbs.GetSensorStoredData(s) for s in model.sensors)
+        speed = mbs.GetNodeOutput(model.handles["data"], exu.OutputVariableType.Coordinates)[2]
+        extra = {"last_recorded_impact_speed": float(speed)}
+        return Samples(pos[:, 0], scene.radius - pos[:, 2], -vel[:, 2], seconds, extra)
+
+    def measure(self, samples, scene):
+        """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
+        return measure_with_rest_check(samples, scene)
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
+        return law_damping(self.law, scene, target, restitution)
+
+    def static_penetration(self, scene):
+        """Deformation (m) at which Exudyn's contact carries the load at rest (``static_penetration``)."""
+        return static_penetration(scene.mass, scene.radius, scene.stiffness, scene.gravity, scene.force)
+
+    def timestep(self, settings):
+        """None for DOPRI5 (error-controlled); the fixed step t*/steps_per_tstar is per scene otherwise."""
+        return None
+
+
+ADAPTER = ExudynAdapter()
+
+
 def drop_impact(
     mass,
     radius,
@@ -143,7 +274,7 @@ def drop_impact(
     gravity,
     force,
     *,
-    impact_model=2,
+    impact_model=IMPACT_MODEL,
     solver="dopri5",
     tolerance=TOLERANCE,
     steps_per_tstar=STEPS_PER_TSTAR,
@@ -174,53 +305,9 @@ def drop_impact(
         ``last_recorded_impact_speed`` (the connector's data at the end of the run: the speed of
         the last touchdown in the window).
     """
-    if solver not in SOLVERS:
-        raise ValueError(f"solver = {solver!r} is outside the valid choices {SOLVERS}")
-    exu = _exudyn()
-    ii = exu.itemInterface
-    v = float(check_positive("approach_speed", approach_speed))
-    sc, mbs, h = build_drop(mass, radius, stiffness, restitution, impact_model, gravity, force)
-    mbs.SetNodeParameter(h["ball"], "initialVelocities", [0.0, -v, 0.0])
-    sensors = [
-        mbs.AddSensor(
-            ii.SensorNode(
-                nodeNumber=h["ball"], storeInternal=True, writeToFile=False, outputVariableType=kind
-            )
-        )
-        for kind in (exu.OutputVariableType.Position, exu.OutputVariableType.Velocity)
-    ]
-    mbs.Assemble()
-    ds, ts = float(length_scale(mass, stiffness, v)), float(time_scale(mass, stiffness, v))
-    n = int(math.ceil(window * steps_per_tstar))
-    settings = exu.SimulationSettings()
-    ti = settings.timeIntegration
-    ti.endTime = window * ts
-    ti.numberOfSteps = n
-    ti.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = 0.5 * ts / steps_per_tstar
-    if solver == "dopri5":
-        kind = exu.DynamicSolverType.DOPRI5
-        ti.automaticStepSize = True
-        ti.relativeTolerance = float(tolerance)
-        ti.absoluteTolerance = float(tolerance) * ds
-    else:
-        kind = exu.DynamicSolverType.GeneralizedAlpha
-        ti.generalizedAlpha.spectralRadius = 1.0
-    start = time.perf_counter()
-    ok = mbs.SolveDynamic(settings, solverType=kind)
-    seconds = time.perf_counter() - start
-    if not ok:
-        raise RuntimeError(f"Exudyn's {solver} solver failed")
-    pos, vel = (mbs.GetSensorStoredData(s) for s in sensors)
-    t, d, dd = pos[:, 0], radius - pos[:, 2], -vel[:, 2]
-    result = measure_impact(t, d, dd, gravity + force / mass, v)
-    after = t > result.t_end
-    extra = {
-        "separated_later": bool(not result.separated and np.any(d[after] <= 0.0)),
-        "min_delta_after_end": float(d[after].min()) if after.any() else np.nan,
-        "last_recorded_impact_speed": float(
-            mbs.GetNodeOutput(h["data"], exu.OutputVariableType.Coordinates)[2]
-        ),
-    }
-    return result, Samples(t, d, dd, seconds, extra)
+    adapter = ExudynAdapter(solver)
+    scene = DropScene(mass, stiffness, approach_speed, gravity, force, radius)
+    settings = ExudynSettings(tolerance, steps_per_tstar, window)
+    params = {"restitutionCoefficient": restitution, "impactModel": impact_model}
+    samples = adapter.run(adapter.build_drop(scene, params, settings), scene, settings)
+    return adapter.measure(samples, scene), samples

@@ -167,3 +167,16 @@ def measure_impact(t, delta, delta_dot, accel, approach_speed=None):
         delta_end=float(d_end),
         v_end=float(v_end),
     )
+
+
+def measure_with_rest_check(samples, scene):
+    """``measure_impact`` of ``samples``, and whether the ball left the ground after a non-separating end.
+
+    ``samples.extra`` gains ``separated_later`` (it must stay False) and ``min_delta_after_end``.
+    """
+    t, d = samples.t, samples.delta
+    result = measure_impact(t, d, samples.delta_dot, scene.accel, scene.approach_speed)
+    after = t > result.t_end
+    samples.extra["separated_later"] = bool(not result.separated and np.any(d[after] <= 0.0))
+    samples.extra["min_delta_after_end"] = float(d[after].min()) if after.any() else np.nan
+    return result

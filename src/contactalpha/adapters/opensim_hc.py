@@ -18,13 +18,15 @@ Importing this module does not need OpenSim; the functions that run it raise ``I
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.measure import measure_impact
+from contactalpha.adapters.contract import DropScene, Samples, law_damping
+from contactalpha.adapters.measure import measure_impact, measure_with_rest_check
 from contactalpha.engine.scaling import time_scale
+from contactalpha.laws import get_law
 from contactalpha.scene.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
 from contactalpha.validation import check_positive, check_range
 
@@ -149,17 +151,6 @@ def static_penetration(mass, radius, stiffness, gravity, force):
     return brentq(acceleration, lo, hi, xtol=1e-16 * predicted, rtol=1e-15)
 
 
-@dataclass
-class Samples:
-    """States at report times: ``t`` (s), ``delta`` (m), ``delta_dot`` (m/s); ``seconds`` of wall clock."""
-
-    t: np.ndarray
-    delta: np.ndarray
-    delta_dot: np.ndarray
-    seconds: float = 0.0
-    extra: dict = field(default_factory=dict)
-
-
 def integrate(drop, times, accuracy=ACCURACY, stop=None):
     """Integrate the model from its current state through report ``times`` with OpenSim's Manager.
 
@@ -192,6 +183,83 @@ def report_times(t0, mass, stiffness, approach_speed, window=WINDOW_TSTAR, per_t
     return t0 + ts * window * np.arange(1, n + 1) / n
 
 
+@dataclass(frozen=True)
+class OpenSimSettings:
+    """Settings of an OpenSim drop: the workflow's ``engines.opensim`` section.
+
+    ``accuracy`` of OpenSim's Runge-Kutta-Merson integrator, report times ``per_tstar`` scaled
+    time unit t*, and the ``window`` (in t*) of one measured impact.
+    """
+
+    accuracy: float = ACCURACY
+    per_tstar: int = SAMPLES_PER_TSTAR
+    window: float = WINDOW_TSTAR
+
+
+class OpenSimAdapter:
+    """Simbody's ``HuntCrossleyForce`` through OpenSim: the engine adapter (``adapters.contract``).
+
+    The law is Hunt-Crossley with n = 3/2; its damping parameter is alpha, and the engine's
+    parameters are ``dissipation`` (s/m) and the ``stiffness`` (Pa) of each of the two geometries
+    (``contactalpha.scene.engine_conventions``).
+    """
+
+    name = "opensim"
+    law = get_law("hunt_crossley")
+    module = "opensim"
+    settings = OpenSimSettings()
+
+    def version(self):
+        """OpenSim's version string."""
+        return version()
+
+    def parameters(self, damping, scene):
+        """``dissipation`` c = 2 alpha / (3 v_minus), s/m, and each geometry's ``stiffness``, Pa.
+
+        The stiffness needs the sphere's radius: without one (``scene.radius`` None) it is left out.
+        """
+        out = {"dissipation": opensim_dissipation(damping, scene.approach_speed)}
+        if scene.radius is not None:
+            out["stiffness"] = opensim_stiffness(scene.stiffness, scene.radius)
+        return out
+
+    def build_drop(self, scene, params, settings):
+        """The OpenSim model with the ball at touchdown, moving at the approach speed."""
+        s = scene
+        drop = build_drop(s.mass, s.radius, s.stiffness, params["dissipation"], s.gravity, s.force)
+        set_state(drop, 0.0, 0.0, s.approach_speed)
+        return drop
+
+    def run(self, model, scene, settings):
+        """Integrate over ``settings.window`` t*; the touchdown state heads the samples."""
+        v = scene.approach_speed
+        times = report_times(0.0, scene.mass, scene.stiffness, v, settings.window, settings.per_tstar)
+        samples = integrate(model, times, settings.accuracy)
+        t = np.concatenate([[0.0], samples.t])
+        d = np.concatenate([[0.0], samples.delta])
+        dd = np.concatenate([[v], samples.delta_dot])
+        return Samples(t, d, dd, samples.seconds, samples.extra)
+
+    def measure(self, samples, scene):
+        """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
+        return measure_with_rest_check(samples, scene)
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
+        return law_damping(self.law, scene, target, restitution)
+
+    def static_penetration(self, scene):
+        """Deformation (m) at which OpenSim's contact carries the load at rest (``static_penetration``)."""
+        return static_penetration(scene.mass, scene.radius, scene.stiffness, scene.gravity, scene.force)
+
+    def timestep(self, settings):
+        """None: OpenSim's integrator controls its error."""
+        return None
+
+
+ADAPTER = OpenSimAdapter()
+
+
 def drop_impact(
     mass,
     radius,
@@ -214,18 +282,10 @@ def drop_impact(
     -------
     (MeasuredImpact, Samples)
     """
-    drop = build_drop(mass, radius, stiffness, dissipation, gravity, force)
-    set_state(drop, 0.0, 0.0, approach_speed)
-    times = report_times(0.0, mass, stiffness, approach_speed, window, per_tstar)
-    samples = integrate(drop, times, accuracy)
-    t = np.concatenate([[0.0], samples.t])
-    d = np.concatenate([[0.0], samples.delta])
-    dd = np.concatenate([[approach_speed], samples.delta_dot])
-    result = measure_impact(t, d, dd, gravity + force / mass, approach_speed)
-    after = t > result.t_end
-    samples.extra["separated_later"] = bool(not result.separated and np.any(d[after] <= 0.0))
-    samples.extra["min_delta_after_end"] = float(d[after].min()) if after.any() else np.nan
-    return result, Samples(t, d, dd, samples.seconds, samples.extra)
+    scene = DropScene(mass, stiffness, approach_speed, gravity, force, radius)
+    settings = OpenSimSettings(accuracy, per_tstar, window)
+    samples = ADAPTER.run(ADAPTER.build_drop(scene, {"dissipation": dissipation}, settings), scene, settings)
+    return ADAPTER.measure(samples, scene), samples
 
 
 # Fields of one contact of ``bounce``: name -> (units, meaning).

@@ -15,16 +15,29 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
+from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
-from .engine_conventions import exudyn_restitution_input, opensim_dissipation, opensim_stiffness
+from .law_scene import law_contact_parameters
 
-# Exudyn's impact model whose built-in mapping covers every alpha > 0 (see engine_conventions).
-EXUDYN_IMPACT_MODEL = 2
+# The contact law this front door solves for (Hunt-Crossley, n = 3/2).
+LAW = DEFAULT_LAW
+
+
+@dataclass(frozen=True)
+class _EngineScene:
+    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
+
+    mass: float
+    stiffness: float
+    approach_speed: float
+    radius: object
 
 
 @dataclass(frozen=True)
@@ -117,6 +130,7 @@ def contact_parameters(
     accel=None,
     force=None,
     radius=None,
+    law=None,
 ):
     """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
 
@@ -138,10 +152,16 @@ def contact_parameters(
         included if it acts), or the constant force (N, >= 0; ``accel = force / mass``).
     radius : float, optional
         Radius of a sphere meeting a half space, m (> 0): adds OpenSim's ``stiffness``.
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        returns ``scene.law_scene.LawParameters``, with ``stiffness`` in that law's units.
 
     Returns
     -------
     ContactParameters
+        Or, when any input is an array, ``scene.batched.BatchedParameters`` (any ``law``): every
+        engine's parameters as arrays over the broadcast scenes (the law's fast evaluator, no
+        impact integrated).
 
     Raises
     ------
@@ -151,6 +171,8 @@ def contact_parameters(
     RuntimeError
         If the solver fails outside the table's domain (never a plausible wrong number).
     """
+    if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
+        return _batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -159,6 +181,8 @@ def contact_parameters(
     k = _positive("stiffness", stiffness)
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_contact_parameters(law, value, restitution, m, k, v, a)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")
@@ -166,19 +190,8 @@ def contact_parameters(
     r = impact(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
-    engines = {
-        "opensim": {"dissipation": opensim_dissipation(alpha, v)},
-        "exudyn": {
-            "contactStiffness": k,
-            "contactStiffnessExponent": 1.5,
-            "impactModel": EXUDYN_IMPACT_MODEL,
-            "restitutionCoefficient": exudyn_restitution_input(alpha, EXUDYN_IMPACT_MODEL),
-            "contactDamping": 0.0,
-            "minimumImpactVelocity": 0.0,
-        },
-    }
-    if radius is not None:
-        engines["opensim"]["stiffness"] = opensim_stiffness(k, _positive("radius", radius))
+    sphere = None if radius is None else _positive("radius", radius)
+    engines = engine_parameters(LAW, alpha, _EngineScene(m, k, v, sphere))
     return frozen_instance(
         ContactParameters,
         xi=xi,
@@ -191,6 +204,26 @@ def contact_parameters(
         delta_star=float(length_scale(m, k, v)),
         alpha_source=source,
         engines=engines,
+    )
+
+
+def _batch(*values):
+    """True when any input is an array (or a list) of more than a plain number."""
+    return any(v is not None and type(v) not in PLAIN_FLOATS and np.ndim(v) > 0 for v in values)
+
+
+def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law):
+    """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
+    from contactalpha.scene.batched import batched_parameters
+
+    if (eps is None) == (e_n is None):
+        raise ValueError("give exactly one of eps (energetic) and e_N (kinematic) arrays")
+    if (accel is None) == (force is None):
+        raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
+    a = accel if force is None else np.asarray(force, dtype=float) / np.asarray(mass, dtype=float)
+    target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
+    return batched_parameters(
+        mass, stiffness, approach_speed, a, target, restitution=restitution, law=law or LAW, radius=radius
     )
 
 

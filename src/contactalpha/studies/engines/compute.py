@@ -29,6 +29,10 @@ import numpy as np
 import xarray as xr
 
 from contactalpha.adapters import exudyn_contact, opensim_hc
+from contactalpha.adapters.contract import DropScene, drop
+from contactalpha.adapters.exudyn_contact import ExudynSettings
+from contactalpha.adapters.opensim_hc import OpenSimSettings
+from contactalpha.adapters.registry import adapter
 from contactalpha.engine.codes import END_STATES, STATE_CODES
 from contactalpha.engine.driver import impact
 from contactalpha.engine.solver import solve_alpha
@@ -78,32 +82,6 @@ RUN_FIELDS = {
 
 
 @dataclass(frozen=True)
-class OpenSimSettings:
-    """Keywords of ``adapters.opensim_hc.drop_impact`` and ``bounce``: the ``engines.opensim`` section.
-
-    ``accuracy`` of OpenSim's Runge-Kutta-Merson integrator, report times ``per_tstar`` scaled
-    time unit t*, and the ``window`` (in t*) of one measured impact.
-    """
-
-    accuracy: float = opensim_hc.ACCURACY
-    per_tstar: int = opensim_hc.SAMPLES_PER_TSTAR
-    window: float = opensim_hc.WINDOW_TSTAR
-
-
-@dataclass(frozen=True)
-class ExudynSettings:
-    """Keywords of ``adapters.exudyn_contact.drop_impact``: the ``engines.exudyn`` section.
-
-    ``tolerance`` of Exudyn's DOPRI5 (relative; absolute = tolerance delta*), ``steps_per_tstar``
-    (generalized-alpha steps, or DOPRI5's largest step, per t*), ``window`` as for OpenSim.
-    """
-
-    tolerance: float = exudyn_contact.TOLERANCE
-    steps_per_tstar: int = exudyn_contact.STEPS_PER_TSTAR
-    window: float = exudyn_contact.WINDOW_TSTAR
-
-
-@dataclass(frozen=True)
 class EngineGrid:
     """The round trips' (eps, F) grid on the ball's first impact: the ``engines.grid`` section.
 
@@ -130,8 +108,8 @@ class EnginesSettings:
     exudyn: ExudynSettings = field(default_factory=ExudynSettings)
 
 
-# Engine name -> the type of its drop settings.
-ENGINE_SETTINGS = {"opensim": OpenSimSettings, "exudyn": ExudynSettings}
+# Engine name -> the type of its drop settings (each adapter's own).
+ENGINE_SETTINGS = {name: type(adapter(name).settings) for name in ENGINES}
 
 
 def scene_from_config(scene):
@@ -148,8 +126,8 @@ def provenance(config, step, versions):
 
 
 def engine_version(engine):
-    """Version string of ``engine`` ("opensim" or "exudyn"); ImportError with the install hint if missing."""
-    return (opensim_hc if engine == "opensim" else exudyn_contact).version()
+    """Version string of a registered ``engine``; ImportError with the install hint if missing."""
+    return adapter(engine).version()
 
 
 def exact_alpha(scene, eps, force):
@@ -162,25 +140,45 @@ def exact_alpha(scene, eps, force):
     return xi, float(sol.alpha), impact(sol.alpha, xi)
 
 
+def _opensim_input(alpha, v):
+    c = float(opensim_dissipation(alpha, v))
+    return float(opensim_alpha(c, v)), c, {"dissipation": c}
+
+
+def _exudyn_input(e_in, model):
+    return float(exudyn_alpha(e_in, model)), e_in, {"restitutionCoefficient": e_in, "impactModel": model}
+
+
+# Run -> the adapter that runs it (Exudyn's implicit run is its adapter with the other solver).
+RUN_ADAPTERS = {
+    "opensim_exact": opensim_hc.ADAPTER,
+    "opensim_hunt_crossley": opensim_hc.ADAPTER,
+    "exudyn_exact": exudyn_contact.ADAPTER,
+    "exudyn_exact_implicit": exudyn_contact.ExudynAdapter("generalized_alpha"),
+    "exudyn_model1": exudyn_contact.ADAPTER,
+    "exudyn_model2": exudyn_contact.ADAPTER,
+}
+# Run -> (target eps, exact alpha, approach speed) -> (alpha applied, engine input, engine parameters).
+RUN_INPUTS = {
+    "opensim_exact": lambda eps, alpha, v: _opensim_input(alpha, v),
+    "opensim_hunt_crossley": lambda eps, alpha, v: _opensim_input(float(hunt_crossley(eps)), v),
+    "exudyn_exact": lambda eps, alpha, v: _exudyn_input(float(exudyn_restitution_input(alpha, 2)), 2),
+    "exudyn_exact_implicit": lambda eps, alpha, v: RUN_INPUTS["exudyn_exact"](eps, alpha, v),
+    "exudyn_model1": lambda eps, alpha, v: _exudyn_input(float(eps), 1),
+    "exudyn_model2": lambda eps, alpha, v: _exudyn_input(float(eps), 2),
+}
+
+
 def run_one(run, scene, eps, force, alpha_exact, settings):
     """One drop in an engine; returns ``(alpha_applied, engine_input, MeasuredImpact, Samples)``.
 
     ``settings`` is the engine's ``OpenSimSettings`` or ``ExudynSettings``.
     """
-    settings = asdict(settings)
-    m, r, k, v, g = scene.mass, scene.radius, scene.stiffness, scene.approach_speed, scene.gravity
-    if run.startswith("opensim"):
-        alpha = alpha_exact if run == "opensim_exact" else float(hunt_crossley(eps))
-        c = float(opensim_dissipation(alpha, v))
-        res, samples = opensim_hc.drop_impact(m, r, k, v, c, g, force, **settings)
-        return float(opensim_alpha(c, v)), c, res, samples
-    model = 1 if run == "exudyn_model1" else 2
-    e_in = float(exudyn_restitution_input(alpha_exact, 2)) if run.startswith("exudyn_exact") else float(eps)
-    solver = "generalized_alpha" if run == "exudyn_exact_implicit" else "dopri5"
-    res, samples = exudyn_contact.drop_impact(
-        m, r, k, v, e_in, g, force, impact_model=model, solver=solver, **settings
-    )
-    return float(exudyn_alpha(e_in, model)), e_in, res, samples
+    v = scene.approach_speed
+    alpha, e_in, params = RUN_INPUTS[run](eps, alpha_exact, v)
+    drop_scene = DropScene(scene.mass, scene.stiffness, v, scene.gravity, force, scene.radius)
+    res, samples = drop(RUN_ADAPTERS[run], drop_scene, params, settings)
+    return alpha, e_in, res, samples
 
 
 def round_trip(engine, scene, eps_values, forces, settings, config=None):
@@ -311,11 +309,10 @@ def static_checks(scene, forces, engines=ENGINES):
     predicted = np.array([replace(scene, force=f).rest_deformation for f in forces])
     measured = np.full((len(engines), len(forces)), np.nan)
     for i, engine in enumerate(engines):
-        mod = opensim_hc if engine == "opensim" else exudyn_contact
+        engine_adapter = adapter(engine)
         for k, f in enumerate(forces):
-            measured[i, k] = mod.static_penetration(
-                scene.mass, scene.radius, scene.stiffness, scene.gravity, f
-            )
+            s = DropScene(scene.mass, scene.stiffness, scene.approach_speed, scene.gravity, f, scene.radius)
+            measured[i, k] = engine_adapter.static_penetration(s)
     return xr.Dataset(
         {
             "delta_engine": (
@@ -330,7 +327,7 @@ def static_checks(scene, forces, engines=ENGINES):
     )
 
 
-def case_a(scene, model="exact", settings=OpenSimSettings(), config=None):
+def case_a(scene, model="exact", settings=opensim_hc.ADAPTER.settings, config=None):
     """Case A of Sect. 6 in OpenSim (dissipation reset per touchdown, and frozen) and in the package.
 
     ``settings`` (``OpenSimSettings``) are OpenSim's integrator and sampling settings.

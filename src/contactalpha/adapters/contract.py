@@ -1,0 +1,182 @@
+"""The contract every engine adapter keeps, and the drop scene they all share.
+
+An engine adapter is one module in ``contactalpha.adapters`` holding one object that implements
+``EngineAdapter``; ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
+(``contactalpha.scene.parameters``), the command line, the engines study and the tests iterate
+that list, so adding an engine is that module plus one line there (``docs/adding-an-engine.md``).
+
+The parts of the contract:
+
+- ``name``: the registry key and the command line's ``--engine`` choice;
+- ``law``: the contact law the engine applies (a value of ``contactalpha.laws``' registry);
+- ``module``: the Python module of the engine (``import`` tells whether it is installed) and
+  ``version()``;
+- ``parameters(damping, scene)``: the engine's own parameters (its names, its units) that make
+  it apply the law with the law's damping parameter ``damping`` (alpha for Hunt-Crossley, the
+  damping ratio zeta for the spring-dashpot laws) in ``scene``; numpy arrays go through;
+- ``law_damping(scene, target, restitution)``: the law's exact damping parameter for a target
+  restitution in ``scene`` (``contactalpha.laws``), with the scene's load factor;
+- ``build_drop(scene, params, settings)``: the drop scene built in the engine, the ball at
+  touchdown at ``scene.approach_speed``;
+- ``run(model, scene, settings)``: the engine's own integration, sampled (``Samples``);
+- ``measure(samples, scene)``: the restitutions measured from those samples (``MeasuredImpact``);
+- ``static_penetration(scene)``: the deformation at rest under the load, found in the engine
+  (the check of the stiffness conversion);
+- ``settings``: the default settings (a frozen dataclass) of ``build_drop`` and ``run``;
+- ``timestep(settings)``: the engine's fixed step in s, or None for an error-controlled one.
+
+``missing_parts`` names whatever part an object lacks; ``check_adapter`` raises on it.
+"""
+
+import math
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from contactalpha.laws import get_law
+from contactalpha.validation import check_positive, check_range
+
+
+@dataclass(frozen=True)
+class DropScene:
+    """A sphere of ``mass`` dropped on the ground under ``gravity`` plus a constant push ``force``.
+
+    Attributes
+    ----------
+    mass : kg (> 0).
+    stiffness : the contact law's stiffness: N/m for the n = 1 laws, N/m^1.5 for the Hertz ones.
+    approach_speed : speed at touchdown, m/s (> 0).
+    gravity : m/s^2 (>= 0), downward.
+    force : constant downward push on the ball, N (>= 0).
+    radius : the sphere's radius, m (> 0): geometry only, except in OpenSim's stiffness.
+    """
+
+    mass: float
+    stiffness: float
+    approach_speed: float
+    gravity: float = 9.81
+    force: float = 0.0
+    radius: float = 0.05
+
+    def __post_init__(self):
+        for name in ("mass", "stiffness", "approach_speed", "radius"):
+            object.__setattr__(self, name, float(check_positive(name, getattr(self, name))))
+        for name in ("gravity", "force"):
+            object.__setattr__(
+                self, name, float(check_range(name, getattr(self, name), 0.0, math.inf, hi_open=True))
+            )
+
+    @property
+    def accel(self):
+        """Acceleration of the whole load ``g + F/m``, m/s^2."""
+        return self.gravity + self.force / self.mass
+
+
+@dataclass
+class Samples:
+    """States at report times: ``t`` (s), ``delta`` (m), ``delta_dot`` (m/s); ``seconds`` of wall clock.
+
+    ``extra`` holds what an adapter measures beside the states (steps in contact, warnings).
+    """
+
+    t: np.ndarray
+    delta: np.ndarray
+    delta_dot: np.ndarray
+    seconds: float = 0.0
+    extra: dict = field(default_factory=dict)
+
+
+@runtime_checkable
+class EngineAdapter(Protocol):
+    """What every engine adapter provides (see the module docstring)."""
+
+    name: str
+    law: object
+    module: str
+    settings: object
+
+    def version(self) -> str:
+        """The engine's version string; ImportError with the install hint when it is missing."""
+
+    def parameters(self, damping, scene) -> dict:
+        """The engine's parameters, in its names and units, for the law's ``damping`` in ``scene``."""
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(DampingSolution, xi)``: the law's exact damping for ``target`` in ``scene``."""
+
+    def build_drop(self, scene, params, settings):
+        """The drop built in the engine, the ball at touchdown at ``scene.approach_speed``."""
+
+    def run(self, model, scene, settings) -> Samples:
+        """Run the engine on ``model`` and return its sampled states."""
+
+    def measure(self, samples, scene):
+        """``MeasuredImpact`` of the first impact in ``samples``."""
+
+    def static_penetration(self, scene) -> float:
+        """Deformation (m) at which the engine's contact carries the load ``m a`` at rest."""
+
+    def timestep(self, settings):
+        """The engine's fixed step (s), or None when its integrator controls its error."""
+
+
+# The contract's parts: attributes (data) and methods (callables).
+DATA_PARTS = ("name", "law", "module", "settings")
+METHOD_PARTS = (
+    "version",
+    "parameters",
+    "law_damping",
+    "build_drop",
+    "run",
+    "measure",
+    "static_penetration",
+    "timestep",
+)
+
+
+def missing_parts(adapter):
+    """Names of the contract's parts that ``adapter`` lacks (a method must be callable)."""
+    missing = [p for p in DATA_PARTS if getattr(adapter, p, None) is None]
+    missing += [p for p in METHOD_PARTS if not callable(getattr(adapter, p, None))]
+    return missing
+
+
+def check_adapter(adapter):
+    """Return ``adapter`` if it keeps the contract; TypeError naming the missing parts otherwise."""
+    missing = missing_parts(adapter)
+    if missing:
+        raise TypeError(f"engine adapter {adapter!r} misses part(s) of the contract: {', '.join(missing)}")
+    return adapter
+
+
+def drop(adapter, scene, params, settings=None):
+    """One drop in the engine: ``(MeasuredImpact, Samples)`` from the adapter's three steps."""
+    settings = adapter.settings if settings is None else settings
+    model = adapter.build_drop(scene, params, settings)
+    samples = adapter.run(model, scene, settings)
+    return adapter.measure(samples, scene), samples
+
+
+def law_damping(law, scene, target, restitution="kinematic", *, per_unit_mass=False):
+    """The law's exact damping for ``target`` in ``scene`` (``law.damping_for``) and the load factor.
+
+    Parameters
+    ----------
+    law : contactalpha.laws.ContactLaw or str
+    scene : DropScene
+    target : float
+        Target restitution (Newton's e_N by default).
+    restitution : {"kinematic", "energetic"}
+    per_unit_mass : bool
+        True for a law written per unit mass (MuJoCo's): it sees mass 1 and stiffness k/m.
+
+    Returns
+    -------
+    (DampingSolution, float)
+        The law's solution (``.damping``, ``.status``) and the load factor xi.
+    """
+    law = get_law(law)
+    m, k = (1.0, scene.stiffness / scene.mass) if per_unit_mass else (scene.mass, scene.stiffness)
+    xi = float(law.load_factor(law.load(m, k, scene.approach_speed, scene.accel)))
+    return law.damping_for(target, xi, restitution), xi

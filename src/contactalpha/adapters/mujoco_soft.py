@@ -1,0 +1,236 @@
+"""A sphere dropped on a plane in MuJoCo, with the soft contact in its direct mode.
+
+**The law** (``mujoco_soft``).  With ``solref = (-stiffness, -damping)`` (direct mode, both in
+acceleration units: s^-2 and s^-1, per unit mass) and a constant impedance ``solimp = (d, d,
+...)``, MuJoCo's constraint solver gives the contact acceleration ``(1 - d) a0 + d a_ref`` with
+``a_ref = -(damping/d) v - (stiffness/d^2) d r`` (``mj_makeImpedance``: ``K = -solref[0]/d^2``,
+``B = -solref[1]/d``; ``a_ref = -B v - K imp r``).  In the penetration δ:
+
+    δ'' = a - max(0, d a + damping δ' + stiffness δ),
+
+so the spring-dashpot carries (1 - d) of the load and its floor is shifted by d a.  Checked in
+the engine: a ball at rest sits at δ = (1 - d) a / stiffness (``static_penetration``).  The mass
+enters through MuJoCo's regulariser ``R = (1 - d)/d * diagApprox``; for one body on a slide joint
+``diagApprox`` is exactly 1/m, which is what makes the law mass-free ("per unit mass").
+
+**Parameters.**  A scene's linear stiffness k (N/m) and mass m give ``stiffness = k/m`` and the law's
+damping ratio zeta gives ``damping = 2 zeta sqrt(k/m)``.  The same values go on both geoms: for two
+geoms of equal priority MuJoCo takes the element-wise *minimum* of two direct-mode solrefs and the
+``solmix``-weighted mean of the solimps (``mj_contactParam``).  Where it exists the default
+(timeconst, dampratio) form is ``(1/(zeta omega), zeta)``: MuJoCo's "refsafe" raises any timeconst
+below 2 timestep, so the form exists only for ``1/(zeta omega) >= 2 timestep``.
+
+**The drop.**  One body with a sphere on a vertical slide joint (``condim = 1``: no friction), gravity
+``g`` and a motor on the joint pushing with ``-F``.  ``mujoco.rollout`` runs every touchdown phase in
+one call; ``contactalpha.adapters.stepped`` measures the rebound and refines the damping.
+
+Importing this module does not need MuJoCo.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.adapters.contract import Samples, law_damping
+from contactalpha.adapters.stepped import (
+    measure_steps,
+    refine,
+    summarise,
+    touchdown_state,
+    warn_if_coarse,
+)
+from contactalpha.laws import get_law
+from contactalpha.validation import check_range
+
+INSTALL_HINT = 'MuJoCo is an optional engine: pip install -e ".[engines]" (PyPI package "mujoco")'
+# MuJoCo's default timestep, s, and default solimp[0] (the impedance at zero penetration).
+TIMESTEP = 0.002
+IMPEDANCE = 0.9
+
+
+def _mujoco():
+    try:
+        import mujoco
+        import mujoco.rollout
+    except ImportError as err:  # pragma: no cover - depends on the machine
+        raise ImportError(INSTALL_HINT) from err
+    return mujoco
+
+
+@dataclass(frozen=True)
+class MuJoCoSettings:
+    """Settings of a MuJoCo drop.
+
+    ``timestep`` (s; MuJoCo's default), ``impedance`` d (constant solimp), ``phases`` touchdown
+    phases averaged, ``window`` length of a run in undamped contact periods 2 pi / omega,
+    ``tol`` on the delivered e_N (refinement and warnings), ``integrator`` MuJoCo's name.
+    """
+
+    timestep: float = TIMESTEP
+    impedance: float = IMPEDANCE
+    phases: int = 8
+    window: float = 3.0
+    tol: float = 1e-3
+    integrator: str = "Euler"
+
+
+def _xml(scene, settings):
+    d = settings.impedance
+    imp = f'solimp="{d!r} {d!r} 0.001 0.5 2"'
+    return f"""<mujoco model="contactalpha_drop">
+  <option timestep="{settings.timestep!r}" gravity="0 0 {-scene.gravity!r}"
+          integrator="{settings.integrator}"/>
+  <worldbody>
+    <geom name="ground" type="plane" size="1 1 0.1" condim="1" solref="-1 -1" {imp}/>
+    <body name="ball" pos="0 0 {scene.radius!r}">
+      <joint name="z" type="slide" axis="0 0 1"/>
+      <geom name="ball" type="sphere" size="{scene.radius!r}" mass="{scene.mass!r}" condim="1"
+            solref="-1 -1" {imp}/>
+    </body>
+  </worldbody>
+  <actuator><motor joint="z" gear="1" ctrllimited="false"/></actuator>
+</mujoco>"""
+
+
+@dataclass
+class _Drop:
+    model: object
+    data: object
+    states: np.ndarray
+    push: float
+    nstep: int
+
+
+class MuJoCoAdapter:
+    """MuJoCo's soft contact in direct mode: the engine adapter (``adapters.contract``)."""
+
+    name = "mujoco"
+    law = get_law("mujoco_soft", impedance=IMPEDANCE)
+    module = "mujoco"
+    settings = MuJoCoSettings()
+
+    def version(self):
+        """MuJoCo's version string."""
+        return _mujoco().__version__
+
+    def parameters(self, damping, scene, settings=None):
+        """``solref`` (direct), ``solimp`` and, where it exists, ``solref`` as (timeconst, dampratio).
+
+        ``damping`` is the law's damping ratio zeta (>= 0); arrays go through.
+        """
+        settings = self.settings if settings is None else settings
+        zeta = np.asarray(check_range("damping", damping, 0.0, math.inf, hi_open=True))
+        omega2 = scene.stiffness / scene.mass
+        omega = np.sqrt(omega2)
+        b = 2.0 * zeta * omega
+        stiffness = np.broadcast_to(omega2, b.shape)
+        d = settings.impedance
+        with np.errstate(divide="ignore"):
+            tc = np.where(zeta > 0.0, 1.0 / (zeta * omega), np.inf)
+        ok = tc >= 2.0 * settings.timestep
+        return {
+            "stiffness": _out(stiffness),
+            "damping": _out(b),
+            "solref": (_out(-stiffness), _out(-b)),
+            "solimp": (d, d, 0.001, 0.5, 2.0),
+            "timeconst": _out(np.where(ok, tc, np.nan)),
+            "dampratio": _out(np.where(ok, zeta, np.nan)),
+        }
+
+    def build_drop(self, scene, params, settings):
+        """The model with ``params["solref"]`` on both geoms; one initial state per touchdown phase."""
+        mj = _mujoco()
+        model = mj.MjModel.from_xml_string(_xml(scene, settings))
+        k, b = (float(x) for x in params["solref"])
+        model.geom_solref[:] = (k, b)
+        h = settings.timestep
+        phases = np.arange(settings.phases) / settings.phases
+        states = np.array([[0.0, *touchdown_state(scene.approach_speed, scene.accel, h, p)] for p in phases])
+        omega = math.sqrt(-k)
+        nstep = int(math.ceil(settings.window * 2.0 * math.pi / omega / h)) + 4
+        return _Drop(model, mj.MjData(model), states, -scene.force, nstep)
+
+    def run(self, model, scene, settings):
+        """Every phase in one ``mujoco.rollout`` call: ``Samples`` of the first phase, all in ``extra``."""
+        mj = _mujoco()
+        control = np.full((len(model.states), model.nstep, 1), model.push)
+        start = time.perf_counter()
+        out, _ = mj.rollout.rollout(model.model, model.data, model.states, control)
+        seconds = time.perf_counter() - start
+        states = np.concatenate([model.states[:, None, :], out], axis=1)
+        z, v = states[:, :, 1], states[:, :, 2]
+        h = settings.timestep
+        t = np.arange(z.shape[1]) * h
+        return Samples(t, -z[0], -v[0], seconds, {"z": z, "v": v, "timestep": h})
+
+    def measure(self, samples, scene):
+        """The first phase's impact (``stepped.measure_steps``); every phase's e_N in ``samples.extra``."""
+        z, v, h = samples.extra["z"], samples.extra["v"], samples.extra["timestep"]
+        results = [measure_steps(z[i], v[i], scene.accel, h, scene.approach_speed) for i in range(len(z))]
+        samples.extra["e_n_phases"] = np.array([r.e_n for r in results])
+        samples.extra["contact_steps"] = np.array([round(r.t_end / h) for r in results])
+        samples.extra["separated"] = np.array([r.separated for r in results])
+        return results[0]
+
+    def static_penetration(self, scene, params=None, settings=None):
+        """Deformation (m) at rest, read after the engine settles (``damping`` critical by default)."""
+        mj = _mujoco()
+        settings = self.settings if settings is None else settings
+        omega2 = scene.stiffness / scene.mass
+        params = params or {"solref": (-omega2, -2.0 * math.sqrt(omega2))}
+        model = mj.MjModel.from_xml_string(_xml(scene, settings))
+        model.geom_solref[:] = tuple(float(x) for x in params["solref"])
+        data = mj.MjData(model)
+        data.qpos[0] = -(1.0 - settings.impedance) * scene.accel / omega2
+        data.ctrl[0] = -scene.force
+        nstep = int(math.ceil(40.0 * 2.0 * math.pi / math.sqrt(omega2) / settings.timestep))
+        for _ in range(nstep):
+            mj.mj_step(model, data)
+        return -float(data.qpos[0])
+
+    def timestep(self, settings):
+        """MuJoCo's fixed step, s."""
+        return settings.timestep
+
+    def delivered(self, scene, damping, settings=None):
+        """``stepped.Delivered``: the mean e_N over touchdown phases with the law's ``damping`` zeta."""
+        settings = self.settings if settings is None else settings
+        model = self.build_drop(scene, self.parameters(damping, scene, settings), settings)
+        samples = self.run(model, scene, settings)
+        self.measure(samples, scene)
+        x = samples.extra
+        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
+        settings = self.settings if settings is None else settings
+        law = get_law("mujoco_soft", impedance=settings.impedance)
+        return law_damping(law, scene, target, restitution, per_unit_mass=True)
+
+    def calibrate(self, scene, target, start=None, settings=None):
+        """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start``.
+
+        Returns
+        -------
+        (dict, stepped.Refinement, stepped.Delivered)
+            The engine's parameters (``parameters`` of the refined zeta), the refinement, and what
+            they deliver; warns (``ContactStepsWarning``) when the contact is coarse.
+        """
+        settings = self.settings if settings is None else settings
+        if start is None:
+            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
+        ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
+        zeta = ref.damping if math.isfinite(ref.damping) else start
+        got = self.delivered(scene, zeta, settings)
+        warn_if_coarse(self.name, got, settings.tol)
+        return self.parameters(ref.damping, scene, settings) if math.isfinite(ref.damping) else {}, ref, got
+
+
+def _out(arr):
+    arr = np.asarray(arr, dtype=float)
+    return float(arr) if arr.ndim == 0 else arr
+
+
+ADAPTER = MuJoCoAdapter()

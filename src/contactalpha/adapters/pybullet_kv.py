@@ -1,0 +1,236 @@
+"""A sphere dropped on a plane in PyBullet, with ``contactStiffness`` and ``contactDamping``.
+
+**The law** (``kelvin_voigt``).  Given a stiffness and a damping, Bullet's solver turns them into
+an ERP and a CFM at its step (``btSequentialImpulseConstraintSolver``: ``denom = h k + c``,
+``erp = h k / denom``, ``cfm = 1 / (h denom)``): an implicit spring-dashpot ``F = max(0, k δ + c
+δ')``, which pushes only.  The pair's values come from the two bodies' by
+``btManifoldResult::calculateCombinedContactStiffness`` (``1/(1/k1 + 1/k2)``) and
+``calculateCombinedContactDamping`` (``c1 + c2``): a value set on both bodies acts as k/2 and 2c.
+So each body gets ``contactStiffness = 2k`` and ``contactDamping = c/2``, and the pair is (k, c)
+with ``c = 2 zeta sqrt(k m)``.  Checked in the engine: the ball rests at δ = m a / k, and small steps
+approach the law's e_N.  The contact surface sits ``LINEAR_SLOP`` = 1e-5 m below the geometric
+one (the solver's penetration is ``distance + m_linearSlop``); heights here are measured from it.
+Bullet's own ``restitution`` is set to 0 here (it adds a velocity target of its own);
+``delivered(..., restitution=e)`` measures what it delivers instead.
+
+Bullet's implicit step is strongly dissipative when a contact spans few steps: at its default
+1/240 s a contact of k/m = 1e4 s^-2 rebounds with e_N ~ 0.4 even without damping, and higher targets
+are out of reach at that step (``calibrate`` says "unreachable").
+
+**The drop.**  ``createMultiBody`` of a sphere above a plane, no friction, no linear or angular
+damping (PyBullet's default is 0.04), gravity, and ``applyExternalForce(-F)`` before every step.
+
+Importing this module does not need PyBullet.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.adapters.contract import Samples, law_damping
+from contactalpha.adapters.stepped import (
+    measure_steps,
+    refine,
+    summarise,
+    touchdown_state,
+    warn_if_coarse,
+)
+from contactalpha.laws import get_law
+from contactalpha.validation import check_range
+
+INSTALL_HINT = 'PyBullet is an optional engine: pip install -e ".[engines]" (PyPI package "pybullet")'
+# PyBullet's default time step, s.
+TIMESTEP = 1.0 / 240.0
+# The solver's ``m_linearSlop`` that PyBullet's server sets (PhysicsServerCommandProcessor.cpp): the
+# solver reads a contact's penetration as ``distance + linearSlop``, so the contact surface lies
+# this far below the geometric one (measured: the ball rests m a / k + 1e-5 m deep for any k, step, load).
+LINEAR_SLOP = 1e-5
+
+
+def _pybullet():
+    try:
+        import pybullet
+    except ImportError as err:  # pragma: no cover - depends on the machine
+        raise ImportError(INSTALL_HINT) from err
+    return pybullet
+
+
+@dataclass(frozen=True)
+class PyBulletSettings:
+    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``."""
+
+    timestep: float = TIMESTEP
+    phases: int = 4
+    window: float = 3.0
+    tol: float = 1e-3
+
+
+@dataclass
+class _Drop:
+    client: int
+    ball: int
+    states: list
+    restitution: float
+
+
+class PyBulletAdapter:
+    """Bullet's compliant contact through PyBullet: the engine adapter (``adapters.contract``)."""
+
+    name = "pybullet"
+    law = get_law("kelvin_voigt")
+    module = "pybullet"
+    settings = PyBulletSettings()
+
+    def version(self):
+        """PyBullet's API version number, as a string."""
+        return str(_pybullet().getAPIVersion())
+
+    def parameters(self, damping, scene, settings=None):
+        """Each body's ``contactStiffness`` (N/m) and ``contactDamping`` (N s/m), and the pair's (k, c).
+
+        ``damping`` is the law's damping ratio zeta (>= 0): ``c = 2 zeta sqrt(k m)``; arrays go through.
+        """
+        zeta = np.asarray(check_range("damping", damping, 0.0, math.inf, hi_open=True))
+        c = 2.0 * zeta * np.sqrt(scene.stiffness * scene.mass)
+        k = np.broadcast_to(scene.stiffness, c.shape)
+        return {
+            "contactStiffness": _out(2.0 * k),
+            "contactDamping": _out(0.5 * c),
+            "pair_stiffness": _out(k),
+            "pair_damping": _out(c),
+        }
+
+    def build_drop(self, scene, params, settings, *, restitution=0.0):
+        """A fresh DIRECT client with the plane and the ball; touchdown states for every phase."""
+        pb = _pybullet()
+        client = pb.connect(pb.DIRECT)
+        pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=client)
+        pb.setTimeStep(settings.timestep, physicsClientId=client)
+        plane_shape = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=client)
+        plane = pb.createMultiBody(0.0, plane_shape, physicsClientId=client)
+        shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=scene.radius, physicsClientId=client)
+        ball = pb.createMultiBody(
+            scene.mass, shape, basePosition=[0.0, 0.0, 2.0 * scene.radius], physicsClientId=client
+        )
+        for body in (plane, ball):
+            pb.changeDynamics(
+                body,
+                -1,
+                contactStiffness=float(params["contactStiffness"]),
+                contactDamping=float(params["contactDamping"]),
+                restitution=float(restitution),
+                lateralFriction=0.0,
+                linearDamping=0.0,
+                angularDamping=0.0,
+                physicsClientId=client,
+            )
+        h = settings.timestep
+        phases = np.arange(settings.phases) / settings.phases
+        states = [touchdown_state(scene.approach_speed, scene.accel, h, p) for p in phases]
+        return _Drop(client, ball, states, restitution)
+
+    def run(self, model, scene, settings):
+        """Step each touchdown state over ``settings.window`` periods; the client is closed after."""
+        pb = _pybullet()
+        h, c, b = settings.timestep, model.client, model.ball
+        period = 2.0 * math.pi * math.sqrt(scene.mass / scene.stiffness)
+        n = int(math.ceil(settings.window * period / h)) + 4
+        zs, vs = np.empty((len(model.states), n + 1)), np.empty((len(model.states), n + 1))
+        push = [0.0, 0.0, -scene.force]
+        start = time.perf_counter()
+        try:
+            for i, (z0, v0) in enumerate(model.states):
+                pb.resetBasePositionAndOrientation(
+                    b, [0.0, 0.0, scene.radius - LINEAR_SLOP + z0], [0, 0, 0, 1], physicsClientId=c
+                )
+                pb.resetBaseVelocity(b, [0.0, 0.0, v0], [0.0, 0.0, 0.0], physicsClientId=c)
+                zs[i, 0], vs[i, 0] = z0, v0
+                for j in range(1, n + 1):
+                    if scene.force:
+                        pb.applyExternalForce(b, -1, push, [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c)
+                    pb.stepSimulation(physicsClientId=c)
+                    zs[i, j] = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - (
+                        scene.radius - LINEAR_SLOP
+                    )
+                    vs[i, j] = pb.getBaseVelocity(b, physicsClientId=c)[0][2]
+        finally:
+            pb.disconnect(physicsClientId=c)
+        seconds = time.perf_counter() - start
+        t = np.arange(n + 1) * h
+        return Samples(t, -zs[0], -vs[0], seconds, {"z": zs, "v": vs, "timestep": h})
+
+    def measure(self, samples, scene):
+        """The first phase's impact (``stepped.measure_steps``); every phase's e_N in ``samples.extra``."""
+        z, v, h = samples.extra["z"], samples.extra["v"], samples.extra["timestep"]
+        results = [measure_steps(z[i], v[i], scene.accel, h, scene.approach_speed) for i in range(len(z))]
+        samples.extra["e_n_phases"] = np.array([r.e_n for r in results])
+        samples.extra["contact_steps"] = np.array([round(r.t_end / h) for r in results])
+        samples.extra["separated"] = np.array([r.separated for r in results])
+        return results[0]
+
+    def static_penetration(self, scene, params=None, settings=None):
+        """Deformation (m) below the contact surface once the engine settles (critical damping by default)."""
+        pb = _pybullet()
+        settings = self.settings if settings is None else settings
+        params = params or self.parameters(1.0, scene)
+        model = self.build_drop(scene, params, settings)
+        c, b = model.client, model.ball
+        predicted = scene.mass * scene.accel / scene.stiffness
+        pb.resetBasePositionAndOrientation(
+            b, [0.0, 0.0, scene.radius - LINEAR_SLOP - predicted], [0, 0, 0, 1], physicsClientId=c
+        )
+        pb.resetBaseVelocity(b, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=c)
+        n = int(math.ceil(40.0 * 2.0 * math.pi * math.sqrt(scene.mass / scene.stiffness) / settings.timestep))
+        try:
+            for _ in range(n):
+                if scene.force:
+                    pb.applyExternalForce(
+                        b, -1, [0.0, 0.0, -scene.force], [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c
+                    )
+                pb.stepSimulation(physicsClientId=c)
+            z = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2]
+        finally:
+            pb.disconnect(physicsClientId=c)
+        return scene.radius - LINEAR_SLOP - z
+
+    def timestep(self, settings):
+        """PyBullet's fixed step, s."""
+        return settings.timestep
+
+    def delivered(self, scene, damping, settings=None, *, restitution=0.0):
+        """``stepped.Delivered``: mean e_N over touchdown phases with the law's ``damping`` zeta."""
+        settings = self.settings if settings is None else settings
+        model = self.build_drop(scene, self.parameters(damping, scene), settings, restitution=restitution)
+        samples = self.run(model, scene, settings)
+        self.measure(samples, scene)
+        x = samples.extra
+        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
+
+    def law_damping(self, scene, target, restitution="kinematic", settings=None):
+        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
+        settings = self.settings if settings is None else settings
+        return law_damping(self.law, scene, target, restitution)
+
+    def calibrate(self, scene, target, start=None, settings=None):
+        """Parameters delivering the target e_N at ``settings.timestep``, refined from ``start`` (zeta).
+
+        Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
+        """
+        settings = self.settings if settings is None else settings
+        if start is None:
+            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
+        ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
+        zeta = ref.damping if math.isfinite(ref.damping) else 0.0
+        got = self.delivered(scene, zeta, settings)
+        warn_if_coarse(self.name, got, settings.tol)
+        return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
+
+
+def _out(arr):
+    arr = np.asarray(arr, dtype=float)
+    return float(arr) if arr.ndim == 0 else arr
+
+
+ADAPTER = PyBulletAdapter()

@@ -1,0 +1,71 @@
+"""Every registered engine adapter keeps the contract, and the check catches one that does not."""
+
+import pytest
+
+from contactalpha.adapters.contract import (
+    DATA_PARTS,
+    METHOD_PARTS,
+    DropScene,
+    EngineAdapter,
+    check_adapter,
+    missing_parts,
+)
+from contactalpha.adapters.registry import ADAPTERS, ENGINE_NAMES, adapter
+from contactalpha.laws import LAWS, get_law
+
+SCENE = DropScene(0.5, 1.0e4, 0.5, force=5.1)
+
+
+@pytest.mark.parametrize("a", ADAPTERS, ids=ENGINE_NAMES)
+def test_registered_adapter_keeps_the_contract(a):
+    assert isinstance(a, EngineAdapter)
+    assert missing_parts(a) == []
+    assert a.law in LAWS or a.law.name == "mujoco_soft"
+    assert get_law(a.law.name).exponent == a.law.exponent
+
+
+@pytest.mark.parametrize("a", ADAPTERS, ids=ENGINE_NAMES)
+def test_parameters_are_numbers_in_the_engines_names(a):
+    params = a.parameters(0.3, SCENE)
+    assert params and all(isinstance(k, str) for k in params)
+    flat = [v for x in params.values() for v in (x if isinstance(x, tuple) else (x,))]
+    assert all(isinstance(v, (int, float)) for v in flat)
+
+
+@pytest.mark.parametrize("part", DATA_PARTS + METHOD_PARTS)
+def test_an_adapter_missing_any_part_is_refused(part):
+    class Partial:
+        pass
+
+    full = ADAPTERS[0]
+    for name in DATA_PARTS + METHOD_PARTS:
+        if name != part:
+            setattr(Partial, name, getattr(full, name))
+    assert missing_parts(Partial()) == [part]
+    with pytest.raises(TypeError, match=part):
+        check_adapter(Partial())
+
+
+def test_registry_names_are_unique_and_looked_up():
+    assert len(set(ENGINE_NAMES)) == len(ENGINE_NAMES)
+    assert ENGINE_NAMES == ("opensim", "exudyn", "mujoco", "drake", "pybullet")
+    assert adapter("mujoco").name == "mujoco"
+    with pytest.raises(ValueError, match="valid choices"):
+        adapter("physx")
+
+
+def test_parameters_convert_as_documented():
+    """The conversions, each against its engine's stated rule (not the adapter's code path)."""
+    m, k, v, zeta, alpha = SCENE.mass, SCENE.stiffness, SCENE.approach_speed, 0.3, 0.7
+    mj = adapter("mujoco").parameters(zeta, SCENE)
+    assert mj["solref"] == pytest.approx((-k / m, -2 * zeta * (k / m) ** 0.5), rel=1e-15)
+    assert mj["timeconst"] == pytest.approx(1 / (zeta * (k / m) ** 0.5), rel=1e-15)
+    dk = adapter("drake").parameters(alpha, SCENE)
+    k1 = k2 = dk["point_contact_stiffness"]
+    d1 = d2 = dk["hunt_crossley_dissipation"]
+    assert k1 * k2 / (k1 + k2) == pytest.approx(k, rel=1e-15)
+    assert (k2 * d1 + k1 * d2) / (k1 + k2) == pytest.approx(alpha / v, rel=1e-15)
+    pb = adapter("pybullet").parameters(zeta, SCENE)
+    s = pb["contactStiffness"]
+    assert 1 / (1 / s + 1 / s) == pytest.approx(k, rel=1e-15)
+    assert 2 * pb["contactDamping"] == pytest.approx(2 * zeta * (k * m) ** 0.5, rel=1e-15)
