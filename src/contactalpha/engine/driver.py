@@ -33,6 +33,7 @@ from .codes import (
     OUT_X_MAX,
     STATUS,
 )
+from .firstcall import FirstCall
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .threads import run_rows
@@ -86,6 +87,9 @@ class ImpactResult:
 # Below this many points the serial loop wins: waking the worker threads costs more,
 # and far more (milliseconds) when other processes hold the cores.
 PARALLEL_MIN = 32
+
+# The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``).
+IMPACT_FIRST_CALL = FirstCall(impact_kernel, "the impact integrator")
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))
@@ -202,7 +206,7 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         Python scalars for scalar input, else arrays of the broadcast shape.
     """
     if plain_in("alpha", alpha) and plain_in("xi", xi) and plain_integrator_settings(rtol, atol, max_steps):
-        out, _ = impact_kernel(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
+        out, _ = IMPACT_FIRST_CALL(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
         return _scalar_result(out)
     alpha = check_alpha(alpha)
     xi = check_xi(xi)

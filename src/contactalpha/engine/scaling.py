@@ -15,6 +15,8 @@ from numba import njit
 
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range, check_xi
 
+from .firstcall import FirstCall
+
 
 def length_scale(m_e, k, v0):
     """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s."""
@@ -71,7 +73,7 @@ def _xi_of_load(A):
 
 # The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
-xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
+xi_of_load_scalar = FirstCall(njit(cache=True, error_model="numpy")(_xi_of_load), "the influence factor")
 
 
 def _influence_factor_plain(m_e, k, v0, a):

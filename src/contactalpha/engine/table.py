@@ -36,6 +36,7 @@ from numba import njit
 from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
+from .firstcall import FirstCall
 from .threads import run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
@@ -303,7 +304,8 @@ def scalar_lookup(restitution):
     fast = _SCALAR.get(restitution)
     if fast is None:
         default, _, _, arrays = _lookup(restitution)
-        evaluator = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
+        kernel = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
+        evaluator = FirstCall(kernel, f"the {restitution} alpha table")
         fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
     return fast
 
