@@ -89,7 +89,7 @@ class ImpactResult:
 PARALLEL_MIN = 32
 
 # The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``).
-IMPACT_FIRST_CALL = FirstCall(impact_kernel, "the impact integrator")
+IMPACT_FIRST_CALL = FirstCall(impact_kernel)
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))

@@ -11,10 +11,13 @@ one impact or one table lookup costs when the same source runs as plain Python (
    numba calls (``math.exp``, ``math.log``, ...), so the arithmetic is the compiled kernel's,
    bit for bit (tests/engine/test_firstcall.py compares them);
 3. once the twin has cost ``INTERPRET_BUDGET_S`` seconds in this process, the kernel is
-   compiled (a line on stderr says so, and another when it is done) and runs compiled from
-   then on.  The budget decides only *when* to compile, never a number.
+   compiled and runs compiled from then on.  The budget decides only *when* to compile,
+   never a number.
 
-``contactalpha warmup`` compiles every kernel ahead of time (``warmup.warm_up``).
+Whatever numba compiles of this package outside the warm-up (array paths, the solver, the
+ball...) is announced on stderr: one line the first time, then one line per kernel with its
+compile time (``CompileNotice``).  ``contactalpha warmup`` compiles every kernel ahead of time
+(``warmup.warm_up``), silently.
 """
 
 import contextlib
@@ -25,6 +28,7 @@ import time
 import types
 
 import numpy as np
+from numba.core import event
 from numba.core.registry import CPUDispatcher
 
 # Seconds of Python-twin time a process spends on one kernel before compiling it.
@@ -95,6 +99,48 @@ def _as_ieee(value):
     return np.float64(value) if type(value) is float else value
 
 
+class CompileNotice(event.Listener):
+    """Says on stderr when numba compiles a kernel of this package (not inside ``compiled_only``)."""
+
+    def __init__(self):
+        self.depth = 0
+        self.said = False
+        self.started = None
+        self.announced = set()  # kernels defined outside the package that are announced too
+
+    def ours(self, dispatcher):
+        """True for a kernel of this package (or one a ``FirstCall`` wraps)."""
+        module = getattr(dispatcher.py_func, "__module__", "") or ""
+        return module.startswith("contactalpha.") or dispatcher in self.announced
+
+    def on_start(self, ev):
+        """A compile starts: the first line once, and the clock of a top-level kernel."""
+        self.depth += 1
+        if self.depth == 1 and _INTERPRET[0] and self.ours(ev.data["dispatcher"]):
+            if not self.said:
+                self.said = True
+                print(
+                    "contactalpha: compiling numba kernels on first use (once: numba caches them on "
+                    "disk; `contactalpha warmup` compiles them all ahead of time)",
+                    file=sys.stderr,
+                    flush=True,
+                )
+            self.started = time.perf_counter()
+
+    def on_end(self, ev):
+        """A compile ends: the kernel's name and compile time, for a top-level kernel."""
+        self.depth -= 1
+        if self.depth == 0 and self.started is not None:
+            name = ev.data["dispatcher"].py_func.__name__
+            seconds = time.perf_counter() - self.started
+            self.started = None
+            print(f"contactalpha:   {name} compiled in {seconds:.1f} s", file=sys.stderr, flush=True)
+
+
+NOTICE = CompileNotice()
+event.register("numba:compile", NOTICE)
+
+
 def _numba_type(value):
     from numba import typeof
 
@@ -108,16 +154,14 @@ class FirstCall:
     ----------
     dispatcher : numba dispatcher
         A ``cache=True`` kernel of this package.
-    what : str
-        What it computes, for the line on stderr when it compiles ("the impact integrator").
     """
 
-    def __init__(self, dispatcher, what):
+    def __init__(self, dispatcher):
         self.dispatcher = dispatcher
-        self.what = what
         self.compiled = False
         self.interpreted_s = 0.0
         self._lock = threading.Lock()
+        NOTICE.announced.add(dispatcher)
 
     def __call__(self, *args):
         """The kernel's result for ``args``: compiled if at hand, else from the Python twin."""
@@ -129,7 +173,7 @@ class FirstCall:
         if self._compiled_or_cached(args):
             return self.dispatcher(*args)
         if not _INTERPRET[0]:
-            self.compile(args, announce=False)
+            self.compile(args)
             return self.dispatcher(*args)
         clock = time.perf_counter()
         try:
@@ -153,27 +197,12 @@ class FirstCall:
         self.compiled = True
         return True
 
-    def compile(self, args, announce=True):
-        """Compile the kernel for ``args``' types now (or load it), saying so on stderr if ``announce``."""
+    def compile(self, args):
+        """Compile the kernel for ``args``' types now, or load it from the cache (``NOTICE`` says so)."""
         with self._lock:
-            if self.compiled or self._compiled_or_cached(args):
-                return
-            if not announce:
+            if not (self.compiled or self._compiled_or_cached(args)):
                 self.dispatcher.compile(tuple(_numba_type(a) for a in args))
                 self.compiled = True
-                return
-            print(
-                f"contactalpha: compiling {self.what} (once; numba caches it on disk, "
-                "`contactalpha warmup` compiles everything ahead of time) ...",
-                file=sys.stderr,
-                flush=True,
-            )
-            clock = time.perf_counter()
-            self.dispatcher.compile(tuple(_numba_type(a) for a in args))
-            self.compiled = True
-            print(
-                f"contactalpha: {self.what} compiled in {time.perf_counter() - clock:.1f} s", file=sys.stderr
-            )
 
 
 def _native(value):

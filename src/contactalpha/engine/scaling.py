@@ -73,7 +73,7 @@ def _xi_of_load(A):
 
 # The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
-xi_of_load_scalar = FirstCall(njit(cache=True, error_model="numpy")(_xi_of_load), "the influence factor")
+xi_of_load_scalar = FirstCall(njit(cache=True, error_model="numpy")(_xi_of_load))
 
 
 def _influence_factor_plain(m_e, k, v0, a):

@@ -305,7 +305,7 @@ def scalar_lookup(restitution):
     if fast is None:
         default, _, _, arrays = _lookup(restitution)
         kernel = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
-        evaluator = FirstCall(kernel, f"the {restitution} alpha table")
+        evaluator = FirstCall(kernel)
         fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
     return fast
 
