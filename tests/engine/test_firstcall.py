@@ -62,6 +62,7 @@ def test_first_call_interprets_then_compiles_once(monkeypatch, capsys):
     assert not twice.signatures  # answered by the twin, nothing compiled
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(firstcall, "INTERPRET_BUDGET_S", 0.0)
+    monkeypatch.setattr(firstcall.NOTICE, "said", False)  # as in a fresh process
     assert fc(9.0) == 6.0
     assert twice.signatures and fc.compiled
     err = capsys.readouterr().err
