@@ -73,7 +73,8 @@ def main(argv=None):
     p.add_argument("--keep", default=None, help="make the environments here and keep them")
     args = p.parse_args(argv)
     base = args.keep or tempfile.mkdtemp(prefix="bench_install_")
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, {platform.platform()}")
+    machine = platform.processor() or platform.machine()
+    print(f"machine: {machine}, {os.cpu_count()} cores, {platform.platform()}")
     print(f"load average: {os.getloadavg()[0]:.2f}; pip cache: {'off' if args.no_cache else 'on'}")
     rows = {}
     try:
@@ -81,8 +82,10 @@ def main(argv=None):
             env = os.path.join(base, "core" if label == "core" else "full")
             seconds, dists = install(env, spec, args.no_cache)
             rows[label] = (seconds, len(dists), site_packages_bytes(env), dists)
-            print(f"{label:12s} install {seconds:6.1f} s, {len(dists):3d} distributions, "
-                  f"site-packages {rows[label][2] / 2**20:7.1f} MiB")
+            print(
+                f"{label:12s} install {seconds:6.1f} s, {len(dists):3d} distributions, "
+                f"site-packages {rows[label][2] / 2**20:7.1f} MiB"
+            )
         (cs, cn, cb, cdists), (fs, fn, fb, _) = rows.values()
         print(f"core / full: time {cs / fs:.2f}, size {cb / fb:.2f}, distributions {cn}/{fn}")
         stray = [d for d in cdists if d in WORKFLOW_ONLY]
