@@ -7,7 +7,13 @@ factor xi (paper Eq. 10), the exact alpha for that restitution at that xi, the d
 ``mu = alpha k / v_minus`` of the contact law (paper Eq. 23, ``f = k delta^{3/2} + mu
 delta^{3/2} delta_dot``), the end state and both restitutions of the impact that alpha gives
 (one impact integrated), and the parameter of each supported engine in its own convention
-(``engine_conventions``).
+(``engine_conventions``, whose ``UNIT_NOTES`` the text output prints).
+
+The damping ``mu`` (and OpenSim's ``dissipation``) is a constant of the contact law, but the
+alpha it stands for is ``mu v_minus / k``: it delivers the requested restitution at this approach
+speed only.  So the parameters also carry the e_N the same ``mu`` delivers at half and at twice
+the approach speed (one impact each, the load's xi at that speed): a drop from another height
+needs its own ``mu``.
 """
 
 import math
@@ -21,7 +27,10 @@ from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
-from .engine_conventions import exudyn_restitution_input, opensim_dissipation, opensim_stiffness
+from .engine_conventions import UNIT_NOTES, exudyn_restitution_input, opensim_dissipation, opensim_stiffness
+
+# Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
+SPEED_FACTORS = (0.5, 2.0)
 
 # Exudyn's impact model whose built-in mapping covers every alpha > 0 (see engine_conventions).
 EXUDYN_IMPACT_MODEL = 2
@@ -42,6 +51,9 @@ class ContactParameters:
     accel : relative acceleration of the load, m/s^2.
     delta_star : maximum compression of the undamped unloaded contact, m (the length scale).
     alpha_source : "table" (shipped exact table) or "solver" (outside the table's domain).
+    e_n_half_speed, e_n_twice_speed : Newton's e_N that the same ``damping`` mu (the same OpenSim
+        ``dissipation``) delivers at half and at twice the approach speed (NaN where the load's
+        xi rounds to 1 at half the speed).  Exudyn's parameters scale with each impact's speed.
     engines : parameters per engine, each in its own names and units:
         ``opensim`` (Simbody ``HuntCrossleyForce``): ``dissipation`` c in s/m, and ``stiffness``
         E in Pa of each of the two geometries (only when a sphere radius is given);
@@ -60,6 +72,8 @@ class ContactParameters:
     delta_star: float
     alpha_source: str
     engines: dict
+    e_n_half_speed: float
+    e_n_twice_speed: float
 
 
 def _positive(name, value):
@@ -179,6 +193,7 @@ def contact_parameters(
     }
     if radius is not None:
         engines["opensim"]["stiffness"] = opensim_stiffness(k, _positive("radius", radius))
+    e_n_half, e_n_twice = (_fixed_damping_e_n(alpha, m, k, v, a, factor) for factor in SPEED_FACTORS)
     return frozen_instance(
         ContactParameters,
         xi=xi,
@@ -191,7 +206,19 @@ def contact_parameters(
         delta_star=float(length_scale(m, k, v)),
         alpha_source=source,
         engines=engines,
+        e_n_half_speed=e_n_half,
+        e_n_twice_speed=e_n_twice,
     )
+
+
+def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
+    """Newton's e_N of an impact at ``factor`` times ``speed`` with the same damping ``mu = alpha k / v``."""
+    try:
+        xi = influence_factor(mass, stiffness, speed * factor, accel)
+    except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
+        return math.nan
+    r = impact(alpha * factor, xi)
+    return float(r.e_n) if r.status == "ok" else math.nan
 
 
 def format_parameters(cp):
@@ -206,7 +233,12 @@ def format_parameters(cp):
         f"accel           {cp.accel:.15g} m/s^2",
         f"delta_star      {cp.delta_star:.15g} m",
     ]
+    lines.append(
+        f"the same mu delivers e_N = {cp.e_n_half_speed:.6g} at half and {cp.e_n_twice_speed:.6g} at twice "
+        "this approach speed: it holds at this speed only"
+    )
     for engine, values in cp.engines.items():
         for name, value in values.items():
             lines.append(f"{engine + '.' + name:32s} {value:.15g}")
+        lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
     return "\n".join(lines)
