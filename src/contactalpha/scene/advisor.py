@@ -5,17 +5,17 @@ acceleration or force towards the contact) the advisor gives the load's influenc
 ``xi`` (Eq. 10) and its level in the paper's words, the exact alpha and end state, and for
 every model of the registry what it delivers and whether it is **adequate**.
 
-Adequacy is judged over the speeds the scene will see, not at one speed: by default the
-approach speeds of its bounce sequence with the exact alpha, from the given approach speed down
-to the first contact that does not separate (``scene.bounces``; one speed when there is no load,
-since the body then never returns), or ``speeds=(low, high)``, a range the user gives (sampled at
-``RANGE_SAMPLES`` log-spaced speeds, both ends included).  At each speed the model's alpha is
-taken at that impact's own ``xi`` and one impact is integrated; the model is adequate when at
-every speed the delivered restitution is within ``tol`` of the requested one and the end state is
-the exact alpha's.  Its **margin** is ``tol`` minus its largest error over the speeds (negative:
-inadequate), reported with the speed where that error occurs; an adequate model also ends
-every judged impact in the exact alpha's end state.  The load may be ignored when the
-exact alpha at ``xi = 0`` is adequate in the same sense.
+Adequacy is judged over the speeds the scene will see, not at one speed: by default the approach
+speeds of its bounce sequence with the exact alpha, from the given approach speed down to the
+first contact that does not separate (``scene.bounces``; one speed when there is no load, since
+the body then never returns), or ``speeds=(low, high)``, a range the user gives (sampled at
+``RANGE_SAMPLES`` log-spaced speeds, both ends included, after the given approach speed). At
+each speed the model's alpha is taken at that impact's own ``xi`` and one impact is integrated;
+the model is adequate when at every speed the delivered restitution is within ``tol`` of the
+requested one and the end state is the exact alpha's. Its **margin** is ``tol`` minus its
+largest error over the speeds (negative: inadequate), reported with the speed where that error
+occurs; an adequate model also ends every judged impact in the exact alpha's end state. The load
+may be ignored when the exact alpha at ``xi = 0`` is adequate in the same sense.
 
 The recommendation is deterministic: the same input gives the same advice, byte for byte.  No
 timing enters it; each model's cost is a fixed count from ``COST_MODEL`` (arithmetic operations
@@ -160,7 +160,7 @@ class ModelVerdict:
     Attributes
     ----------
     name, uses_xi : the registry's model and whether it uses the load.
-    alpha : its alpha at the given approach speed (its ``xi``).
+    alpha : its alpha at the given approach speed (its ``xi``), the first of the judged speeds.
     delivered_eps : the restitution it delivers there (in the requested definition).
     state : the end state there.
     error : its largest ``|delivered - requested|`` over the judged speeds (NaN if it failed).
@@ -191,7 +191,7 @@ class Advice:
     Attributes
     ----------
     eps, mass, stiffness, approach_speed, accel, tol, restitution : the scene as given (accel in m/s^2).
-    speeds : the approach speeds (m/s) at which every model was judged, highest first.
+    speeds : the approach speeds (m/s) at which every model was judged, ``approach_speed`` first.
     speeds_from : "bounces" (the exact bounce sequence) or "range" (the ``speeds`` given).
     xi, xi_level : the load's influence factor at ``approach_speed`` and its level.
     exact_alpha, exact_state, exact_eps, exact_e_n : the exact impact at ``approach_speed``.
@@ -286,8 +286,8 @@ def _judged_speeds(eps, mass, stiffness, speed, accel, restitution, speeds):
         ) from None
     if low > high:
         raise ValueError(f"speeds = ({low!r}, {high!r}): low must not exceed high")
-    grid = np.geomspace(high, low, RANGE_SAMPLES) if low < high else np.array([low])
-    return tuple(float(v) for v in grid), "range"
+    grid = [float(v) for v in (np.geomspace(high, low, RANGE_SAMPLES) if low < high else [low])]
+    return (speed, *(v for v in grid if v != speed)), "range"
 
 
 def _verdict(name, alphas, delivered, states, exact_states, e, tol, speeds, cost, uses_xi, note=""):
