@@ -59,7 +59,7 @@ def test_length_and_time_scales_are_those_of_the_undamped_hertz_impact():
 @pytest.mark.parametrize("a, v0", [(1e30, 1.0), (1e250, 1.0), (9.81, 1e-30), (9.81, 1e-200), (1e300, 1e200)])
 def test_a_load_whose_xi_rounds_to_one_is_an_error_naming_the_users_arguments(a, v0):
     # Before: 1.0 (outside [0, 1)), NaN with a RuntimeWarning, or an error naming the internal A.
-    expected = re.escape(f"a = {a!r} m/s^2 at v0 = {v0!r} m/s") + ".* xi rounds to 1.0"
+    expected = re.escape(f"accel = {a!r} m/s^2 at approach_speed = {v0!r} m/s") + ".* xi rounds to 1.0"
     with pytest.raises(ValueError, match=expected):
         ca.influence_factor(5.0, 5.4e9, v0, a)
 
@@ -89,5 +89,5 @@ def test_scalar_length_scale_is_the_array_one_bit_for_bit():
         got = ca.length_scale(float(m), float(k), float(v))
         assert type(got) is float
         assert got == ca.length_scale(np.array([m]), np.array([k]), np.array([v]))[0]
-    with pytest.raises(ValueError, match="k = 0.0"):
+    with pytest.raises(ValueError, match="stiffness = 0.0"):
         ca.length_scale(1.0, 0.0, 1.0)
