@@ -8,12 +8,11 @@ from collections.abc import Callable
 from typing import TypeVar
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 # A float for scalar input, an array of the broadcast shape for array input.
 FloatOrArray = float | np.ndarray
-# Anything ``np.asarray`` reads as real numbers.
-RealLike = ArrayLike
+# A real number or an array of them (the public functions broadcast their array arguments).
+RealLike = float | np.ndarray
 _F = TypeVar("_F", bound=Callable)
 
 

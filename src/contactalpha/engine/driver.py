@@ -2,11 +2,14 @@
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numba import njit
 
 from contactalpha.validation import (
+    FloatOrArray,
+    RealLike,
     check_alpha,
     check_max_steps,
     check_tolerances,
@@ -65,18 +68,18 @@ class ImpactResult:
     deps_dalpha : sensitivity of eps to alpha.
     """
 
-    eps: np.ndarray
-    state: np.ndarray
-    x_max: np.ndarray
-    x_end: np.ndarray
-    v_end: np.ndarray
-    t_max: np.ndarray
-    t_end: np.ndarray
-    steps: np.ndarray
-    nfev: np.ndarray
-    status: np.ndarray
-    deps_dalpha: np.ndarray
-    e_n: np.ndarray = np.nan
+    eps: FloatOrArray
+    state: str | np.ndarray
+    x_max: FloatOrArray
+    x_end: FloatOrArray
+    v_end: FloatOrArray
+    t_max: FloatOrArray
+    t_end: FloatOrArray
+    steps: int | np.ndarray
+    nfev: int | np.ndarray
+    status: str | np.ndarray
+    deps_dalpha: FloatOrArray
+    e_n: FloatOrArray = np.nan
 
     @property
     def ok(self):
@@ -185,7 +188,9 @@ def _scalar_result(out):
     )
 
 
-def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+def impact(
+    alpha: RealLike, xi: RealLike, *, rtol: float = RTOL, atol: float = ATOL, max_steps: int = MAX_STEPS
+) -> "ImpactResult":
     """Integrate the scaled impact (Eq. 24) for damping ``alpha`` and load ``xi``.
 
     Parameters
@@ -215,12 +220,12 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    alpha, A = np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel())
+    alpha, A = np.ascontiguousarray(alpha).ravel(), np.ascontiguousarray(A).ravel()
     table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)
 
 
-def restitution(alpha, xi, **kwargs):
+def restitution(alpha: RealLike, xi: RealLike, **kwargs: Any) -> FloatOrArray:
     """Stronge's restitution coefficient produced by ``alpha`` at load ``xi``.
 
     Same arguments as ``impact``; returns ``impact(...).eps``.  NaN marks a
@@ -229,7 +234,15 @@ def restitution(alpha, xi, **kwargs):
     return impact(alpha, xi, **kwargs).eps
 
 
-def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100_000):
+def trajectory(
+    alpha: float,
+    xi: float,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_step: float = np.inf,
+    max_rows: int = 100_000,
+) -> tuple[np.ndarray, "ImpactResult"]:
     """Accepted steps ``(t, x, v)`` of one impact, scaled, plus its ``ImpactResult``.
 
     ``max_step`` caps the time step (scaled time) for smooth plots and

@@ -62,7 +62,7 @@ NUMPY_FOR_TWINS = _NumpyForTwins(
     **{name: _scalar_libm(getattr(math, LIBM_NAMES.get(name, name)), getattr(np, name)) for name in LIBM}
 )
 
-_TWINS = {}
+_TWINS: dict = {}
 # False inside ``compiled_only()``: every FirstCall compiles at once, silently (the warm-up).
 _INTERPRET = [True]
 

@@ -27,13 +27,14 @@ Accuracy is verified against ``solve_alpha`` at random points off the nodes
 """
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from numba import njit
 
-from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
+from contactalpha.validation import PLAIN_FLOATS, FloatOrArray, RealLike, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
 from .firstcall import FirstCall
@@ -246,7 +247,7 @@ def load_table(path=DEFAULT_FILE):
     return AlphaTable(**arrays, meta=meta)
 
 
-_CACHE = {}
+_CACHE: dict = {}
 
 
 def table_arrays(path=DEFAULT_FILE):
@@ -292,7 +293,7 @@ def _lookup(restitution):
 
 
 # restitution -> (packed scalar evaluator, shipped table packed once per process).
-_SCALAR = {}
+_SCALAR: dict = {}
 
 
 def scalar_lookup(restitution):
@@ -310,7 +311,9 @@ def scalar_lookup(restitution):
     return fast
 
 
-def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
+def alpha_tabulated(
+    eps: RealLike, xi: RealLike, *, path: str | Path | None = None, restitution: str = "energetic"
+) -> FloatOrArray:
     """Exact alpha(eps, xi) from the shipped table: ~1e-7 relative, at formula speed.
 
     Parameters
@@ -346,7 +349,7 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     return out[()] if out.ndim == 0 else out
 
 
-def jit_alpha_tabulated(path=None, restitution="energetic"):
+def jit_alpha_tabulated(path: str | Path | None = None, restitution: str = "energetic") -> Callable:
     """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
 
     The table arrays are frozen into the compiled function as constants.  Outside

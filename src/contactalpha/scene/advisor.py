@@ -209,7 +209,7 @@ class Advice:
     accel: float
     tol: float
     restitution: str
-    speeds: tuple
+    speeds: tuple[float, ...]
     speeds_from: str
     xi: float
     xi_level: str
@@ -217,7 +217,7 @@ class Advice:
     exact_state: str
     exact_eps: float
     exact_e_n: float
-    models: tuple
+    models: tuple[ModelVerdict, ...]
     cheapest: str | None
     margin: float
     ignore_load: bool
@@ -384,7 +384,8 @@ def advise(
     if not np.all(exact.ok):
         bad = int(np.argmin(exact.ok))
         raise RuntimeError(
-            f"exact alpha not found at {judged[bad]!r} m/s (xi = {xis[bad]!r}): {exact.status[bad]}"
+            f"exact alpha not found at {judged[bad]!r} m/s (xi = {xis[bad]!r}): "
+            f"{np.atleast_1d(exact.status)[bad]}"
         )
     exact_states = np.atleast_1d(exact.state)
     verdicts = []

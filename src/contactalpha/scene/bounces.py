@@ -58,7 +58,7 @@ class BouncePrediction:
     approach_speeds: np.ndarray
     xi: np.ndarray
     alpha: np.ndarray
-    states: tuple
+    states: tuple[str, ...]
     rebound_speeds: np.ndarray
     contact_durations: np.ndarray
     flight_durations: np.ndarray
@@ -81,7 +81,14 @@ class BouncePrediction:
         return self.status == STATUS[OK]
 
 
-def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX_COLLISIONS):
+def predict_bounces(
+    scene: ball.Scene,
+    model: str,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_contacts: int = ball.MAX_COLLISIONS,
+) -> BouncePrediction:
     """Bounce sequence of ``scene`` with ``model``'s alpha until the ball rests (case A), no time stepping.
 
     Parameters
@@ -102,7 +109,7 @@ def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX
         (``inf`` if it creeps to rest), as ``ball.simulate``'s ``end_time``.
     """
     rtol, atol = check_tolerances(rtol, atol)
-    rows = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
+    rows: dict[str, list] = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
     speed, t, status = float(scene.approach_speed), 0.0, STATUS[OK]
     while True:
         if len(rows["v"]) >= max_contacts:

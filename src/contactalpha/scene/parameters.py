@@ -71,7 +71,7 @@ class ContactParameters:
     accel: float
     delta_star: float
     alpha_source: str
-    engines: dict
+    engines: dict[str, dict[str, float]]
     e_n_half_speed: float
     e_n_twice_speed: float
 
@@ -82,13 +82,14 @@ def _positive(name, value):
     return float(check_positive(name, value))
 
 
-def scene_accel(mass, accel=None, force=None):
+def scene_accel(mass: float, accel: float | None = None, force: float | None = None) -> float:
     """Relative acceleration of the load from exactly one of ``accel`` (m/s^2) and ``force`` (N)."""
     if (accel is None) == (force is None):
         raise ValueError(
             f"give exactly one of accel (m/s^2) and force (N); got accel = {accel!r}, force = {force!r}"
         )
     name, value = ("accel", accel) if force is None else ("force", force)
+    assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
         value = float(check_range(name, value, 0.0, np.inf, hi_open=True))
     return value if force is None else value / mass
@@ -122,16 +123,16 @@ def _alpha(value, xi, restitution):
 
 
 def contact_parameters(
-    eps=None,
-    mass=None,
-    stiffness=None,
-    approach_speed=None,
+    eps: float | None = None,
+    mass: float | None = None,
+    stiffness: float | None = None,
+    approach_speed: float | None = None,
     *,
-    e_N=None,  # noqa: N803  (Newton's e_N, as the paper and the issue write it)
-    accel=None,
-    force=None,
-    radius=None,
-):
+    e_N: float | None = None,  # noqa: N803  (Newton's e_N, as the paper and the issue write it)
+    accel: float | None = None,
+    force: float | None = None,
+    radius: float | None = None,
+) -> ContactParameters:
     """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
 
     Parameters
@@ -221,7 +222,7 @@ def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
     return float(r.e_n) if r.status == "ok" else math.nan
 
 
-def format_parameters(cp):
+def format_parameters(cp: ContactParameters) -> str:
     """``ContactParameters`` as aligned text lines (the command line's output)."""
     lines = [
         f"xi              {cp.xi:.15g}",

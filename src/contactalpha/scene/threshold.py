@@ -52,7 +52,7 @@ from contactalpha.engine.codes import (
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import FloatOrArray, RealLike, check_positive, check_range
 
 # Exponents of the fit's limits (derived, not fitted: ``engine.boundary.LIMIT_*``).
 FIT_EPS_POWER = LIMIT_EPS_POWER
@@ -238,7 +238,16 @@ def speed_for_load(A, mass, stiffness, accel):
     return (a * unit / A) ** (5.0 / 6.0)
 
 
-def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+def critical_speed(
+    eps: RealLike,
+    mass: float,
+    stiffness: float,
+    accel: float,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_steps: int = MAX_STEPS,
+) -> FloatOrArray:
     """Critical approach speed: above it an impact with the exact alpha separates, below it not.
 
     Parameters
