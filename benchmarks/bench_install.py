@@ -28,8 +28,8 @@ print(ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81).damping)
 print(ca.contact_parameters(e_N=0.5, mass=2.0, stiffness=2.51e6, approach_speed=0.5, accel=9.81).alpha)
 print(ca.advise(0.5, 2.0, 2.51e6, 0.5, accel=9.81).recommended)
 print(ca.critical_speed(0.5, 2.0, 2.51e6, 9.81))
-print(ca.predict_bounces(0.5, 2.0, 2.51e6, 0.5, accel=9.81).speeds[:3])
-print(ca.hertz_stiffness(200e9, 0.3, 0.01, 200e9, 0.3))
+print(ca.predict_bounces(ca.Scene(), "exact").approach_speeds[:3])
+print(ca.hertz_stiffness(200e9, 0.3, 0.01, modulus_2=200e9, poisson_2=0.3))
 print(ca.solve_alpha(0.5, 0.2).alpha, ca.convert_restitution(0.5, 0.2))
 import sys
 assert not {"xarray", "pandas", "matplotlib", "snakemake", "yaml"} & set(sys.modules), sorted(sys.modules)
@@ -38,6 +38,7 @@ CLI_CHECKS = (
     ["--version"],
     ["alpha", "0.5", "0.2"],
     ["alpha", "--e-n", "0.5", "--xi", "0.2"],
+    ["export-c", "c_out"],
     ["params", "--eps", "0.5", "--mass", "2", "--stiffness", "2.51e6", "--speed", "0.5", "--accel", "9.81"],
     ["scene", "--eps", "0.5", "--mass", "2", "--stiffness", "2.51e6", "--speed", "0.5", "--accel", "9.81"],
     ["hertz", "--modulus", "200e9", "--poisson", "0.3", "--radius", "0.01"],
