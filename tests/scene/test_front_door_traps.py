@@ -137,3 +137,22 @@ def test_hertz_command(capsys):
     assert capsys.readouterr().out.split()[1] == f"{ca.hertz_stiffness(210e9, 0.3, 0.01):.15g}"
     assert cli.main(["hertz", "--modulus", "210e9", "--poisson", "0.7", "--radius", "0.01"]) == 2
     assert "poisson" in capsys.readouterr().err
+
+
+def test_warmup_command_runs_every_entry_point(monkeypatch, capsys):
+    from contactalpha import warmup
+
+    called = []
+    monkeypatch.setitem(warmup.ENTRY_POINTS, "impact", lambda: called.append("impact"))
+    monkeypatch.setattr(warmup, "ENTRY_POINTS", {"impact": warmup.ENTRY_POINTS["impact"]})
+    assert cli.main(["warmup"]) == 0
+    captured = capsys.readouterr()
+    assert called == ["impact"] and "impact" in captured.err and captured.out.startswith("ready")
+
+
+def test_check_config_without_the_workflow_extra_says_what_to_install(monkeypatch, capsys):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "contactalpha.config", None)  # as if PyYAML were not installed
+    assert cli.main(["check-config", "config.yaml"]) == 2
+    assert 'pip install "contactalpha[workflow]"' in capsys.readouterr().err
