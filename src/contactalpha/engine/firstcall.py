@@ -158,7 +158,8 @@ class FirstCall:
 
     def __init__(self, dispatcher):
         self.dispatcher = dispatcher
-        self.compiled = False
+        # Under NUMBA_DISABLE_JIT=1 the "kernel" is its Python function already: call it as is.
+        self.compiled = not isinstance(dispatcher, CPUDispatcher)
         self.interpreted_s = 0.0
         self._lock = threading.Lock()
         NOTICE.announced.add(dispatcher)
