@@ -91,8 +91,9 @@ class ImpactResult:
 # and far more (milliseconds) when other processes hold the cores.
 PARALLEL_MIN = 32
 
-# The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``).
-IMPACT_FIRST_CALL = FirstCall(impact_kernel)
+# The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``),
+# then the compiled kernel itself.
+SCALAR_KERNEL = [FirstCall(impact_kernel, lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher))]
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))
@@ -211,7 +212,7 @@ def impact(
         Python scalars for scalar input, else arrays of the broadcast shape.
     """
     if plain_in("alpha", alpha) and plain_in("xi", xi) and plain_integrator_settings(rtol, atol, max_steps):
-        out, _ = IMPACT_FIRST_CALL(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
+        out, _ = SCALAR_KERNEL[0](alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
         return _scalar_result(out)
     alpha = check_alpha(alpha)
     xi = check_xi(xi)

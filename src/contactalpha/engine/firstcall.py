@@ -154,10 +154,14 @@ class FirstCall:
     ----------
     dispatcher : numba dispatcher
         A ``cache=True`` kernel of this package.
+    on_compiled : callable, optional
+        Called with ``dispatcher`` once compiled code is at hand, so that the caller can call the
+        dispatcher itself from then on (one Python call less per evaluation).
     """
 
-    def __init__(self, dispatcher):
+    def __init__(self, dispatcher, on_compiled=None):
         self.dispatcher = dispatcher
+        self.on_compiled = on_compiled
         # Under NUMBA_DISABLE_JIT=1 the "kernel" is its Python function already: call it as is.
         self.compiled = not isinstance(dispatcher, CPUDispatcher)
         self.interpreted_s = 0.0
@@ -195,15 +199,20 @@ class FirstCall:
             if disp._cache.load_overload(sig, disp.targetctx) is None:
                 return False
             disp.compile(sig)  # loads it from the cache again and registers it
-        self.compiled = True
+        self._now_compiled()
         return True
+
+    def _now_compiled(self):
+        self.compiled = True
+        if self.on_compiled is not None:
+            self.on_compiled(self.dispatcher)
 
     def compile(self, args):
         """Compile the kernel for ``args``' types now, or load it from the cache (``NOTICE`` says so)."""
         with self._lock:
             if not (self.compiled or self._compiled_or_cached(args)):
                 self.dispatcher.compile(tuple(_numba_type(a) for a in args))
-                self.compiled = True
+                self._now_compiled()
 
 
 def _native(value):

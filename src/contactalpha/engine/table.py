@@ -306,8 +306,14 @@ def scalar_lookup(restitution):
     if fast is None:
         default, _, _, arrays = _lookup(restitution)
         kernel = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
-        evaluator = FirstCall(kernel)
-        fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
+        flat = pack_table(arrays(default))
+
+        def compiled(dispatcher):  # from then on the scalar paths call the kernel itself
+            _SCALAR[restitution] = (dispatcher, flat)
+
+        fast = _SCALAR[restitution] = (FirstCall(kernel, compiled), flat)
+        if fast[0].compiled:  # NUMBA_DISABLE_JIT=1
+            compiled(kernel)
     return fast
 
 
