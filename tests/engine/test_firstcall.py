@@ -81,3 +81,28 @@ def test_compiled_only_compiles_silently(capsys):
         assert fc(1.0) == 2.0
     assert plus_one.signatures and fc.compiled
     assert capsys.readouterr().err == ""
+
+
+def test_cold_first_calls_compile_nothing_and_give_the_compiled_numbers(tmp_path):
+    """A fresh process, an empty numba cache: alpha and contact_parameters answer without compiling."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    import contactalpha as ca
+    from contactalpha.engine.firstcall import compiled_only
+
+    code = (
+        "import json, contactalpha as ca\n"
+        "cp = ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81)\n"
+        "print(json.dumps([ca.alpha(0.5, 0.2), cp.alpha, cp.e_n, cp.e_n_half_speed, cp.e_n_twice_speed]))\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert "compil" not in out.stderr  # nothing announced: nothing compiled
+    assert not list(tmp_path.rglob("*.nbi"))  # and nothing written to the cache
+    with compiled_only():
+        cp = ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81)
+        expected = [ca.alpha(0.5, 0.2), cp.alpha, cp.e_n, cp.e_n_half_speed, cp.e_n_twice_speed]
+    assert json.loads(out.stdout) == expected
