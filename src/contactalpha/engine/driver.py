@@ -93,7 +93,8 @@ PARALLEL_MIN = 32
 
 # The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``),
 # then the compiled kernel itself.
-SCALAR_KERNEL = [FirstCall(impact_kernel, lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher))]
+SCALAR_KERNEL: list = []
+SCALAR_KERNEL.append(FirstCall(impact_kernel, lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher)))
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))
