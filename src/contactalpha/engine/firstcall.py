@@ -196,7 +196,11 @@ class FirstCall:
         disp = self.dispatcher
         if not disp.signatures:
             sig = tuple(_numba_type(a) for a in args)
-            if disp._cache.load_overload(sig, disp.targetctx) is None:
+            # numba has no public "is it on disk?" query: ``Dispatcher.compile`` itself asks its
+            # ``_cache`` first.  Without that attribute (another numba) the kernel counts as not
+            # cached: the twin runs, then the budget compiles it (which loads it if cached).
+            cache = getattr(disp, "_cache", None)
+            if cache is None or cache.load_overload(sig, disp.targetctx) is None:
                 return False
             disp.compile(sig)  # loads it from the cache again and registers it
         self._now_compiled()
