@@ -106,7 +106,7 @@ def _scene_options(parser):
 
 
 def _sub(sub, name, help_text):
-    epilog = "examples:\n" + "\n".join(f"  {line}" for line in EXAMPLES[name])
+    epilog = "examples:\n" + "\n".join(f"  {line}" for line in EXAMPLES.get(name, ()))
     p = sub.add_parser(name, help=help_text, description=help_text, epilog=epilog,
                        formatter_class=argparse.RawDescriptionHelpFormatter)  # fmt: skip
     p.error = Parser.error.__get__(p)  # one-line errors in every subcommand too
