@@ -106,3 +106,13 @@ def test_cold_first_calls_compile_nothing_and_give_the_compiled_numbers(tmp_path
         cp = ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81)
         expected = [ca.alpha(0.5, 0.2), cp.alpha, cp.e_n, cp.e_n_half_speed, cp.e_n_twice_speed]
     assert json.loads(out.stdout) == expected
+
+
+def test_arguments_the_twin_would_be_slow_on_compile_at_once():
+    @njit
+    def square(x):
+        return x * x
+
+    fc = firstcall.FirstCall(square, interpret_if=lambda x: x < 10.0)
+    assert fc(3.0) == 9.0 and not square.signatures  # interpreted
+    assert fc(30.0) == 900.0 and square.signatures and fc.compiled  # compiled for it

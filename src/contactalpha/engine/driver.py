@@ -93,8 +93,17 @@ PARALLEL_MIN = 32
 
 # The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``),
 # then the compiled kernel itself.
+# Largest alpha the twin integrates: the steps grow with alpha (a few hundred at 1e3, where one
+# interpreted impact still costs a fraction of a compile); above it the kernel is compiled.
+TWIN_ALPHA_MAX = 1e3
 SCALAR_KERNEL: list = []
-SCALAR_KERNEL.append(FirstCall(impact_kernel, lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher)))
+SCALAR_KERNEL.append(
+    FirstCall(
+        impact_kernel,
+        on_compiled=lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher),
+        interpret_if=lambda alpha, *rest: alpha <= TWIN_ALPHA_MAX,
+    )
+)
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))

@@ -157,11 +157,15 @@ class FirstCall:
     on_compiled : callable, optional
         Called with ``dispatcher`` once compiled code is at hand, so that the caller can call the
         dispatcher itself from then on (one Python call less per evaluation).
+    interpret_if : callable, optional
+        ``interpret_if(*args)`` False for arguments the twin would take long on (the kernel is
+        compiled for them at once); default: every call may be interpreted.
     """
 
-    def __init__(self, dispatcher, on_compiled=None):
+    def __init__(self, dispatcher, on_compiled=None, interpret_if=None):
         self.dispatcher = dispatcher
         self.on_compiled = on_compiled
+        self.interpret_if = interpret_if
         # Under NUMBA_DISABLE_JIT=1 the "kernel" is its Python function already: call it as is.
         self.compiled = not isinstance(dispatcher, CPUDispatcher)
         self.interpreted_s = 0.0
@@ -177,7 +181,7 @@ class FirstCall:
     def _first_calls(self, args):
         if self._compiled_or_cached(args):
             return self.dispatcher(*args)
-        if not _INTERPRET[0]:
+        if not _INTERPRET[0] or (self.interpret_if is not None and not self.interpret_if(*args)):
             self.compile(args)
             return self.dispatcher(*args)
         clock = time.perf_counter()
