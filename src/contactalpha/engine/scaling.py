@@ -144,7 +144,7 @@ def influence_factor(
 
     The scaled load ``A = a delta_star / v0^2`` is also formed from logarithms, which
     take over where the direct product under- or overflows (extreme speeds); a load
-    so large that ``xi`` rounds to 1 raises a ``ValueError`` naming ``a`` and ``v0``.
+    so large that ``xi`` rounds to 1 raises a ``ValueError`` naming ``accel`` and ``approach_speed``.
 
     Parameters
     ----------
@@ -157,12 +157,14 @@ def influence_factor(
     accel : float or array
         Relative acceleration a from the external forces, m/s^2 (>= 0).
 
-    The old keyword names ``m_e``, ``k``, ``v0``, ``a`` still work, with a DeprecationWarning.
-
     Returns
     -------
     xi : float or ndarray
         In [0, 1).
+
+    Notes
+    -----
+    The old keyword names ``m_e``, ``k``, ``v0``, ``a`` still work, with a DeprecationWarning.
     """
     xi = _influence_factor_plain(mass, stiffness, approach_speed, accel)
     if xi is not None:
