@@ -3,12 +3,16 @@
 # Stages live in workflow/rules/<stage>.smk; each appends its default targets to ALL_TARGETS.
 # Every rule declares `conda: "../envs/contactalpha.yaml"`, so that `snakemake --lint` is clean.
 import os
+import sys
 
 from snakemake.utils import validate
 
 from contactalpha.config import check_config, read_yaml
 from contactalpha.io import claim_workdir
-from contactalpha.prefork import start_server, stop_server
+
+# The job server is workflow machinery: it lives beside the scripts that use it.
+sys.path.insert(0, os.path.join(workflow.basedir, "workflow", "scripts"))
+from prefork import start_server, stop_server  # noqa: E402
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 
@@ -32,8 +36,8 @@ if workflow.is_main_process:
 ALL_TARGETS = []
 
 # Local runs: the jobs' scripts run in forks of one process that has imported numpy, xarray,
-# numba, Matplotlib and the package once (contactalpha/prefork.py), about 1.5 s of CPU less per
-# job.  Cluster jobs, --sdm conda/apptainer jobs (their own Python) and --touch run without it.
+# numba, Matplotlib and the package once (workflow/scripts/prefork.py), about 1.5 s of CPU less
+# per job.  Cluster jobs, --sdm conda/apptainer jobs (their own Python) and --touch run without it.
 PREFORK = []
 
 

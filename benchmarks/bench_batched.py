@@ -65,9 +65,7 @@ def main():
     print(
         f"scalar:  {args.scalar} calls in {min(scalar):.3f} s = {s_rate:.3g} scenes/s (best of {args.repeat})"
     )
-    print(
-        f"ratio batched/scalar: {b_rate / s_rate:.1f}; max relative difference, scalar subset: {worst:.1e}"
-    )
+    print(f"ratio batched/scalar: {b_rate / s_rate:.1f}; max relative difference, scalar subset: {worst:.1e}")
 
 
 if __name__ == "__main__":

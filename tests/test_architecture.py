@@ -24,7 +24,6 @@ RANKS = {
     "studies": 6,
     "config": 7,
     "cli": 7,
-    "prefork": 7,  # the workflow's job server: it preloads every layer
     "__main__": 7,
     "__init__": 7,
 }

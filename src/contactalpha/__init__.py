@@ -31,6 +31,7 @@ _EXPORTS = {
     "load_surface": "io",
     "ContactParameters": "scene.parameters",
     "contact_parameters": "scene.parameters",
+    "hertz_stiffness": "scene.hertz",
     "Advice": "scene.advisor",
     "advise": "scene.advisor",
     "critical_speed": "scene.threshold",

@@ -1,12 +1,18 @@
-"""Command line: ``contactalpha alpha EPS XI``, ``impact ALPHA XI`` and ``scene EPS ...`` (the advisor)."""
+"""Command line: ``contactalpha params``, ``scene``, ``alpha``, ``hertz``, ``impact``, ``warmup``, ...
+
+Every subcommand takes the restitution the same way (``--eps`` or ``--e-n``, or ``--kinematic``),
+and its options before or after the subcommand's name; ``-h`` shows examples.
+"""
 
 import argparse
+import math
 import re
 import sys
 
 from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
+from contactalpha.version import __version__
 
 
 def _number(text):
@@ -39,51 +45,110 @@ class Parser(argparse.ArgumentParser):
 # The workflow's config schema, relative to a checkout (check-config --schema overrides it).
 SCHEMA = "workflow/schemas/config.schema.yaml"
 
+FORCE_HELP = (
+    "constant force pressing the bodies together, N; gravity is NOT added: add the weight m g "
+    "yourself, or give --accel g + F/m"
+)
+# Each subcommand's examples (shown by -h).
+EXAMPLES = {
+    "alpha": (
+        "contactalpha alpha --eps 0.5 --xi 0.2",
+        "contactalpha alpha --e-n 0.5 --xi 0.2",
+        "contactalpha alpha 0.5 0.2 --rtol 1e-10",
+    ),
+    "impact": ("contactalpha impact 1.5 0.2",),
+    "scene": (
+        "contactalpha scene --eps 0.3 --mass 2 --stiffness 2.51e6 --speed 0.5 --force 619.62",
+        "contactalpha scene --e-n 0.6 --mass 0.5 --stiffness 1.4e8 --speed 0.5 --accel 9.81 --speeds 0.1 1",
+    ),
+    "params": (
+        "contactalpha params --e-n 0.6 --mass 2 --stiffness 2.51e6 --speed 0.5 --accel 9.81",
+        "contactalpha params --eps 0.5 --mass 2 --stiffness 2.51e6 --speed 0.5 --force 600 --radius 0.05",
+        "contactalpha params --e-n 0.5 --mass 0.1 --stiffness 1e4 --speed 1 --accel 9.81 --engine mujoco",
+    ),
+    "hertz": (
+        "contactalpha hertz --modulus 210e9 --poisson 0.3 --radius 0.01  # steel ball, steel plate",
+        "contactalpha hertz --modulus 210e9 --poisson 0.3 --radius 0.01 --modulus-2 inf  # rigid plate",
+    ),
+    "export-c": ("contactalpha export-c build/  # build/contactalpha.h, build/contactalpha.c",),
+    "check-config": ("contactalpha check-config config.yaml workflow/configs/fine.yaml",),
+    "warmup": ("contactalpha warmup  # once after installing: first calls then load compiled code",),
+}
+
+
+def _integrator_options(parser, defaults):
+    """``--rtol``/``--atol``: on the main parser with defaults, on a subcommand without (SUPPRESS)."""
+    parser.add_argument("--rtol", type=_number, default=RTOL if defaults else argparse.SUPPRESS,
+                        help=f"integrator rtol (default {RTOL})")  # fmt: skip
+    parser.add_argument("--atol", type=_number, default=ATOL if defaults else argparse.SUPPRESS,
+                        help=f"integrator atol (default {ATOL})")  # fmt: skip
+
+
+def _restitution_options(parser, positional):
+    """The restitution, the same way in every subcommand: ``--eps`` or ``--e-n`` (or ``--kinematic``)."""
+    if positional:
+        parser.add_argument("eps_positional", nargs="?", type=_number, metavar="EPS",
+                            help="the restitution as a positional value (same as --eps)")  # fmt: skip
+    target = parser.add_mutually_exclusive_group()
+    target.add_argument("--eps", type=_number, help="Stronge's energetic restitution eps, 0 <= EPS <= 1")
+    target.add_argument("--e-n", dest="e_n", type=_number, help="Newton's kinematic e_N, 0 < E_N <= 1")
+    parser.add_argument("--kinematic", action="store_true", help="EPS is Newton's kinematic e_N (as --e-n)")
+
+
+def _scene_options(parser):
+    parser.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
+    parser.add_argument("--stiffness", type=_number, required=True,
+                        help="Hertz stiffness k, N/m^1.5 (`contactalpha hertz` computes it)")  # fmt: skip
+    parser.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
+    load = parser.add_mutually_exclusive_group(required=True)
+    load.add_argument(
+        "--accel", type=_number, help="constant acceleration into the contact, m/s^2 (g included)"
+    )
+    load.add_argument("--force", type=_number, help=FORCE_HELP)
+
+
+def _sub(sub, name, help_text):
+    epilog = "examples:\n" + "\n".join(f"  {line}" for line in EXAMPLES.get(name, ()))
+    p = sub.add_parser(name, help=help_text, description=help_text, epilog=epilog,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)  # fmt: skip
+    p.error = Parser.error.__get__(p)  # one-line errors in every subcommand too
+    p.set_defaults(subparser=p)  # the handlers word their errors as this subcommand's
+    return p
+
 
 def build_parser():
     """Return the argument parser of the ``contactalpha`` command."""
     p = Parser(
         prog="contactalpha",
         description="Hunt-Crossley damping factor alpha under a constant external load.",
+        epilog="Options go before or after the subcommand; `contactalpha SUBCOMMAND -h` shows examples.",
     )
-    p.add_argument("--rtol", type=_number, default=RTOL, help=f"integrator rtol (default {RTOL})")
-    p.add_argument("--atol", type=_number, default=ATOL, help=f"integrator atol (default {ATOL})")
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    _integrator_options(p, defaults=True)
     sub = p.add_subparsers(dest="command", required=True)
-    a = sub.add_parser("alpha", help="alpha that gives restitution EPS at influence factor XI")
-    a.add_argument("eps", type=_number, help="Stronge restitution coefficient, 0 <= EPS <= 1")
-    a.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
+    a = _sub(sub, "alpha", "exact alpha that gives restitution EPS (or e_N) at influence factor XI")
+    _restitution_options(a, positional=True)
+    a.add_argument("xi_positional", nargs="?", type=_number, metavar="XI", help="same as --xi")
+    a.add_argument("--xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
     a.add_argument("--tol", type=_number, default=EPS_TOL, help=f"tolerance on eps (default {EPS_TOL})")
-    i = sub.add_parser("impact", help="integrate one impact with damping ALPHA at influence factor XI")
+    _integrator_options(a, defaults=False)
+    i = _sub(sub, "impact", "integrate one impact with damping ALPHA at influence factor XI")
     i.add_argument("alpha", type=_number, help="hysteresis damping factor, ALPHA >= 0")
     i.add_argument("xi", type=_number, help="influence factor of the load, 0 <= XI < 1")
-    s = sub.add_parser("scene", help="which contact model a scene needs (scene advisor)")
-    s.add_argument(
-        "eps", type=_number, help="requested restitution (Stronge's eps; e_N with --kinematic), 0 < EPS <= 1"
-    )
-    s.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
-    s.add_argument("--stiffness", type=_number, required=True, help="Hertz stiffness k, N/m^1.5")
-    s.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
-    load = s.add_mutually_exclusive_group(required=True)
-    load.add_argument("--accel", type=_number, help="constant acceleration into the contact, m/s^2")
-    load.add_argument("--force", type=_number, help="constant force into the contact, N")
+    _integrator_options(i, defaults=False)
+    s = _sub(sub, "scene", "which contact model a scene needs, judged over its speeds (scene advisor)")
+    _restitution_options(s, positional=True)
+    _scene_options(s)
     s.add_argument("--tol", type=_number, default=0.01, help="tolerance on the delivered eps (default 0.01)")
-    s.add_argument(
-        "--kinematic", action="store_true", help="EPS is Newton's kinematic e_N (default: Stronge's eps)"
-    )
+    s.add_argument("--speeds", type=_number, nargs=2, metavar=("LOW", "HIGH"),
+                   help="judge over these approach speeds, m/s (default: the bounce sequence)")  # fmt: skip
     s.add_argument("--json", action="store_true", help="print the advice as JSON")
-    c = sub.add_parser("check-config", help="check workflow config files as `snakemake -n` would")
+    c = _sub(sub, "check-config", "check workflow config files as `snakemake -n` would (needs [workflow])")
     c.add_argument("files", nargs="+", help="YAML config files (e.g. one given to --configfile)")
     c.add_argument("--schema", default=SCHEMA, help=f"the workflow's JSON schema (default {SCHEMA})")
-    f = sub.add_parser("params", help="contact parameters of a scene in SI units, per engine (front door)")
-    target = f.add_mutually_exclusive_group(required=True)
-    target.add_argument("--eps", type=_number, help="Stronge's energetic restitution, 0 <= EPS <= 1")
-    target.add_argument("--e-n", dest="e_n", type=_number, help="Newton's kinematic e_N, 0 < E_N <= 1")
-    f.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
-    f.add_argument("--stiffness", type=_number, required=True, help="Hertz stiffness k, N/m^1.5")
-    f.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
-    f_load = f.add_mutually_exclusive_group(required=True)
-    f_load.add_argument("--accel", type=_number, help="constant acceleration into the contact, m/s^2")
-    f_load.add_argument("--force", type=_number, help="constant force into the contact, N")
+    f = _sub(sub, "params", "contact parameters of a scene in SI units, per engine (front door)")
+    _restitution_options(f, positional=False)
+    _scene_options(f)
     f.add_argument("--radius", type=_number, help="sphere radius, m (adds OpenSim's stiffness)")
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
     f.add_argument(
@@ -94,9 +159,28 @@ def build_parser():
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
-    x = sub.add_parser("export-c", help="write the exact-alpha tables and evaluator as C99 source")
+    h = _sub(sub, "hertz", "Hertz stiffness k (N/m^1.5) of two bodies from moduli, Poisson ratios, radii")
+    h.add_argument("--modulus", type=_number, required=True, help="Young's modulus of body 1, Pa")
+    h.add_argument("--poisson", type=_number, required=True, help="Poisson ratio of body 1, in (-1, 0.5]")
+    h.add_argument("--radius", type=_number, required=True, help="radius of body 1 at the contact, m")
+    h.add_argument("--modulus-2", type=_number, help="body 2's modulus, Pa (default body 1's; inf: rigid)")
+    h.add_argument("--poisson-2", type=_number, help="body 2's Poisson ratio (default body 1's)")
+    h.add_argument(
+        "--radius-2", type=_number, default=math.inf, help="body 2's radius, m (default inf: a flat)"
+    )
+    x = _sub(sub, "export-c", "write the exact-alpha tables and evaluator as C99 source")
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
+    _sub(sub, "warmup", "compile every numba kernel now (later first calls load the compiled code)")
     return p
+
+
+def _restitution(args, parser):
+    """``(value, "energetic" | "kinematic")`` from ``EPS``, ``--eps``, ``--e-n`` and ``--kinematic``."""
+    given = [v for v in (getattr(args, "eps_positional", None), args.eps, args.e_n) if v is not None]
+    if len(given) != 1:
+        parser.error("give the restitution once: --eps EPS (Stronge's) or --e-n E_N (Newton's kinematic)")
+    kinematic = args.e_n is not None or args.kinematic
+    return given[0], "kinematic" if kinematic else "energetic"
 
 
 def _print_advice(adv):
@@ -105,16 +189,62 @@ def _print_advice(adv):
     print(format_advice(adv))
 
 
-def _print_engine(args):
+def main(argv=None):
+    """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return COMMANDS[args.command](args, args.subparser)
+    except ValueError as exc:
+        print(f"contactalpha: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def _check_config(args, parser):
+    try:
+        from contactalpha.config import load_config
+    except ModuleNotFoundError as exc:
+        print(
+            f"contactalpha: error: check-config needs the workflow's libraries ({exc.name} is missing): "
+            'pip install "contactalpha[workflow]"',
+            file=sys.stderr,
+        )
+        return 2
+    for path in args.files:
+        load_config(path, args.schema)
+        print(f"{path}: ok")
+    return 0
+
+
+def _scene(args, parser):
+    from contactalpha.io import json_text
+    from contactalpha.scene.advisor import advise
+
+    value, restitution = _restitution(args, parser)
+    kw = {"accel": args.accel} if args.accel is not None else {"force": args.force}
+    adv = advise(value, args.mass, args.stiffness, args.speed, tol=args.tol, restitution=restitution,
+                 speeds=None if args.speeds is None else tuple(args.speeds), **kw)  # fmt: skip
+    print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
+    return 0
+
+
+def _export_c(args, parser):
+    from contactalpha.export.c_source import export_c
+
+    for path in export_c(args.directory):
+        print(path)
+    return 0
+
+
+def _print_engine(args, value, restitution):
     """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
     from contactalpha.io import json_text
     from contactalpha.scene.engine_params import engine_block, format_block
 
     accel = args.accel if args.accel is not None else args.force / args.mass
-    target, kind = (args.e_n, "kinematic") if args.e_n is not None else (args.eps, "energetic")
     params, notes = engine_block(
-        args.engine, target, args.mass, args.stiffness, args.speed, accel,
-        restitution=kind, radius=args.radius, refine=args.refine,
+        args.engine, value, args.mass, args.stiffness, args.speed, accel,
+        restitution=restitution, radius=args.radius, refine=args.refine,
     )  # fmt: skip
     if args.json:
         print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
@@ -123,77 +253,96 @@ def _print_engine(args):
     return 0
 
 
-def main(argv=None):
-    """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
-    args = build_parser().parse_args(argv)
-    try:
-        if args.command == "check-config":
-            from contactalpha.config import load_config
+def _params(args, parser):
+    from dataclasses import asdict
 
-            for path in args.files:
-                load_config(path, args.schema)
-                print(f"{path}: ok")
-            return 0
-        if args.command == "scene":
-            from contactalpha.io import json_text
-            from contactalpha.scene.advisor import advise
+    from contactalpha.io import json_text
+    from contactalpha.scene.engine_conventions import UNIT_NOTES
+    from contactalpha.scene.parameters import contact_parameters, format_parameters
 
-            kw = {"accel": args.accel} if args.accel is not None else {"force": args.force}
-            kw["restitution"] = "kinematic" if args.kinematic else "energetic"
-            adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
-            print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
-            return 0
-        if args.command == "export-c":
-            from contactalpha.export.c_source import export_c
+    value, restitution = _restitution(args, parser)
+    if args.engine is not None:
+        return _print_engine(args, value, restitution)
+    target = {"eps": value} if restitution == "energetic" else {"e_N": value}
+    cp = contact_parameters(
+        mass=args.mass,
+        stiffness=args.stiffness,
+        approach_speed=args.speed,
+        accel=args.accel,
+        force=args.force,
+        radius=args.radius,
+        **target,
+    )
+    data = asdict(cp) | {
+        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
+    }
+    print(json_text(data, indent=1) if args.json else format_parameters(cp))
+    return 0
 
-            for path in export_c(args.directory):
-                print(path)
-            return 0
-        if args.command == "params" and args.engine is not None:
-            return _print_engine(args)
-        if args.command == "params":
-            from dataclasses import asdict
 
-            from contactalpha.io import json_text
-            from contactalpha.scene.parameters import contact_parameters, format_parameters
+def _hertz(args, parser):
+    from contactalpha.scene.hertz import hertz_stiffness
 
-            cp = contact_parameters(
-                args.eps,
-                args.mass,
-                args.stiffness,
-                args.speed,
-                e_N=args.e_n,
-                accel=args.accel,
-                force=args.force,
-                radius=args.radius,
-            )
-            print(json_text(asdict(cp), indent=1) if args.json else format_parameters(cp))
-            return 0
-        if args.command == "alpha":
-            s = solve_alpha(args.eps, args.xi, tol=args.tol, rtol=args.rtol, atol=args.atol)
-            print(f"alpha        {s.alpha:.15g}")
-            print(f"eps reached  {s.eps_reached:.15g}")
-            print(f"e_N reached  {s.e_n_reached:.15g}")
-            print(f"end state    {s.state}")
-            print(f"impacts      {s.impacts}")
-            print(f"steps        {s.steps}")
-            print(f"status       {s.status}")
-            return 0 if s.ok else 1
-        r = impact(args.alpha, args.xi, rtol=args.rtol, atol=args.atol)
-        print(f"eps          {r.eps:.15g}")
-        print(f"e_N          {r.e_n:.15g}")
-        print(f"end state    {r.state}")
-        print(f"x_max        {r.x_max:.15g}")
-        print(f"x_end        {r.x_end:.15g}")
-        print(f"v_end        {r.v_end:.15g}")
-        print(f"t_max        {r.t_max:.15g}")
-        print(f"t_end        {r.t_end:.15g}")
-        print(f"steps        {r.steps}")
-        print(f"status       {r.status}")
-        return 0 if r.ok else 1
-    except ValueError as exc:
-        print(f"contactalpha: error: {exc}", file=sys.stderr)
-        return 2
+    k = hertz_stiffness(args.modulus, args.poisson, args.radius, modulus_2=args.modulus_2,
+                        poisson_2=args.poisson_2, radius_2=args.radius_2)  # fmt: skip
+    print(f"stiffness    {k:.15g} N/m^1.5")
+    return 0
+
+
+def _warmup(args, parser):
+    from contactalpha.warmup import warm_up
+
+    def progress(name, seconds):
+        print(f"{name:10s} {seconds:6.1f} s", file=sys.stderr, flush=True)
+
+    print("contactalpha: compiling every kernel (or loading it from numba's cache) ...", file=sys.stderr)
+    total = sum(warm_up(progress=progress).values())
+    print(f"ready        {total:.1f} s")
+    return 0
+
+
+def _alpha(args, parser):
+    value, restitution = _restitution(args, parser)
+    xi = [v for v in (args.xi_positional, args.xi) if v is not None]
+    if len(xi) != 1:
+        parser.error("give the influence factor once: --xi XI (or the second positional value)")
+    s = solve_alpha(value, xi[0], tol=args.tol, rtol=args.rtol, atol=args.atol, restitution=restitution)
+    print(f"alpha        {s.alpha:.15g}")
+    print(f"eps reached  {s.eps_reached:.15g}")
+    print(f"e_N reached  {s.e_n_reached:.15g}")
+    print(f"end state    {s.state}")
+    print(f"impacts      {s.impacts}")
+    print(f"steps        {s.steps}")
+    print(f"status       {s.status}")
+    return 0 if s.ok else 1
+
+
+def _impact(args, parser):
+    r = impact(args.alpha, args.xi, rtol=args.rtol, atol=args.atol)
+    print(f"eps          {r.eps:.15g}")
+    print(f"e_N          {r.e_n:.15g}")
+    print(f"end state    {r.state}")
+    print(f"x_max        {r.x_max:.15g}")
+    print(f"x_end        {r.x_end:.15g}")
+    print(f"v_end        {r.v_end:.15g}")
+    print(f"t_max        {r.t_max:.15g}")
+    print(f"t_end        {r.t_end:.15g}")
+    print(f"steps        {r.steps}")
+    print(f"status       {r.status}")
+    return 0 if r.ok else 1
+
+
+# Subcommand -> its handler ``f(args, parser) -> exit status``.
+COMMANDS = {
+    "alpha": _alpha,
+    "impact": _impact,
+    "scene": _scene,
+    "check-config": _check_config,
+    "params": _params,
+    "hertz": _hertz,
+    "export-c": _export_c,
+    "warmup": _warmup,
+}
 
 
 if __name__ == "__main__":  # pragma: no cover

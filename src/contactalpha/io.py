@@ -8,8 +8,12 @@ import socket
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path, PurePath
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 # netCDF4/HDF5 through h5py: no netCDF C library needed.
 ENGINE = "h5netcdf"
@@ -129,7 +133,7 @@ RUN_LOCK = Path(".snakemake") / "contactalpha.run.lock"
 # Snakemake's own lock files (file persistence): left behind by a run that was killed.
 SNAKEMAKE_LOCKS = re.compile(r"^\d+\.(input|output)\.lock$")
 # Open lock files of this process: kept open for its lifetime.
-_HELD = {}
+_HELD: dict = {}
 
 
 def claim_workdir(workdir="."):
@@ -235,7 +239,7 @@ def _checked_surface(ds, path):
     return ds
 
 
-def load_surface(path):
+def load_surface(path: str | Path) -> "xr.Dataset":
     """The alpha(eps, xi) surface Dataset written by the workflow (``results/surface.h5``).
 
     Raises

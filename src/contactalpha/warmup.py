@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from contactalpha.engine import boundary, driver, exact, solver, table
+from contactalpha.engine import boundary, driver, exact, firstcall, solver, table
 from contactalpha.engine.scaling import influence_factor
 from contactalpha.models import closed_form, registry, shen
 from contactalpha.scene import ball, threshold
@@ -120,7 +120,8 @@ def warm_up(entry_points=None, progress=None):
     seconds = {}
     for name in names:
         t0 = time.perf_counter()
-        ENTRY_POINTS[name]()
+        with firstcall.compiled_only():  # the scalar paths too, not their Python twins
+            ENTRY_POINTS[name]()
         seconds[name] = time.perf_counter() - t0
         if progress is not None:
             progress(name, seconds[name])

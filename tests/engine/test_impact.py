@@ -161,13 +161,13 @@ def test_every_entry_point_validates_the_step_budget(max_steps):
 
 
 def test_physical_scales_reject_non_positive_inputs():
-    with pytest.raises(ValueError, match=r"m_e = -1.0 .*\(0.0, inf\)"):
+    with pytest.raises(ValueError, match=r"mass = -1.0 .*\(0.0, inf\)"):
         ca.influence_factor(-1.0, 1e8, 1.0, 10.0)
-    with pytest.raises(ValueError, match="k = 0.0"):
+    with pytest.raises(ValueError, match="stiffness = 0.0"):
         ca.load_for(0.2, 1.0, 0.0, 1.0)
-    with pytest.raises(ValueError, match="v0 = nan"):
+    with pytest.raises(ValueError, match="approach_speed = nan"):
         ca.length_scale(1.0, 1e8, np.nan)
-    with pytest.raises(ValueError, match="a = .* is complex"):
+    with pytest.raises(ValueError, match="accel = .* is complex"):
         ca.influence_factor(1.0, 1e8, 1.0, np.array([10.0 + 0j]))
 
 

@@ -14,8 +14,12 @@ import contactalpha as ca
 from contactalpha.engine.jitcache import FOLDER_PREFIX, PackageSourceLocator
 from contactalpha.provenance import PACKAGE_DIR, source_files, source_hash
 
-# One impact through the cached kernels; prints eps with all its digits.
-PROBE = "from contactalpha.engine.driver import impact; print(repr(float(impact(5.0, 0.2).eps)))"
+# One impact through the cached kernels (compiled, not the first call's Python twin: firstcall.py);
+# prints eps with all its digits.
+PROBE = (
+    "from contactalpha.engine.driver import impact; from contactalpha.engine.firstcall import compiled_only\n"
+    "with compiled_only(): print(repr(float(impact(5.0, 0.2).eps)))"
+)
 HERTZ_LINE = "HERTZ = 1.25\n"
 
 needs_jit = pytest.mark.skipif(numba.config.DISABLE_JIT, reason="NUMBA_DISABLE_JIT=1: nothing is cached")

@@ -59,7 +59,7 @@ def test_length_and_time_scales_are_those_of_the_undamped_hertz_impact():
 @pytest.mark.parametrize("a, v0", [(1e30, 1.0), (1e250, 1.0), (9.81, 1e-30), (9.81, 1e-200), (1e300, 1e200)])
 def test_a_load_whose_xi_rounds_to_one_is_an_error_naming_the_users_arguments(a, v0):
     # Before: 1.0 (outside [0, 1)), NaN with a RuntimeWarning, or an error naming the internal A.
-    expected = re.escape(f"a = {a!r} m/s^2 at v0 = {v0!r} m/s") + ".* xi rounds to 1.0"
+    expected = re.escape(f"accel = {a!r} m/s^2 at approach_speed = {v0!r} m/s") + ".* xi rounds to 1.0"
     with pytest.raises(ValueError, match=expected):
         ca.influence_factor(5.0, 5.4e9, v0, a)
 
@@ -89,5 +89,19 @@ def test_scalar_length_scale_is_the_array_one_bit_for_bit():
         got = ca.length_scale(float(m), float(k), float(v))
         assert type(got) is float
         assert got == ca.length_scale(np.array([m]), np.array([k]), np.array([v]))[0]
-    with pytest.raises(ValueError, match="k = 0.0"):
+    with pytest.raises(ValueError, match="stiffness = 0.0"):
         ca.length_scale(1.0, 0.0, 1.0)
+
+
+def test_old_keyword_names_still_work_with_a_deprecation_warning():
+    new = ca.influence_factor(mass=2.0, stiffness=1e9, approach_speed=0.7, accel=9.81)
+    with pytest.warns(DeprecationWarning, match="'m_e' is deprecated; use 'mass'"):
+        old = ca.influence_factor(m_e=2.0, k=1e9, v0=0.7, a=9.81)
+    assert old == new == ca.influence_factor(2.0, 1e9, 0.7, 9.81)
+    with pytest.warns(DeprecationWarning, match="'v0'"):
+        assert ca.length_scale(2.0, 1e9, v0=0.7) == ca.length_scale(2.0, 1e9, 0.7)
+    with pytest.raises(TypeError, match="both 'k'"):
+        ca.influence_factor(2.0, 0.7, 9.81, k=1e9, stiffness=1e9)
+    with pytest.warns(DeprecationWarning, match="'v_impact'"):
+        f = ca.contact_force(1e-4, 0.1, v_impact=0.5, k=1e9, eps=0.5, xi=0.1)
+    assert f == ca.contact_force(1e-4, 0.1, 0.5, 1e9, 0.5, 0.1)

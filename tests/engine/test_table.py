@@ -145,7 +145,7 @@ def test_contact_force_is_hunt_crossley_with_the_models_alpha():
     assert F == pytest.approx(1.4e8 * 2e-5**1.5 * (1 - a * 0.1 / 0.5), rel=1e-14)
     assert ca.contact_force(-1e-5, 0.1, 0.5, 1.4e8, 0.6, 0.3) == 0.0
     assert ca.contact_force(1e-5, -10.0, 0.5, 1.4e8, 0.6, 0.3, model="hu_guo", clip_tension=True) == 0.0
-    with pytest.raises(ValueError, match="v_impact = 0.0"):
+    with pytest.raises(ValueError, match="approach_speed = 0.0"):
         ca.contact_force(1e-5, 0.1, 0.0, 1.4e8, 0.6, 0.3)
 
 

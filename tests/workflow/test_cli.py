@@ -74,8 +74,12 @@ def test_negative_numbers_in_any_float_form_are_values_not_options(capsys, argv,
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["alpha", "0.5"], "contactalpha alpha: error: the following arguments are required: xi"),
-        (["alpha", "x", "0"], "contactalpha alpha: error: argument eps: 'x' is not a number"),
+        (["alpha", "0.5"], "contactalpha alpha: error: give the influence factor once: --xi XI"),
+        (["alpha", "x", "0"], "contactalpha alpha: error: argument EPS: 'x' is not a number"),
+        (
+            ["params", "--mass", "1"],
+            "contactalpha params: error: the following arguments are required: --stiffness",
+        ),
         (["alpha", "0.5", "0.2", "--bogus"], "contactalpha: error: unrecognized arguments: --bogus"),
         (["solve"], "contactalpha: error: argument command: invalid choice: 'solve'"),
     ],

@@ -1,4 +1,4 @@
-"""The pre-imported job server (contactalpha.prefork): jobs run in its forks as in their own process."""
+"""The pre-imported job server (workflow/scripts/prefork.py): jobs run in its forks as in their own."""
 
 import json
 import os
@@ -14,7 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from contactalpha import prefork
+# Workflow machinery, beside the scripts that import it (as Snakemake's script jobs do).
+SCRIPTS = Path(__file__).resolve().parents[2] / "workflow" / "scripts"
+sys.path.insert(0, str(SCRIPTS))
+import prefork  # noqa: E402
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the server runs on Linux only")
 
@@ -22,11 +25,12 @@ pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="th
 SCRIPT = textwrap.dedent(
     """
     import atexit, json, os, signal, subprocess, sys, time
-    from contactalpha.prefork import delegate
+    sys.path.append('SCRIPTS_DIR')  # as Snakemake's preamble does
+    from prefork import delegate
 
     delegate()
     import numpy as np
-    import contactalpha.prefork as p
+    import prefork as p
 
     info = {"ppid": os.getppid(), "pid": os.getpid(), "in_child": p._in_child, "cwd": os.getcwd(),
             "x": os.environ.get("X"), "argv": sys.argv[1:], "path0": sys.path[0],
@@ -59,7 +63,7 @@ SCRIPT = textwrap.dedent(
         open(os.environ["PIDFILE"], "w").write(str(os.getpid()))
         time.sleep(60)
     """
-)
+).replace("SCRIPTS_DIR", str(SCRIPTS))
 
 
 @pytest.fixture
@@ -251,7 +255,8 @@ def test_the_server_leaves_no_zombies(server, script, tmp_path):
 
 def test_the_server_dies_with_the_process_that_started_it_and_removes_its_socket(tmp_path):
     code = (
-        "import os, time; from contactalpha import prefork; s = prefork.start_server(); "
+        f"import os, sys, time; sys.path.insert(0, {str(SCRIPTS)!r}); import prefork; "
+        "s = prefork.start_server(); "
         "print(s.pid, os.environ[prefork.SOCKET_ENV], flush=True); time.sleep(60)"
     )
     env = {k: v for k, v in os.environ.items() if k not in (prefork.SOCKET_ENV, prefork.PREFIX_ENV)}

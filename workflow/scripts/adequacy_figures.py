@@ -6,9 +6,9 @@ Outputs: results/figures/adequacy_tol<tol>, adequacy_cheapest, adequacy_xi_ignor
 (.png and .pdf each), written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from pathlib import Path
 

@@ -7,9 +7,9 @@ Outputs: results/adequacy/maps.h5 (netCDF4/HDF5, with provenance, the measured m
 the run time), written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from dataclasses import asdict
 

@@ -7,9 +7,9 @@ Inputs: none.
 Outputs: data (netCDF4/HDF5 with provenance and run time), table (markdown), written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import time
 

@@ -8,9 +8,9 @@ Outputs: case_a, case_b (netCDF4/HDF5 runs with time series and per-contact ledg
 summary (markdown: counts, end states, counting rule, skipped models); all written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from dataclasses import asdict, replace
 

@@ -8,9 +8,9 @@ Outputs: data (netCDF4/HDF5: per-run results and contact paths), table (markdown
 eps and end state of every combination); written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic, write_text_atomic

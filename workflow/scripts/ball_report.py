@@ -9,9 +9,9 @@ fig11_ball_motion, fig12_ball_energy and the first-collision figures as (png, pd
 all written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import json
 

@@ -5,9 +5,9 @@ Inputs: scaling.json.
 Outputs: png, pdf.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import json
 from pathlib import Path

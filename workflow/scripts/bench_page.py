@@ -5,9 +5,9 @@ Inputs: summary.md.
 Outputs: a flag file (touched by Snakemake); the page is edited in place, atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from pathlib import Path
 

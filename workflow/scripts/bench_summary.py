@@ -7,9 +7,9 @@ scaling (scaling.json).
 Outputs: the markdown file, written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger

@@ -6,9 +6,9 @@ Outputs: comparison (JSON: max and RMS |eps_delivered - eps|, end-state agreemen
 targets met, per model, with provenance and run time); figure (PNG and PDF error maps).
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import time
 

@@ -7,9 +7,9 @@ the fit's report and delivered-eps scores on the fitted and the held-out points;
 `snakemake -c2 closedform_ship` copies it into the package.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import time
 from dataclasses import asdict

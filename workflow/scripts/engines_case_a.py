@@ -7,9 +7,9 @@ Inputs: none.
 Outputs: case_A_opensim.nc (per-contact ledgers, counts and rest times in the attributes).
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from dataclasses import replace
 

@@ -5,9 +5,9 @@ Inputs: roundtrip_*.nc.
 Outputs: png, pdf.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.io import load_dataset, script_logger
 from contactalpha.plotting import save_figure

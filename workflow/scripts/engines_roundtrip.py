@@ -7,9 +7,9 @@ Inputs: none.
 Outputs: roundtrip_{engine}.nc (dims run, epsilon, force), written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.config import settings_from
 from contactalpha.io import script_logger, write_dataset_atomic

@@ -5,9 +5,9 @@ Inputs: none.
 Outputs: static.nc (dims engine, force), written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.io import script_logger, write_dataset_atomic
 from contactalpha.studies.engines.compute import (

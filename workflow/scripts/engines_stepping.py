@@ -6,9 +6,9 @@ Outputs: stepping_{engine}.nc (dims target, load), written atomically; an engine
 installed gives a file that says so (attribute ``skipped``), and one log line.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import xarray as xr
 

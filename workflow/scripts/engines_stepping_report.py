@@ -5,9 +5,9 @@ Inputs: stepping_*.nc.
 Outputs: png, pdf, table (docs/engines-table.md).
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.io import load_dataset, script_logger, write_text_atomic
 from contactalpha.plotting import save_figure

@@ -6,9 +6,9 @@ Inputs: roundtrips (roundtrip_*.nc), static (static.nc), case_a (case_A_opensim.
 Outputs: summary.md, written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.config import settings_from
 from contactalpha.io import load_dataset, script_logger, write_text_atomic

@@ -9,9 +9,9 @@ fig8 and lambda (the refit constants).
 Outputs: the figures, written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import json
 from functools import cache

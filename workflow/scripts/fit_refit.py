@@ -9,9 +9,9 @@ Nothing is written when a fit does not converge: the rule fails with scipy's mes
 The rule's threads are worker processes, each fit single-threaded (same bits for any number).
 """
 
-from contactalpha.prefork import delegate, one_blas_thread
+from prefork import delegate, one_blas_thread
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 one_blas_thread()  # before numpy loads, here and in the worker processes (the server's already is)
 
 from contactalpha.io import load_surface, script_logger, write_json_atomic, write_text_atomic

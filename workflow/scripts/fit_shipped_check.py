@@ -9,9 +9,9 @@ of the same surface and reading but differ by more than tol_se standard errors (
 `snakemake -c2 ship` ships the fresh refit).
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import json
 from pathlib import Path

@@ -7,9 +7,9 @@ Outputs: results/models/fig9.h5 (dims model, xi, eps_pre), fig9_max_deviation.md
 and the figure (png, pdf), drawn from the written file.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import time
 

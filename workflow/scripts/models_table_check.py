@@ -8,9 +8,9 @@ warmup (the numba warm-up's records: they order the job after the compile, and a
 Outputs: the check as markdown; the rule fails if the table misses max_rel_err.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from pathlib import Path
 

@@ -7,7 +7,7 @@ Outputs: JSON with the seconds of each kernel family (contactalpha.warmup.ENTRY_
 their total, numba's version and cache folder, and the provenance every result carries.
 """
 
-# No contactalpha.prefork.delegate(): the warm-up jobs are the run's first, and in their own
+# No prefork.delegate(): the warm-up jobs are the run's first, and in their own
 # processes they compile while the job server is still importing, instead of waiting for it.
 import time
 

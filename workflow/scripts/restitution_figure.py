@@ -5,9 +5,9 @@ Inputs: none (convert_restitution on the grid).
 Outputs: data (netCDF, with settings, version, commit and compute time), png, pdf.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.io import script_logger, write_dataset_atomic
 from contactalpha.plotting import save_figure

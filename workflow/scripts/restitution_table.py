@@ -7,9 +7,9 @@ Outputs: results/models/alpha_table_kinematic.npz, written atomically, with its 
 package version, git commit and build time in its metadata.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import time
 

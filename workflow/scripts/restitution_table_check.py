@@ -6,9 +6,9 @@ Inputs: the table file; a built table is also compared with the shipped copy.
 Outputs: the check as markdown; the rule fails if the table misses max_rel_err.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from pathlib import Path
 

@@ -10,9 +10,9 @@ file itself is written atomically and is not a Snakemake output (Snakemake would
 tracked file before the job).
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 import hashlib
 from datetime import UTC, datetime

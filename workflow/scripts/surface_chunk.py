@@ -8,9 +8,9 @@ Outputs: the chunk as netCDF4/HDF5 (attrs chunk, chunks, compute_seconds), writt
 Log: progress lines with points/s.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from dataclasses import asdict
 

@@ -9,9 +9,9 @@ Outputs: the figures and, if named, summary (markdown: grid, timings, end states
 written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from functools import cache
 

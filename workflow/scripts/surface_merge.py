@@ -6,9 +6,9 @@ Inputs: the chunk files of one run.
 Outputs: the merged surface as netCDF4/HDF5, written atomically.
 """
 
-from contactalpha.prefork import delegate
+from prefork import delegate
 
-delegate()  # in the run's pre-imported process, if there is one (contactalpha/prefork.py)
+delegate()  # in the run's pre-imported process, if there is one (workflow/scripts/prefork.py)
 
 from contactalpha.io import script_logger, write_dataset_atomic
 from contactalpha.paper.surface.compute import merge_chunks

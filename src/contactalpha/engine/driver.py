@@ -2,11 +2,14 @@
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numba import njit
 
 from contactalpha.validation import (
+    FloatOrArray,
+    RealLike,
     check_alpha,
     check_max_steps,
     check_tolerances,
@@ -33,6 +36,7 @@ from .codes import (
     OUT_X_MAX,
     STATUS,
 )
+from .firstcall import FirstCall
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .threads import run_rows
@@ -64,18 +68,18 @@ class ImpactResult:
     deps_dalpha : sensitivity of eps to alpha.
     """
 
-    eps: np.ndarray
-    state: np.ndarray
-    x_max: np.ndarray
-    x_end: np.ndarray
-    v_end: np.ndarray
-    t_max: np.ndarray
-    t_end: np.ndarray
-    steps: np.ndarray
-    nfev: np.ndarray
-    status: np.ndarray
-    deps_dalpha: np.ndarray
-    e_n: np.ndarray = np.nan
+    eps: FloatOrArray
+    state: str | np.ndarray
+    x_max: FloatOrArray
+    x_end: FloatOrArray
+    v_end: FloatOrArray
+    t_max: FloatOrArray
+    t_end: FloatOrArray
+    steps: int | np.ndarray
+    nfev: int | np.ndarray
+    status: str | np.ndarray
+    deps_dalpha: FloatOrArray
+    e_n: FloatOrArray = np.nan
 
     @property
     def ok(self):
@@ -86,6 +90,20 @@ class ImpactResult:
 # Below this many points the serial loop wins: waking the worker threads costs more,
 # and far more (milliseconds) when other processes hold the cores.
 PARALLEL_MIN = 32
+
+# The scalar path's kernel: its Python twin until compiled code is at hand (``firstcall``),
+# then the compiled kernel itself.
+# Largest alpha the twin integrates: the steps grow with alpha (a few hundred at 1e3, where one
+# interpreted impact still costs a fraction of a compile); above it the kernel is compiled.
+TWIN_ALPHA_MAX = 1e3
+SCALAR_KERNEL: list = []
+SCALAR_KERNEL.append(
+    FirstCall(
+        impact_kernel,
+        on_compiled=lambda dispatcher: SCALAR_KERNEL.__setitem__(0, dispatcher),
+        interpret_if=lambda alpha, *rest: alpha <= TWIN_ALPHA_MAX,
+    )
+)
 
 # Empty trajectory record: impacts that record nothing share it.
 NO_RECORD = np.empty((0, N_REC))
@@ -181,7 +199,9 @@ def _scalar_result(out):
     )
 
 
-def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+def impact(
+    alpha: RealLike, xi: RealLike, *, rtol: float = RTOL, atol: float = ATOL, max_steps: int = MAX_STEPS
+) -> "ImpactResult":
     """Integrate the scaled impact (Eq. 24) for damping ``alpha`` and load ``xi``.
 
     Parameters
@@ -202,7 +222,7 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         Python scalars for scalar input, else arrays of the broadcast shape.
     """
     if plain_in("alpha", alpha) and plain_in("xi", xi) and plain_integrator_settings(rtol, atol, max_steps):
-        out, _ = impact_kernel(alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
+        out, _ = SCALAR_KERNEL[0](alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
         return _scalar_result(out)
     alpha = check_alpha(alpha)
     xi = check_xi(xi)
@@ -211,12 +231,12 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    alpha, A = np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel())
+    alpha, A = np.ascontiguousarray(alpha).ravel(), np.ascontiguousarray(A).ravel()
     table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)
 
 
-def restitution(alpha, xi, **kwargs):
+def restitution(alpha: RealLike, xi: RealLike, **kwargs: Any) -> FloatOrArray:
     """Stronge's restitution coefficient produced by ``alpha`` at load ``xi``.
 
     Same arguments as ``impact``; returns ``impact(...).eps``.  NaN marks a
@@ -225,7 +245,15 @@ def restitution(alpha, xi, **kwargs):
     return impact(alpha, xi, **kwargs).eps
 
 
-def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100_000):
+def trajectory(
+    alpha: float,
+    xi: float,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_step: float = np.inf,
+    max_rows: int = 100_000,
+) -> tuple[np.ndarray, "ImpactResult"]:
     """Accepted steps ``(t, x, v)`` of one impact, scaled, plus its ``ImpactResult``.
 
     ``max_step`` caps the time step (scaled time) for smooth plots and

@@ -15,6 +15,8 @@ cancellation of the closed form near ``eps -> 1``.
 import numpy as np
 from numba import njit, vectorize
 
+from contactalpha.validation import FloatOrArray, RealLike
+
 # Below this alpha the series form of G is used (terms shrink like alpha^n).
 SERIES_LIMIT = 0.5
 # Terms of the series; 0.5^60 is far below double precision.
@@ -131,7 +133,7 @@ def _restitution_exact_ufunc(alpha):
     return restitution_exact_scalar(alpha)
 
 
-def alpha_exact(eps):
+def alpha_exact(eps: RealLike) -> FloatOrArray:
     """Exact damping factor at ``xi = 0`` for restitution ``eps`` in (0, 1].
 
     ``eps = 0`` cannot be reached without a load (alpha -> infinity) and raises.
@@ -142,7 +144,7 @@ def alpha_exact(eps):
     return _alpha_exact_ufunc(e)[()]
 
 
-def restitution_exact(alpha):
+def restitution_exact(alpha: RealLike) -> FloatOrArray:
     """Exact Stronge restitution at ``xi = 0`` for damping ``alpha >= 0``."""
     from contactalpha.validation import check_alpha
 

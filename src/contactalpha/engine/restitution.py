@@ -6,7 +6,11 @@ whenever the load ``A > 0``.  ``x_m`` depends on the damping, so the conversion 
 alpha that gives the coefficient it is handed and reads the other one off the same impact.
 """
 
+from typing import Any
+
 import numpy as np
+
+from contactalpha.validation import FloatOrArray, RealLike
 
 from .solver import no_kinematic_inverse, solve_alpha
 
@@ -14,7 +18,9 @@ from .solver import no_kinematic_inverse, solve_alpha
 CONVERSIONS = ("kinematic", "energetic")
 
 
-def convert_restitution(value, xi, to="kinematic", **solver_options):
+def convert_restitution(
+    value: RealLike, xi: RealLike, to: str = "kinematic", **solver_options: Any
+) -> FloatOrArray:
     """Convert a restitution coefficient between the energetic and the kinematic definition.
 
     Parameters

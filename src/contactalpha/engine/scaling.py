@@ -13,11 +13,26 @@ import math
 import numpy as np
 from numba import njit
 
-from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range, check_xi
+from contactalpha.validation import (
+    PLAIN_FLOATS,
+    FloatOrArray,
+    RealLike,
+    check_positive,
+    check_range,
+    check_xi,
+    renamed_keywords,
+)
+
+from .firstcall import FirstCall
+
+# The public API's names of the scene's quantities (the front door's), and their old names here.
+OLD_NAMES = {"m_e": "mass", "k": "stiffness", "v0": "approach_speed"}
 
 
-def length_scale(m_e, k, v0):
+@renamed_keywords(**OLD_NAMES)
+def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
     """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s."""
+    m_e, k, v0 = mass, stiffness, approach_speed
     if (
         type(m_e) in PLAIN_FLOATS
         and type(k) in PLAIN_FLOATS
@@ -28,16 +43,17 @@ def length_scale(m_e, k, v0):
     ):
         # Scalar fast path, no array checks: numpy squares v0 as v0 * v0 and powers with the same libm.
         return (1.25 * m_e * (v0 * v0) / k) ** 0.4
-    m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
+    m_e, k, v0 = (check_positive(n, val) for n, val in zip(OLD_NAMES.values(), (m_e, k, v0), strict=True))
     return (1.25 * m_e * v0**2 / k) ** 0.4
 
 
-def time_scale(m_e, k, v0):
-    """``t_star = delta_star / v0`` in seconds."""
-    return length_scale(m_e, k, v0) / np.asarray(v0, dtype=float)
+@renamed_keywords(**OLD_NAMES)
+def time_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
+    """``t_star = delta_star / approach_speed`` in seconds."""
+    return length_scale(mass, stiffness, approach_speed) / np.asarray(approach_speed, dtype=float)
 
 
-def scaled_load(xi):
+def scaled_load(xi: RealLike) -> FloatOrArray:
     """Scaled load ``A(xi) = xi (1 - xi)^(-3/5) / 2``; shape follows ``xi``."""
     return scaled_load_unchecked(check_xi(xi))
 
@@ -71,7 +87,9 @@ def _xi_of_load(A):
 
 # The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
-xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
+xi_of_load_kernel = njit(cache=True, error_model="numpy")(_xi_of_load)
+# Called from Python: runs as the kernel's Python twin until compiled code is at hand.
+xi_of_load_scalar = FirstCall(xi_of_load_kernel)
 
 
 def _influence_factor_plain(m_e, k, v0, a):
@@ -120,34 +138,44 @@ def influence_from_scaled_load(A):
     return xi
 
 
-def influence_factor(m_e, k, v0, a):
+@renamed_keywords(**OLD_NAMES, a="accel")
+def influence_factor(
+    mass: RealLike, stiffness: RealLike, approach_speed: RealLike, accel: RealLike
+) -> FloatOrArray:
     """Influence factor ``xi`` of a constant relative acceleration ``a`` (Eq. 10).
 
     The scaled load ``A = a delta_star / v0^2`` is also formed from logarithms, which
     take over where the direct product under- or overflows (extreme speeds); a load
-    so large that ``xi`` rounds to 1 raises a ``ValueError`` naming ``a`` and ``v0``.
+    so large that ``xi`` rounds to 1 raises a ``ValueError`` naming ``accel`` and ``approach_speed``.
 
     Parameters
     ----------
-    m_e : float or array
-        Equivalent mass, kg (> 0).
-    k : float or array
-        Hertz stiffness, N/m^1.5 (> 0).
-    v0 : float or array
-        Approach speed, m/s (> 0).
-    a : float or array
-        Relative acceleration from the external forces, m/s^2 (>= 0).
+    mass : float or array
+        Equivalent mass m_e, kg (> 0).
+    stiffness : float or array
+        Hertz stiffness k, N/m^1.5 (> 0).
+    approach_speed : float or array
+        Approach speed v0, m/s (> 0).
+    accel : float or array
+        Relative acceleration a from the external forces, m/s^2 (>= 0).
 
     Returns
     -------
     xi : float or ndarray
         In [0, 1).
+
+    Notes
+    -----
+    The old keyword names ``m_e``, ``k``, ``v0``, ``a`` still work, with a DeprecationWarning.
     """
-    xi = _influence_factor_plain(m_e, k, v0, a)
+    xi = _influence_factor_plain(mass, stiffness, approach_speed, accel)
     if xi is not None:
         return xi
-    a = check_range("a", a, 0.0, np.inf, hi_open=True)
-    m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
+    a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
+    m_e, k, v0 = (
+        check_positive(n, val)
+        for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
+    )
     with np.errstate(all="ignore"):
         A = a * length_scale(m_e, k, v0) / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
@@ -159,15 +187,19 @@ def influence_factor(m_e, k, v0, a):
     xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
     if np.any(xi >= 1.0):
         a1, v1, m1, k1 = (_first_rounding_to_one(v, xi) for v in (a, v0, m_e, k))
-        raise _xi_rounds_to_one(f"a = {a1!r} m/s^2 at v0 = {v1!r} m/s (m_e = {m1!r} kg, k = {k1!r} N/m^1.5)")
+        raise _xi_rounds_to_one(
+            f"accel = {a1!r} m/s^2 at approach_speed = {v1!r} m/s "
+            f"(mass = {m1!r} kg, stiffness = {k1!r} N/m^1.5)"
+        )
     return _scalar_or_array(xi)
 
 
-def load_for(xi, m_e, k, v0):
-    """Relative acceleration ``a`` (m/s^2) that gives influence factor ``xi``."""
+@renamed_keywords(**OLD_NAMES)
+def load_for(xi: RealLike, mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
+    """Relative acceleration ``accel`` (m/s^2) that gives influence factor ``xi``."""
     A = scaled_load(xi)
-    v0a = check_positive("v0", v0)
-    return _scalar_or_array(A * v0a**2 / length_scale(m_e, k, v0))
+    v0a = check_positive("approach_speed", approach_speed)
+    return _scalar_or_array(A * v0a**2 / length_scale(mass, stiffness, approach_speed))
 
 
 def _scalar_or_array(arr):

@@ -42,6 +42,8 @@ from numba import njit
 
 from contactalpha.validation import (
     PLAIN_FLOATS,
+    FloatOrArray,
+    RealLike,
     check_eps,
     check_max_steps,
     check_range,
@@ -402,16 +404,16 @@ class AlphaSolution:
     e_n_reached : Newton's kinematic e_N that ``alpha`` produces (0 without separation).
     """
 
-    alpha: np.ndarray
-    eps_reached: np.ndarray
-    state: np.ndarray
-    status: np.ndarray
-    impacts: np.ndarray
-    steps: np.ndarray
-    nfev: np.ndarray
-    x_max: np.ndarray
-    x_end: np.ndarray
-    e_n_reached: np.ndarray
+    alpha: FloatOrArray
+    eps_reached: FloatOrArray
+    state: str | np.ndarray
+    status: str | np.ndarray
+    impacts: int | np.ndarray
+    steps: int | np.ndarray
+    nfev: int | np.ndarray
+    x_max: FloatOrArray
+    x_end: FloatOrArray
+    e_n_reached: FloatOrArray
 
     @property
     def ok(self):
@@ -519,17 +521,17 @@ def _scalar_solution(row):
 
 
 def solve_alpha(
-    eps,
-    xi,
+    eps: RealLike,
+    xi: RealLike,
     *,
-    tol=EPS_TOL,
-    rtol=RTOL,
-    atol=ATOL,
-    max_steps=MAX_STEPS,
-    exact_at_zero=True,
-    guess="table",
-    restitution="energetic",
-):
+    tol: float = EPS_TOL,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_steps: int = MAX_STEPS,
+    exact_at_zero: bool = True,
+    guess: str = "table",
+    restitution: str = "energetic",
+) -> "AlphaSolution":
     """Damping factor alpha that makes the loaded impact restitute with ``eps``.
 
     Parameters

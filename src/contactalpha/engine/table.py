@@ -27,15 +27,17 @@ Accuracy is verified against ``solve_alpha`` at random points off the nodes
 """
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from numba import njit
 
-from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
+from contactalpha.validation import PLAIN_FLOATS, FloatOrArray, RealLike, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
+from .firstcall import FirstCall
 from .threads import run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
@@ -245,7 +247,7 @@ def load_table(path=DEFAULT_FILE):
     return AlphaTable(**arrays, meta=meta)
 
 
-_CACHE = {}
+_CACHE: dict = {}
 
 
 def table_arrays(path=DEFAULT_FILE):
@@ -291,7 +293,7 @@ def _lookup(restitution):
 
 
 # restitution -> (packed scalar evaluator, shipped table packed once per process).
-_SCALAR = {}
+_SCALAR: dict = {}
 
 
 def scalar_lookup(restitution):
@@ -303,12 +305,21 @@ def scalar_lookup(restitution):
     fast = _SCALAR.get(restitution)
     if fast is None:
         default, _, _, arrays = _lookup(restitution)
-        evaluator = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
-        fast = _SCALAR[restitution] = (evaluator, pack_table(arrays(default)))
+        kernel = kinematic_alpha_from_packed if restitution == "kinematic" else alpha_from_packed
+        flat = pack_table(arrays(default))
+
+        def compiled(dispatcher):  # from then on the scalar paths call the kernel itself
+            _SCALAR[restitution] = (dispatcher, flat)
+
+        fast = _SCALAR[restitution] = (FirstCall(kernel, compiled), flat)
+        if fast[0].compiled:  # NUMBA_DISABLE_JIT=1
+            compiled(kernel)
     return fast
 
 
-def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
+def alpha_tabulated(
+    eps: RealLike, xi: RealLike, *, path: str | Path | None = None, restitution: str = "energetic"
+) -> FloatOrArray:
     """Exact alpha(eps, xi) from the shipped table: ~1e-7 relative, at formula speed.
 
     Parameters
@@ -344,7 +355,7 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     return out[()] if out.ndim == 0 else out
 
 
-def jit_alpha_tabulated(path=None, restitution="energetic"):
+def jit_alpha_tabulated(path: str | Path | None = None, restitution: str = "energetic") -> Callable:
     """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
 
     The table arrays are frozen into the compiled function as constants.  Outside

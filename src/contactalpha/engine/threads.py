@@ -23,7 +23,7 @@ import numba
 # rather than one fixed share.
 BLOCKS_PER_THREAD = 8
 
-_pools = {}
+_pools: dict = {}
 _pools_lock = threading.Lock()
 
 

@@ -13,7 +13,14 @@ import numpy as np
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated, scalar_lookup
 from contactalpha.laws import DEFAULT_LAW
-from contactalpha.validation import PLAIN_FLOATS, check_eps, check_xi
+from contactalpha.validation import (
+    PLAIN_FLOATS,
+    FloatOrArray,
+    RealLike,
+    check_eps,
+    check_xi,
+    renamed_keywords,
+)
 
 from .closed_form import closed_form
 from .engine_mappings import ENGINE_MAPPINGS
@@ -188,8 +195,19 @@ def register(model):
         MODELS[model.name] = model
 
 
-def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip_tension=False):
-    """Hunt-Crossley contact force ``k delta^{3/2} (1 + alpha delta_dot / v_impact)`` (paper Eq. 41).
+@renamed_keywords(v_impact="approach_speed", k="stiffness")
+def contact_force(
+    delta: RealLike,
+    delta_dot: RealLike,
+    approach_speed: RealLike,
+    stiffness: RealLike,
+    eps: RealLike,
+    xi: RealLike,
+    model: str = "exact",
+    *,
+    clip_tension: bool = False,
+) -> FloatOrArray:
+    """Hunt-Crossley contact force ``k delta^{3/2} (1 + alpha delta_dot / v_minus)`` (paper Eq. 41).
 
     Parameters
     ----------
@@ -197,9 +215,9 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
         Penetration, m; no force where ``delta <= 0``.
     delta_dot : array_like
         Penetration rate, m/s (positive while compressing).
-    v_impact : float or array_like
+    approach_speed : float or array_like
         Approach speed of this impact, m/s (> 0).
-    k : float or array_like
+    stiffness : float or array_like
         Hertz stiffness, N/m^1.5 (> 0).
     eps, xi : float or array_like
         Restitution coefficient and influence factor of this impact.
@@ -214,8 +232,8 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
     """
     from contactalpha.validation import check_positive, check_range
 
-    v0 = check_positive("v_impact", v_impact)
-    kk = check_positive("k", k)
+    v0 = check_positive("approach_speed", approach_speed)
+    kk = check_positive("stiffness", stiffness)
     # Any finite real penetration and rate: no force where delta <= 0.
     delta = check_range("delta", delta, -np.inf, np.inf, lo_open=True, hi_open=True)
     delta_dot = check_range("delta_dot", delta_dot, -np.inf, np.inf, lo_open=True, hi_open=True)
@@ -227,7 +245,9 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
     return f[()] if np.ndim(f) == 0 else f
 
 
-def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
+def alpha(
+    eps: RealLike, xi: RealLike = 0.0, model: str = "exact", *, restitution: str = "energetic"
+) -> FloatOrArray:
     """Damping from a named model: alpha for Hunt-Crossley, the damping of ``MODELS[model].law`` otherwise.
 
     Parameters

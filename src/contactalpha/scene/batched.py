@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.adapters.registry import engine_parameters
-from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_scalar
+from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
 from contactalpha.laws.fast import ENGINE_TABLE
@@ -56,11 +56,11 @@ class _Scenes:
 
 @njit(cache=True, error_model="numpy")
 def _xi_of_loads(A):
-    """``engine.scaling``'s Eq. 10 (its jitted ``xi_of_load_scalar``) over an array, in one loop."""
+    """``engine.scaling``'s Eq. 10 (its jitted ``xi_of_load_kernel``) over an array, in one loop."""
     out = np.empty(A.size)
     flat = A.ravel()
     for i in range(flat.size):
-        out[i] = xi_of_load_scalar(flat[i])
+        out[i] = xi_of_load_kernel(flat[i])
     return out.reshape(A.shape)
 
 

@@ -60,7 +60,7 @@ class BouncePrediction:
     approach_speeds: np.ndarray
     xi: np.ndarray
     alpha: np.ndarray
-    states: tuple
+    states: tuple[str, ...]
     rebound_speeds: np.ndarray
     contact_durations: np.ndarray
     flight_durations: np.ndarray
@@ -83,7 +83,15 @@ class BouncePrediction:
         return self.status == STATUS[OK]
 
 
-def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX_COLLISIONS, law=None):
+def predict_bounces(
+    scene: ball.Scene,
+    model: str,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_contacts: int = ball.MAX_COLLISIONS,
+    law: str | None = None,
+) -> BouncePrediction:
     """Bounce sequence of ``scene`` with ``model``'s alpha until the ball rests (case A), no time stepping.
 
     Parameters
@@ -110,7 +118,7 @@ def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX
     if law is not None and get_law(law).name != DEFAULT_LAW:
         return law_predict_bounces(scene, model, law, max_contacts)
     rtol, atol = check_tolerances(rtol, atol)
-    rows = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
+    rows: dict[str, list] = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
     speed, t, status = float(scene.approach_speed), 0.0, STATUS[OK]
     while True:
         if len(rows["v"]) >= max_contacts:

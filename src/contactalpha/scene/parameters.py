@@ -7,7 +7,13 @@ factor xi (paper Eq. 10), the exact alpha for that restitution at that xi, the d
 ``mu = alpha k / v_minus`` of the contact law (paper Eq. 23, ``f = k delta^{3/2} + mu
 delta^{3/2} delta_dot``), the end state and both restitutions of the impact that alpha gives
 (one impact integrated), and the parameter of each supported engine in its own convention
-(``engine_conventions``).
+(``engine_conventions``, whose ``UNIT_NOTES`` the text output prints).
+
+The damping ``mu`` (and OpenSim's ``dissipation``) is a constant of the contact law, but the
+alpha it stands for is ``mu v_minus / k``: it delivers the requested restitution at this approach
+speed only.  So the parameters also carry the e_N the same ``mu`` delivers at half and at twice
+the approach speed (one impact each, the load's xi at that speed): a drop from another height
+needs its own ``mu``.
 """
 
 import math
@@ -24,7 +30,11 @@ from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
+from .engine_conventions import UNIT_NOTES
 from .law_scene import law_contact_parameters
+
+# Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
+SPEED_FACTORS = (0.5, 2.0)
 
 # The contact law this front door solves for (Hunt-Crossley, n = 3/2).
 LAW = DEFAULT_LAW
@@ -55,6 +65,9 @@ class ContactParameters:
     accel : relative acceleration of the load, m/s^2.
     delta_star : maximum compression of the undamped unloaded contact, m (the length scale).
     alpha_source : "table" (shipped exact table) or "solver" (outside the table's domain).
+    e_n_half_speed, e_n_twice_speed : Newton's e_N that the same ``damping`` mu (the same OpenSim
+        ``dissipation``) delivers at half and at twice the approach speed (NaN where the load's
+        xi rounds to 1 at half the speed).  Exudyn's parameters scale with each impact's speed.
     engines : parameters per engine, each in its own names and units:
         ``opensim`` (Simbody ``HuntCrossleyForce``): ``dissipation`` c in s/m, and ``stiffness``
         E in Pa of each of the two geometries (only when a sphere radius is given);
@@ -72,7 +85,9 @@ class ContactParameters:
     accel: float
     delta_star: float
     alpha_source: str
-    engines: dict
+    engines: dict[str, dict[str, float]]
+    e_n_half_speed: float
+    e_n_twice_speed: float
 
 
 def _positive(name, value):
@@ -81,13 +96,14 @@ def _positive(name, value):
     return float(check_positive(name, value))
 
 
-def scene_accel(mass, accel=None, force=None):
+def scene_accel(mass: float, accel: float | None = None, force: float | None = None) -> float:
     """Relative acceleration of the load from exactly one of ``accel`` (m/s^2) and ``force`` (N)."""
     if (accel is None) == (force is None):
         raise ValueError(
             f"give exactly one of accel (m/s^2) and force (N); got accel = {accel!r}, force = {force!r}"
         )
     name, value = ("accel", accel) if force is None else ("force", force)
+    assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
         value = float(check_range(name, value, 0.0, np.inf, hi_open=True))
     return value if force is None else value / mass
@@ -121,17 +137,17 @@ def _alpha(value, xi, restitution):
 
 
 def contact_parameters(
-    eps=None,
-    mass=None,
-    stiffness=None,
-    approach_speed=None,
+    eps: float | None = None,
+    mass: float | None = None,
+    stiffness: float | None = None,
+    approach_speed: float | None = None,
     *,
-    e_N=None,  # noqa: N803  (Newton's e_N, as the paper and the issue write it)
-    accel=None,
-    force=None,
-    radius=None,
-    law=None,
-):
+    e_N: float | None = None,  # noqa: N803  (Newton's e_N, as the paper and the issue write it)
+    accel: float | None = None,
+    force: float | None = None,
+    radius: float | None = None,
+    law: str | None = None,
+) -> ContactParameters:
     """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
 
     Parameters
@@ -192,6 +208,7 @@ def contact_parameters(
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
     sphere = None if radius is None else _positive("radius", radius)
     engines = engine_parameters(LAW, alpha, _EngineScene(m, k, v, sphere))
+    e_n_half, e_n_twice = (_fixed_damping_e_n(alpha, m, k, v, a, factor) for factor in SPEED_FACTORS)
     return frozen_instance(
         ContactParameters,
         xi=xi,
@@ -204,6 +221,8 @@ def contact_parameters(
         delta_star=float(length_scale(m, k, v)),
         alpha_source=source,
         engines=engines,
+        e_n_half_speed=e_n_half,
+        e_n_twice_speed=e_n_twice,
     )
 
 
@@ -227,7 +246,17 @@ def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
     )
 
 
-def format_parameters(cp):
+def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
+    """Newton's e_N of an impact at ``factor`` times ``speed`` with the same damping ``mu = alpha k / v``."""
+    try:
+        xi = influence_factor(mass, stiffness, speed * factor, accel)
+    except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
+        return math.nan
+    r = impact(alpha * factor, xi)
+    return float(r.e_n) if r.status == "ok" else math.nan
+
+
+def format_parameters(cp: ContactParameters) -> str:
     """``ContactParameters`` as aligned text lines (the command line's output)."""
     lines = [
         f"xi              {cp.xi:.15g}",
@@ -239,7 +268,12 @@ def format_parameters(cp):
         f"accel           {cp.accel:.15g} m/s^2",
         f"delta_star      {cp.delta_star:.15g} m",
     ]
+    lines.append(
+        f"the same mu delivers e_N = {cp.e_n_half_speed:.6g} at half and {cp.e_n_twice_speed:.6g} at twice "
+        "this approach speed: it holds at this speed only"
+    )
     for engine, values in cp.engines.items():
         for name, value in values.items():
             lines.append(f"{engine + '.' + name:32s} {value:.15g}")
+        lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
     return "\n".join(lines)

@@ -53,7 +53,7 @@ from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
 from contactalpha.laws import DEFAULT_LAW, get_law
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import FloatOrArray, RealLike, check_positive, check_range
 
 from .law_scene import law_critical_speed
 
@@ -241,7 +241,17 @@ def speed_for_load(A, mass, stiffness, accel):
     return (a * unit / A) ** (5.0 / 6.0)
 
 
-def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, law=None):
+def critical_speed(
+    eps: RealLike,
+    mass: float,
+    stiffness: float,
+    accel: float,
+    *,
+    rtol: float = RTOL,
+    atol: float = ATOL,
+    max_steps: int = MAX_STEPS,
+    law: str | None = None,
+) -> FloatOrArray:
     """Critical approach speed: above it an impact with the exact alpha separates, below it not.
 
     Parameters

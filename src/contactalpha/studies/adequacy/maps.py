@@ -119,13 +119,13 @@ def compute_maps(surface, tols, costs):
         ``io.load_surface`` of ``results/surface.h5``.
     tols : sequence of float
         Tolerances on the delivered eps.
-    costs : mapping name -> seconds per evaluation (``advisor.measure_costs``)
+    costs : mapping name -> operations per evaluation (``advisor.COST_MODEL``)
 
     Returns
     -------
     xarray.Dataset
         Dims ``model``, ``tol``, ``epsilon``, ``xi``: ``alpha``, ``delivered_eps``, ``state``,
-        ``adequate`` (int8), ``cheapest`` (index into ``model``, -1 none), ``cost_seconds``,
+        ``adequate`` (int8), ``cheapest`` (index into ``model``, -1 none), ``cost``,
         ``ignore_adequate``, ``xi_ignore`` (tol, epsilon) and ``area_share`` (tol, model).
     """
     names = list(models.MODELS)
@@ -157,7 +157,7 @@ def compute_maps(surface, tols, costs):
             "state": (("model", "epsilon", "xi"), states[:n]),
             "adequate": (("tol", "model", "epsilon", "xi"), adequate[:, :n].astype(np.int8)),
             "cheapest": (("tol", "epsilon", "xi"), best),
-            "cost_seconds": (("model",), np.array([costs[m] for m in names])),
+            "cost": (("model",), np.array([costs[m] for m in names])),
             "area_share": (("tol", "model"), share),
             "ignore_alpha": (("epsilon", "xi"), alphas[n]),
             "ignore_delivered_eps": (("epsilon", "xi"), deliv[n]),
@@ -212,14 +212,14 @@ def run_maps(surface, tols, stride, config=None):
     -------
     xarray.Dataset
         ``compute_maps``'s, with attrs: provenance (``provenance.result_attrs``), the impact
-        integrator's ``rtol``/``atol``/``max_steps``, the cost measurement (``cost_points``,
-        ``cost_repeats``, ``cost_tie``; the costs themselves are ``cost_seconds``, so the
-        cheapest-model map is reproducible from the file), the surface's commit and config,
+        integrator's ``rtol``/``atol``/``max_steps``, ``cost_tie`` (the costs themselves, the
+        advisor's fixed cost model, are ``cost``, so the cheapest-model map is reproducible
+        from the file), the surface's commit and config,
         ``grid_fraction`` (points mapped over the surface's) and ``compute_seconds``.
     """
     start = time.perf_counter()
     sub = subgrid(surface, stride.epsilon, stride.xi, stride.keep_xi_below)
-    costs = advisor.measure_costs()
+    costs = advisor.model_costs()
     ds = compute_maps(sub, tols, costs)
     ds.attrs.update(
         {
@@ -227,8 +227,6 @@ def run_maps(surface, tols, stride, config=None):
             "rtol": RTOL,
             "atol": ATOL,
             "max_steps": MAX_STEPS,
-            "cost_points": advisor.COST_POINTS,
-            "cost_repeats": advisor.COST_REPEATS,
             "cost_tie": advisor.COST_TIE,
             "stride": json.dumps(asdict(stride), sort_keys=True),
             "surface_git_commit": str(surface.attrs.get("git_commit", "unknown")),

@@ -107,12 +107,12 @@ def _fmt(x):
 def share_table(ds):
     """Markdown table of each model's share of the (eps, xi) area where it is adequate, per tol."""
     tols = ds["tol"].values
-    lines = ["| model | " + " | ".join(f"adequate share, tol {t:g}" for t in tols) + " | ns/eval |"]
+    lines = ["| model | " + " | ".join(f"adequate share, tol {t:g}" for t in tols) + " | ops/eval |"]
     lines.append("|---|" + "---|" * (len(tols) + 1))
     for m in ds["model"].values:
         cells = [f"{float(ds['area_share'].sel(tol=t, model=m)):.1%}" for t in tols]
-        cost = float(ds["cost_seconds"].sel(model=m)) * 1e9
-        lines.append(f"| `{m}` | " + " | ".join(cells) + f" | {cost:.1f} |")
+        cost = float(ds["cost"].sel(model=m))
+        lines.append(f"| `{m}` | " + " | ".join(cells) + f" | {cost:.0f} |")
     return "\n".join(lines) + "\n"
 
 

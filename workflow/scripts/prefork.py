@@ -1,5 +1,10 @@
 """Run the workflow's script jobs in forks of one process that has already imported everything.
 
+Workflow machinery, not part of the library: the Snakefile puts this folder on ``sys.path``, and
+Snakemake puts it there for every script job (``from prefork import delegate``).  Linux only.
+Whether it pays is measured, not assumed: ``benchmarks/bench_prefork.py`` times forced runs of
+the workflow with the server and without it (``--no-hooks``), alternating.
+
 A job of the main workflow spends 1.5-2 s of CPU before its first line of work: a Python
 start, Snakemake's preamble, then numpy, xarray/pandas, numba, Matplotlib and the package.
 There are about 25 jobs, on 2 cores.  So, on a local run, the Snakefile's ``onstart`` hook
@@ -124,7 +129,7 @@ def delegate(script=None):
         sock.settimeout(None)
     except OSError as err:  # a late child finds the connection closed and never runs the job
         sock.close()
-        print(f"contactalpha.prefork: no server at {path} ({err}); running in this process", file=sys.stderr)
+        print(f"prefork: no server at {path} ({err}); running in this process", file=sys.stderr)
         return
     sys.exit(_wait_for_child(sock, pid))
 
@@ -147,7 +152,7 @@ def _wait_for_child(sock, pid):
         # The child died without a status: killed by a signal.  End the same way, if ours.
         if forwarded:
             _die_by(forwarded[-1])
-        print(f"contactalpha.prefork: job process {pid} ended without an exit status", file=sys.stderr)
+        print(f"prefork: job process {pid} ended without an exit status", file=sys.stderr)
         return 1
     if status >= _SIGNALLED:  # the job ended as Python ends on an uncaught KeyboardInterrupt
         _die_by(status - _SIGNALLED)
@@ -187,7 +192,7 @@ def start_server(timeout=START_TIMEOUT):
     remove_stale_sockets()
     folder = tempfile.mkdtemp(prefix=FOLDER_PREFIX)  # mode 700
     path = os.path.join(folder, "socket")
-    cmd = [sys.executable, "-m", "contactalpha.prefork", path, str(os.getpid())]
+    cmd = [sys.executable, str(Path(__file__).resolve()), path, str(os.getpid())]
     # Its own session: a Ctrl-C meant for Snakemake does not reach it (onerror and the
     # parent-death signal stop it).
     server = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, start_new_session=True)
@@ -195,7 +200,7 @@ def start_server(timeout=START_TIMEOUT):
     try:
         _wait_until_listening(server, path, timeout)
     except TimeoutError as err:
-        print(f"contactalpha.prefork: {err}; jobs run in their own processes", file=sys.stderr)
+        print(f"prefork: {err}; jobs run in their own processes", file=sys.stderr)
         stop_server(server)
         return None
     os.environ[SOCKET_ENV] = path
@@ -269,7 +274,7 @@ def serve(path, parent_pid):
             conn.close()
             continue
         except (OSError, ValueError) as err:
-            print(f"contactalpha.prefork: bad request ({err})", file=sys.stderr)
+            print(f"prefork: bad request ({err})", file=sys.stderr)
             conn.close()
             continue
         if os.fork() == 0:
@@ -401,8 +406,8 @@ def _exit_status(code):
 
 
 if __name__ == "__main__":
-    # Through the package's module, not this __main__ copy: the children's scripts import
-    # contactalpha.prefork and must see its _in_child flag.
-    from contactalpha import prefork
+    # Through the module ``prefork`` (this file's folder is first on sys.path), not this __main__
+    # copy: the children's scripts import ``prefork`` and must see its _in_child flag.
+    import prefork
 
     prefork.serve(sys.argv[1], int(sys.argv[2]))
