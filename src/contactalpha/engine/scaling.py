@@ -44,7 +44,19 @@ def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) 
         # Scalar fast path, no array checks: numpy squares v0 as v0 * v0 and powers with the same libm.
         return (1.25 * m_e * (v0 * v0) / k) ** 0.4
     m_e, k, v0 = (check_positive(n, val) for n, val in zip(OLD_NAMES.values(), (m_e, k, v0), strict=True))
-    return (1.25 * m_e * v0**2 / k) ** 0.4
+    arrays = [np.ascontiguousarray(x, dtype=float).ravel() for x in np.broadcast_arrays(m_e, k, v0)]
+    out = np.empty(arrays[0].size)
+    _length_rows(*arrays, out)
+    out = out.reshape(np.broadcast_shapes(*(np.shape(x) for x in (m_e, k, v0))))
+    return out[()] if out.ndim == 0 else out
+
+
+@njit(cache=True, error_model="numpy")
+def _length_rows(m_e, k, v0, out):
+    # libm's pow element by element, as the scalar path: numpy's SIMD pow (AVX-512) may differ from
+    # libm in the last bit, and an array's delta_star would then not be its scalars' delta_star.
+    for i in range(out.size):
+        out[i] = (1.25 * m_e[i] * (v0[i] * v0[i]) / k[i]) ** 0.4
 
 
 @renamed_keywords(**OLD_NAMES)
@@ -92,6 +104,31 @@ xi_of_load_kernel = njit(cache=True, error_model="numpy")(_xi_of_load)
 xi_of_load_scalar = FirstCall(xi_of_load_kernel)
 
 
+def _plain_xi(m_e, k, v0, a):
+    """Eq. 10 of positive finite floats by the direct product, or NaN where the full path must decide."""
+    v2 = v0 * v0  # numpy squares the same way; a float ** would raise on overflow
+    if not 0.0 < v2 < math.inf:
+        return math.nan
+    A = a * (1.25 * m_e * v2 / k) ** 0.4 / v2
+    log_A = math.log(a) + 0.4 * (math.log(1.25) + math.log(m_e) - math.log(k)) - 1.2 * math.log(v0)
+    if not (0.0 < A < A_ROUNDS_TO_ONE and abs(math.log(A) - log_A) <= 1e-9 * max(1.0, abs(log_A))):
+        return math.nan  # under- or overflow, or a load at the top: the full path's logarithms decide
+    xi = xi_of_load_kernel(A)
+    return xi if xi < 1.0 else math.nan
+
+
+plain_xi_kernel = njit(cache=True, error_model="numpy")(_plain_xi)
+plain_xi_scalar = FirstCall(plain_xi_kernel)
+
+
+@njit(cache=True, error_model="numpy")
+def _plain_xi_rows(m_e, k, v0, a, out):
+    # The scalar fast path's arithmetic (libm's pow and log) over arrays: numpy's SIMD pow may
+    # differ from libm in the last bit, so an array's xi would not be its scalars' xi.
+    for i in range(out.size):
+        out[i] = plain_xi_kernel(m_e[i], k[i], v0[i], a[i])
+
+
 def _influence_factor_plain(m_e, k, v0, a):
     """``influence_factor`` of plain floats, or None where the full path must decide (or raise)."""
     if not (
@@ -105,15 +142,8 @@ def _influence_factor_plain(m_e, k, v0, a):
         and 0.0 < a < math.inf
     ):
         return None
-    v2 = v0 * v0  # numpy squares the same way; a float ** would raise on overflow
-    if not 0.0 < v2 < math.inf:
-        return None
-    A = a * (1.25 * m_e * v2 / k) ** 0.4 / v2
-    log_A = math.log(a) + 0.4 * (math.log(1.25) + math.log(m_e) - math.log(k)) - 1.2 * math.log(v0)
-    if not (0.0 < A < A_ROUNDS_TO_ONE and abs(math.log(A) - log_A) <= 1e-9 * max(1.0, abs(log_A))):
-        return None  # under- or overflow, or a load at the top: the full path's logarithms decide
-    xi = xi_of_load_scalar(A)
-    return xi if xi < 1.0 else None
+    xi = plain_xi_scalar(float(m_e), float(k), float(v0), float(a))
+    return None if xi != xi else xi
 
 
 def _first_rounding_to_one(value, xi):
@@ -176,6 +206,11 @@ def influence_factor(
         check_positive(n, val)
         for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
     )
+    # Where the scalar path would answer, the same arithmetic element by element (same bits).
+    arrays = [np.ascontiguousarray(x, dtype=float).ravel() for x in np.broadcast_arrays(m_e, k, v0, a)]
+    plain = np.empty(arrays[0].size)
+    _plain_xi_rows(*arrays, plain)
+    plain = plain.reshape(np.broadcast_shapes(*(np.shape(x) for x in (m_e, k, v0, a))))
     with np.errstate(all="ignore"):
         A = a * length_scale(m_e, k, v0) / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
@@ -185,6 +220,7 @@ def influence_factor(
         direct |= a == 0.0
         A = np.where(direct, A, np.exp(np.minimum(log_A, np.log(A_ROUNDS_TO_ONE))))
     xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
+    xi = np.where(plain == plain, plain, xi)
     if np.any(xi >= 1.0):
         a1, v1, m1, k1 = (_first_rounding_to_one(v, xi) for v in (a, v0, m_e, k))
         raise _xi_rounds_to_one(
