@@ -105,3 +105,14 @@ def test_old_keyword_names_still_work_with_a_deprecation_warning():
     with pytest.warns(DeprecationWarning, match="'v_impact'"):
         f = ca.contact_force(1e-4, 0.1, v_impact=0.5, k=1e9, eps=0.5, xi=0.1)
     assert f == ca.contact_force(1e-4, 0.1, 0.5, 1e9, 0.5, 0.1)
+
+
+def test_early_stopping_xi_kernel_is_the_fixed_step_iteration_bit_for_bit():
+    # The scalar kernel stops at a fixed point of the Newton step; the fixed-count iteration
+    # (the array path's and the C export's) must give the same bits, including at the extremes.
+    from contactalpha.engine import scaling
+
+    rng = np.random.default_rng(11)
+    loads = np.concatenate([10 ** rng.uniform(-15, 30, 3000), [0.0, 1e-300, 5e-324, 1e30, 0.5, 1.0]])
+    for A in loads:
+        assert scaling.xi_of_load_kernel(float(A)) == scaling._xi_of_load(float(A))

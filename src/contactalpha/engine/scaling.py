@@ -83,6 +83,13 @@ A_ROUNDS_TO_ONE = 1e30
 XI_NEWTON_STEPS = 60
 
 
+def _xi_newton_step(A, xm):
+    """One Newton step on ``(x_m^{5/2} - 1)/2 = A x_m`` (Eq. 8 scaled), floats or arrays."""
+    g = 0.5 * (xm**2.5 - 1.0) - A * xm
+    dg = 1.25 * xm**1.5 - A
+    return xm - g / dg
+
+
 def _xi_of_load(A):
     """Eq. 10 for finite ``0 <= A <= A_ROUNDS_TO_ONE`` (may round to 1.0 near the top)."""
     # x_m of the undamped loaded contact solves (x_m^{5/2} - 1)/2 = A x_m
@@ -91,15 +98,31 @@ def _xi_of_load(A):
     # started right of its root converges monotonically.
     xm = (1.0 + 2.0 * A) ** (2.0 / 3.0)
     for _ in range(XI_NEWTON_STEPS):
-        g = 0.5 * (xm**2.5 - 1.0) - A * xm
-        dg = 1.25 * xm**1.5 - A
-        xm = xm - g / dg
+        xm = _xi_newton_step(A, xm)
     return A * xm / (0.5 + A * xm)
 
 
-# The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
-# steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
-xi_of_load_kernel = njit(cache=True, error_model="numpy")(_xi_of_load)
+xi_newton_step_kernel = njit(cache=True, error_model="numpy", inline="always")(_xi_newton_step)
+
+
+def _xi_of_load_float(A):
+    """``_xi_of_load`` of one float, the same bits, stopping where a step returns its own input.
+
+    Every later step would return that input again (a fixed point of a deterministic step), so
+    the early stop changes no bit; a 1-ulp cycle runs all ``XI_NEWTON_STEPS`` as before.
+    """
+    xm = (1.0 + 2.0 * A) ** (2.0 / 3.0)
+    for _ in range(XI_NEWTON_STEPS):
+        nxt = xi_newton_step_kernel(A, xm)
+        if nxt == xm:
+            break
+        xm = nxt
+    return A * xm / (0.5 + A * xm)
+
+
+# The same iteration compiled, for the scalar fast path of ``influence_factor`` and the batched
+# front door (same libm pow, same numbers as ``_xi_of_load``; tests/engine/test_scaling.py).
+xi_of_load_kernel = njit(cache=True, error_model="numpy")(_xi_of_load_float)
 # Called from Python: runs as the kernel's Python twin until compiled code is at hand.
 xi_of_load_scalar = FirstCall(xi_of_load_kernel)
 
