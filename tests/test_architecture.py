@@ -21,6 +21,7 @@ RANKS = {
     "warmup": 5,
     "paper": 6,
     "studies": 6,
+    "calibration": 6,  # drop-test calibration: scene-level physics, plus a hint from studies
     "config": 7,
     "cli": 7,
     "prefork": 7,  # the workflow's job server: it preloads every layer

@@ -37,6 +37,8 @@ _EXPORTS = {
     "Scene": "scene.ball",
     "BouncePrediction": "scene.bounces",
     "predict_bounces": "scene.bounces",
+    "Calibration": "calibration.api",
+    "calibrate": "calibration.api",
 }
 __all__ = sorted(_EXPORTS)
 

@@ -4,6 +4,7 @@ import argparse
 import re
 import sys
 
+from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
 
@@ -87,6 +88,7 @@ def build_parser():
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
     x = sub.add_parser("export-c", help="write the exact-alpha tables and evaluator as C99 source")
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
+    calibrate_command.add_parser(sub, _number)
     return p
 
 
@@ -116,6 +118,8 @@ def main(argv=None):
             adv = advise(args.eps, args.mass, args.stiffness, args.speed, tol=args.tol, **kw)
             print(json_text(adv.to_dict(), indent=1)) if args.json else _print_advice(adv)
             return 0
+        if args.command == "calibrate":
+            return calibrate_command.run(args)
         if args.command == "export-c":
             from contactalpha.export.c_source import export_c
 

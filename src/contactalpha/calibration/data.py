@@ -183,7 +183,9 @@ def read_drop(path):
         t = check_times(np.concatenate([[0.0], np.cumsum(dt)]), header[keys["dt"]])
         return DropData("times", t, t, name)
     if "h" in keys:
-        return DropData("heights", np.empty(0), check_heights(_floats(body, keys["h"], header[keys["h"]])), name)
+        return DropData(
+            "heights", np.empty(0), check_heights(_floats(body, keys["h"], header[keys["h"]])), name
+        )
     raise ValueError(
         f"{path}: no known columns in the header {header!r}; expected 't' (impact times), 'dt' "
         "(intervals), 'h' (drop and apex heights) or 't' and 'z' (trajectory)"
@@ -200,6 +202,5 @@ def first_guess(data, accel):
         dt = np.diff(data.values)
         e = float(np.median(dt[1:] / dt[:-1]))
         return 0.5 * accel * dt[0] / e, e
-    t, z = data.t, data.values
-    top = float(z.max())
+    top = float(data.values.max())
     return math.sqrt(2.0 * accel * top), 0.8

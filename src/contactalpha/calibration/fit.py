@@ -37,6 +37,10 @@ SCALES = {"times": 1e-4, "heights": 1e-2, "trajectory": 1e-3}
 STIFFNESS_STARTS = (1e5, 1e7, 1e9, 1e11)
 # Relative finite-difference step of the Jacobian (well above the contacts' 1e-12 tolerance).
 DIFF_STEP = 1e-6
+# Values of a law's first parameter tried before each start's fit.
+SCAN_POINTS = 16
+# The first approach speed is fitted within this factor of its rigid-bounce guess.
+V0_RANGE = 4.0
 # Most contacts a trajectory's sequence is followed for.
 MAX_CONTACTS = 500
 
@@ -104,9 +108,17 @@ class Problem:
             self.obs = np.log(data.values)
         else:
             self.obs = data.values
-        span = (data.t[-1] - data.t[0]) if data.t.size else 1.0
+        # Nuisance bounds around the rigid first guess: they keep a bad law out of degenerate fits
+        # (a huge v0 that ends the bouncing at the first contact) without touching a sound one.
+        v0, _ = first_guess(data, setup.accel)
+        speed = (v0 / V0_RANGE, v0 * V0_RANGE)
         self.bounds = [p.fit_bounds for p in self.law_free]
-        self.bounds += [(1e-6, 1e3)] if data.kind == "heights" else [(-span - 10.0, data.t[-1]), (1e-6, 1e3)]
+        if data.kind == "heights":
+            self.bounds.append(speed)
+        else:
+            t0 = data.t[0] if data.kind == "times" else _trajectory_t0(data)
+            half = 0.5 * (np.diff(data.t[:2])[0] if data.kind == "times" else 2.0 * v0 / setup.accel)
+            self.bounds += [(t0 - half, t0 + half), speed]
 
     def unpack(self, x):
         """(law values, nuisance dict) of a fitting vector."""
@@ -163,7 +175,25 @@ def _starts(problem, stiffness_guess):
         values = {**law.start(e, v0 * e), "stiffness": k}
         x = [p.to_fit(np.clip(values[p.name], p.lo, p.hi)) for p in problem.law_free]
         x += [v0] if data.kind == "heights" else [t0, v0]
-        yield np.array(x)
+        yield _scan_first(problem, np.array(x))
+
+
+def _scan_first(problem, x):
+    """``x`` with its first coordinate moved to the best of a coarse scan (a start, not a fit)."""
+    lo, hi = problem.bounds[0]
+    best, best_cost = x, _cost(problem, x)
+    for value in np.linspace(lo, hi, SCAN_POINTS + 2)[1:-1]:
+        trial = x.copy()
+        trial[0] = value
+        cost = _cost(problem, trial)
+        if cost < best_cost:
+            best, best_cost = trial, cost
+    return best
+
+
+def _cost(problem, x):
+    r = problem.residuals(x)
+    return float(r @ r)
 
 
 def _trajectory_t0(data):
@@ -226,6 +256,13 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
         status="ok" if best.success else f"optimiser: {best.message}",
         level=level,
     )
+    at_bound = [
+        name
+        for name, xi, (lo, hi) in zip(problem.names, x, problem.bounds, strict=True)
+        if name in problem.nuis and (xi <= lo or xi >= hi)
+    ]
+    if at_bound:
+        out.status = f"{', '.join(at_bound)} at the end of its range: the law does not follow the data"
     if n <= p:
         out.status = f"{n} observations for {p} parameters: no intervals"
         intervals = False
@@ -251,7 +288,6 @@ def _profile(problem, best, j, limit):
     scale2 = problem.scale**2
     # Wald standard error from the Jacobian, only to size the first steps.
     jac = best.jac
-    rss = 2.0 * best.cost * scale2
     dof = max(jac.shape[0] - jac.shape[1], 1)
     try:
         cov = np.linalg.inv(jac.T @ jac) * (2.0 * best.cost / dof)
@@ -283,7 +319,7 @@ def _profile(problem, best, j, limit):
     ends = []
     for sign in (-1.0, 1.0):
         warm["x"] = x_hat[others].copy()
-        inside, f_in = x_hat[j], rss - limit
+        inside = x_hat[j]
         step, end, bounded = 2.0 * se, None, True
         for _ in range(40):
             trial = inside + sign * step
@@ -297,7 +333,7 @@ def _profile(problem, best, j, limit):
             if trial == edge:
                 end, bounded = edge, False
                 break
-            inside, f_in = trial, f_t
+            inside = trial
             step *= 2.0
         if end is None:
             end, bounded = inside, False
