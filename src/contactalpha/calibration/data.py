@@ -75,7 +75,9 @@ def _floats(rows, column, header):
 def _check_finite(values, header):
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        raise ValueError(f"row {bad[0] + 1}, column {header!r}: {values[bad[0]]!r} is not a finite number")
+        raise ValueError(
+            f"row {bad[0] + 1}, column {header!r}: {float(values[bad[0]])!r} is not a finite number"
+        )
 
 
 def check_times(t, header="t"):
@@ -94,13 +96,15 @@ def check_times(t, header="t"):
     bad = np.flatnonzero(dt <= 0.0)
     if bad.size:
         i = bad[0] + 1
-        raise ValueError(f"row {i + 1}, column {header!r}: time {t[i]!r} is not after row {i}'s {t[i - 1]!r}")
+        raise ValueError(
+            f"row {i + 1}, column {header!r}: time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
+        )
     longer = np.flatnonzero(dt[1:] > dt[:-1])
     if longer.size:
         i = longer[0] + 2
         raise ValueError(
-            f"row {i + 1}, column {header!r}: the interval {dt[i - 1]!r} s before this impact is longer "
-            f"than the one before it ({dt[i - 2]!r} s); a ball's bounces only shorten (a missed or extra "
+            f"row {i + 1}, column {header!r}: the interval {dt[i - 1]:.6g} s before this impact is longer "
+            f"than the one before it ({dt[i - 2]:.6g} s); a ball's bounces only shorten (a missed or extra "
             "impact?)"
         )
     return t
@@ -117,12 +121,13 @@ def check_heights(h, header="h"):
         )
     bad = np.flatnonzero(h <= 0.0)
     if bad.size:
-        raise ValueError(f"row {bad[0] + 1}, column {header!r}: height {h[bad[0]]!r} must be > 0 m")
+        raise ValueError(f"row {bad[0] + 1}, column {header!r}: height {float(h[bad[0]])!r} must be > 0 m")
     up = np.flatnonzero(h[1:] >= h[:-1])
     if up.size:
         i = up[0] + 1
         raise ValueError(
-            f"row {i + 1}, column {header!r}: apex {h[i]!r} m is not below the one before ({h[i - 1]!r} m)"
+            f"row {i + 1}, column {header!r}: apex {float(h[i])!r} m is not below the one before "
+            f"({float(h[i - 1])!r} m)"
         )
     return h
 
@@ -137,7 +142,9 @@ def check_trajectory(t, z):
     bad = np.flatnonzero(np.diff(t) <= 0.0)
     if bad.size:
         i = bad[0] + 1
-        raise ValueError(f"row {i + 1}, column 't': time {t[i]!r} is not after row {i}'s {t[i - 1]!r}")
+        raise ValueError(
+            f"row {i + 1}, column 't': time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
+        )
     if not np.any(z > 0.0):
         raise ValueError("column 'z': no sample above the ground (z > 0); the ball never flies")
     return t, z
@@ -176,7 +183,8 @@ def read_drop(path):
         z = _floats(body, keys["z"], header[keys["z"]])
         return DropData("trajectory", *check_trajectory(t, z), name)
     if "t" in keys:
-        return DropData("times", *(2 * [check_times(_floats(body, keys["t"], header[keys["t"]]))]), name)
+        head = header[keys["t"]]
+        return DropData("times", *(2 * [check_times(_floats(body, keys["t"], head), head)]), name)
     if "dt" in keys:
         dt = _floats(body, keys["dt"], header[keys["dt"]])
         _check_finite(dt, header[keys["dt"]])
@@ -184,7 +192,10 @@ def read_drop(path):
         return DropData("times", t, t, name)
     if "h" in keys:
         return DropData(
-            "heights", np.empty(0), check_heights(_floats(body, keys["h"], header[keys["h"]])), name
+            "heights",
+            np.empty(0),
+            check_heights(_floats(body, keys["h"], header[keys["h"]]), header[keys["h"]]),
+            name,
         )
     raise ValueError(
         f"{path}: no known columns in the header {header!r}; expected 't' (impact times), 'dt' "
