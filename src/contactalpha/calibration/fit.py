@@ -169,7 +169,9 @@ def _starts(problem, stiffness_guess):
     law, data, setup = problem.law, problem.data, problem.setup
     v0, e = first_guess(data, setup.accel)
     e = float(np.clip(e, 0.05, 0.99))
-    t0 = float(data.t[0]) if data.kind == "times" else _trajectory_t0(data)
+    t0 = {"times": float(data.t[0]) if data.t.size else 0.0, "heights": 0.0}.get(data.kind)
+    if t0 is None:
+        t0 = _trajectory_t0(data)
     ks = (stiffness_guess,) if stiffness_guess else STIFFNESS_STARTS
     for k in ks:
         values = {**law.start(e, v0 * e), "stiffness": k}
@@ -282,12 +284,25 @@ def _ic(rss, n, p, per_param):
     return n * math.log(max(rss, 1e-300) / n) + per_param * (p + 1)
 
 
+def _crossing(fn, inside, outside, xtol):
+    """Where ``fn`` crosses 0 between ``inside`` (< 0) and ``outside`` (> 0).
+
+    ``outside`` when the warm-started refits do not show the sign change again (a rough profile).
+    """
+    a, b = sorted((inside, outside))
+    try:
+        return brentq(fn, a, b, xtol=xtol, rtol=1e-10, maxiter=40)
+    except ValueError:
+        return outside
+
+
 def _profile(problem, best, j, limit):
     """Profile interval of fitting coordinate ``j``: ``(lo, hi, lo bounded, hi bounded)``."""
     x_hat = best.x
     scale2 = problem.scale**2
     # Wald standard error from the Jacobian, only to size the first steps.
     jac = best.jac
+    rss = 2.0 * best.cost * scale2
     dof = max(jac.shape[0] - jac.shape[1], 1)
     try:
         cov = np.linalg.inv(jac.T @ jac) * (2.0 * best.cost / dof)
@@ -319,7 +334,7 @@ def _profile(problem, best, j, limit):
     ends = []
     for sign in (-1.0, 1.0):
         warm["x"] = x_hat[others].copy()
-        inside = x_hat[j]
+        inside, f_in = x_hat[j], rss - limit
         step, end, bounded = 2.0 * se, None, True
         for _ in range(40):
             trial = inside + sign * step
@@ -328,12 +343,13 @@ def _profile(problem, best, j, limit):
                 trial = edge
             f_t = excess(trial)
             if f_t > 0.0:
-                end = brentq(excess, *sorted((inside, trial)), xtol=0.01 * se, rtol=1e-10, maxiter=40)
+                # The refits along the way are warm-started, so the sign at ``inside`` is the one seen.
+                end = trial if f_in >= 0.0 else _crossing(excess, inside, trial, 0.01 * se)
                 break
             if trial == edge:
                 end, bounded = edge, False
                 break
-            inside = trial
+            inside, f_in = trial, f_t
             step *= 2.0
         if end is None:
             end, bounded = inside, False
