@@ -37,10 +37,16 @@ SCALES = {"times": 1e-4, "heights": 1e-2, "trajectory": 1e-3}
 STIFFNESS_STARTS = (1e5, 1e7, 1e9, 1e11)
 # Relative finite-difference step of the Jacobian (well above the contacts' 1e-12 tolerance).
 DIFF_STEP = 1e-6
+# Starts fitted (the best by their residuals after the scan).
+FITTED_STARTS = 2
 # Values of a law's first parameter tried before each start's fit.
 SCAN_POINTS = 16
 # The first approach speed is fitted within this factor of its rigid-bounce guess.
 V0_RANGE = 4.0
+# Most residual evaluations of one refit along a profile (warm-started: a few suffice).
+PROFILE_NFEV = 40
+# Smallest first step of a profile, as a fraction of the parameter's range (fitting coordinates).
+MIN_STEP = 1e-5
 # Most contacts a trajectory's sequence is followed for.
 MAX_CONTACTS = 500
 
@@ -230,7 +236,8 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
     problem = Problem(law, data, setup, fixed)
     problem.fixed_values = {name: (stiffness_guess or 1e8) for name in fixed}
     best = None
-    for x0 in _starts(problem, stiffness_guess):
+    starts = sorted(_starts(problem, stiffness_guess), key=lambda x0: _cost(problem, x0))
+    for x0 in starts[:FITTED_STARTS]:
         sol = _solve(problem, x0)
         if best is None or sol.cost < best.cost:
             best = sol
@@ -327,7 +334,9 @@ def _profile(problem, best, j, limit):
 
         lo, hi = np.array(sub_bounds).T
         y0 = np.clip(warm["x"], lo + 1e-12 * (hi - lo), hi - 1e-12 * (hi - lo))
-        sol = least_squares(res, y0, bounds=(lo, hi), x_scale="jac", diff_step=DIFF_STEP, xtol=1e-10)
+        sol = least_squares(
+            res, y0, bounds=(lo, hi), x_scale="jac", diff_step=DIFF_STEP, xtol=1e-10, max_nfev=PROFILE_NFEV
+        )
         warm["x"] = sol.x
         return 2.0 * sol.cost * scale2 - limit
 
@@ -335,10 +344,13 @@ def _profile(problem, best, j, limit):
     for sign in (-1.0, 1.0):
         warm["x"] = x_hat[others].copy()
         inside, f_in = x_hat[j], rss - limit
-        step, end, bounded = 2.0 * se, None, True
+        edge = lo_b if sign < 0 else hi_b
+        if (inside - edge) * sign >= 0.0:  # the estimate sits on its range's end
+            ends.append((edge, False))
+            continue
+        step, end, bounded = max(2.0 * se, MIN_STEP * (hi_b - lo_b)), None, True
         for _ in range(40):
             trial = inside + sign * step
-            edge = lo_b if sign < 0 else hi_b
             if (trial - edge) * sign >= 0.0:
                 trial = edge
             f_t = excess(trial)

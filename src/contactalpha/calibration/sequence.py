@@ -13,6 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# A rebound slower than this (m/s; an apex of 5e-20 m) ends the sequence: the ball rests for any
+# instrument, and the next contact's scales would underflow.
+REST_SPEED = 1e-9
+
 
 @dataclass(frozen=True)
 class Sequence:
@@ -76,7 +80,7 @@ def simulate(law, values, mass, accel, v0, t0=0.0, contacts=30):
         if c.status != "ok":
             status = c.status
             break
-        if not c.separated:
+        if not c.separated or c.v_out < REST_SPEED:
             ended = True
             break
         t += c.duration + 2.0 * c.v_out / accel
