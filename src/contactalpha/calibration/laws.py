@@ -67,7 +67,7 @@ class Param:
 
     def from_fit(self, x):
         """Fitting coordinate -> natural value."""
-        return 10.0**x if self.log else float(x)
+        return float(10.0**x) if self.log else float(x)
 
     @property
     def fit_bounds(self):
