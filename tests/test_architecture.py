@@ -13,6 +13,7 @@ RANKS = {
     "provenance": 0,
     "plotting": 0,
     "engine": 1,
+    "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
     "baselines": 3,

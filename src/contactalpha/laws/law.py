@@ -1,0 +1,320 @@
+"""The contact-law family as values: ``ContactLaw`` carries a law's capabilities, ``LAWS`` lists them.
+
+Every law moves, in its own scaling, as ``x'' = A - max(0, f(x, x'))`` from ``x = 0``,
+``x' = 1`` (docs/laws.md).  Length is scaled by ``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``
+(the undamped, unloaded maximum compression), time by ``delta_s / v`` and the load by
+``A = a delta_s / v^2``; for ``n = 1`` that is ``x = delta omega / v``, ``t omega`` and
+``A = a / (omega v)`` with ``omega = sqrt(k/m)``.  The load factor ``xi`` is the share of the
+load's work in the undamped loaded maximum stored energy, ``xi = A x_m / (1/2 + A x_m)``
+(the paper's influence factor for ``n = 3/2``): every law's restitution is a function of its
+damping ``p`` and ``xi`` only.
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from contactalpha.engine.codes import END_STATES, STATUS
+from contactalpha.validation import check_positive, check_range
+
+from . import forces
+from .backends import ENGINE, FAMILY
+from .domain import RESTITUTIONS, check_restitution
+
+# The load factors every law covers: the paper's 0 <= xi <= 0.99.
+XI_MAX = 0.99
+# The restitution targets every law covers.
+RESTITUTION_MIN = 0.01
+# End states of the family (engine/codes.py names them).
+ALL_END_STATES = ("separation", "nonseparation", "creep", "no_restitution")
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """One normal contact law of the family and what it can do.
+
+    Attributes
+    ----------
+    name : registry key.
+    label : name for legends.
+    formula : the physical law, F(delta, delta_dot) >= 0.
+    scaled_formula : its dimensionless form ``x'' = A - max(0, f)``.
+    engines : engines whose normal contact is this law.
+    exponent : n of the elastic term k delta^n.
+    damping : name of the dimensionless damping parameter ``p``.
+    damping_physical : the engine's damping in terms of ``p``.
+    damping_unit : (factor, mass power, stiffness power, speed power): the engine's damping
+        is ``p * factor * m^a * k^b * v^c`` (``physical_damping``).
+    piecewise_linear : True when the motion in contact is linear (closed-form phases).
+    floor_reached : True when the force floor ``max(0, .)`` acts before ``x = 0`` (the
+        damping force pulls): the impact then ends in a free flight under the load.
+    end_states : the end states the law can reach.
+    restitutions : the restitutions it inverts ("energetic" Stronge, "kinematic" Newton).
+    load_domain, restitution_domain : the (xi, target) ranges its inverse and tables cover.
+    impedance : MuJoCo's constant impedance d (0 for the other laws).
+    impedance_range : valid (lo, hi) of ``impedance``, hi excluded; None if the law has none.
+    force : jitted scaled force argument ``f(x, v, p, A, d)`` (``forces.py``).
+    code : its position in the kernels' force table (``forces.scaled_force``).
+    backend : where its reference numbers come from (``backends.py``).
+    evaluator : what the fast evaluator is ("engine table", "closed form", "table").
+    """
+
+    name: str
+    label: str
+    formula: str
+    scaled_formula: str
+    engines: tuple
+    exponent: float
+    damping: str
+    damping_physical: str
+    damping_unit: tuple
+    piecewise_linear: bool
+    floor_reached: bool
+    end_states: tuple
+    force: Callable
+    evaluator: str
+    code: int
+    backend: object = FAMILY
+    restitutions: tuple = RESTITUTIONS
+    load_domain: tuple = (0.0, XI_MAX)
+    restitution_domain: tuple = (RESTITUTION_MIN, 1.0)
+    impedance: float = 0.0
+    impedance_range: tuple | None = None
+
+    # --- shape -------------------------------------------------------------------------
+    def with_impedance(self, d):
+        """Return this law with MuJoCo's impedance ``d`` (solimp = (d, d, ...)), for laws that have one."""
+        if self.impedance_range is None:
+            raise ValueError(f"law {self.name!r} has no impedance; laws with one: {_with_impedance()}")
+        lo, hi = self.impedance_range
+        d = float(check_range("impedance", d, lo, hi, hi_open=True))
+        return replace(self, impedance=d)
+
+    # --- load ---------------------------------------------------------------------------
+    @property
+    def _stiffness_coefficient(self):
+        """Coefficient c = (n + 1) / 2 of the scaled elastic force c x^n: x_m = 1 undamped, unloaded."""
+        return 0.5 * (self.exponent + 1.0)
+
+    def scaled_load(self, xi):
+        """Scaled load ``A`` of load factor ``xi`` in [0, 1).
+
+        ``W = A x_m = xi / (2 (1 - xi))`` and ``x_m^(n+1) = 1 + 2 (1 - d) W`` (the undamped
+        loaded maximum), so ``A = W / x_m``.
+        """
+        x = check_range("xi", xi, 0.0, 1.0, hi_open=True)
+        w = 0.5 * x / (1.0 - x)
+        x_m = (1.0 + 2.0 * (1.0 - self.impedance) * w) ** (1.0 / (self.exponent + 1.0))
+        return _plain(w / x_m)
+
+    def load_factor(self, A):
+        """Load factor ``xi = A x_m / (1/2 + A x_m)`` of scaled load ``A >= 0`` (``scaled_load`` inverted)."""
+        a = check_range("A", A, 0.0, np.inf, hi_open=True)
+        n1 = self.exponent + 1.0
+        b = (1.0 - self.impedance) * a
+        # x_m solves x^(n+1) = 1 + 2 b x: Newton from above (the function is convex there).
+        x = 1.0 + 2.0 * b + 1.0
+        for _ in range(100):
+            step = (x**n1 - 1.0 - 2.0 * b * x) / (n1 * x ** (n1 - 1.0) - 2.0 * b)
+            x = x - step
+            if np.all(np.abs(step) <= 1e-16 * x):
+                break
+        w = a * x
+        return _plain(w / (0.5 + w))
+
+    def equilibrium(self, A):
+        """Scaled static compression under load ``A``: ``f(x_eq, 0) = A``."""
+        return ((1.0 - self.impedance) * np.asarray(A, dtype=float) / self._stiffness_coefficient) ** (
+            1.0 / self.exponent
+        )
+
+    def length_scale(self, mass, stiffness, approach_speed):
+        """``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``, m (``mass`` 1 for per-unit-mass laws)."""
+        m, k, v = (
+            check_positive(n, x)
+            for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
+        )
+        return _plain((2.0 * self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
+
+    def load(self, mass, stiffness, approach_speed, accel):
+        """Scaled load ``A = a delta_s / v^2`` of a scene."""
+        a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
+        v = check_positive("approach_speed", approach_speed)
+        return _plain(a * self.length_scale(mass, stiffness, approach_speed) / (v * v))
+
+    def physical_damping(self, p, mass, stiffness, approach_speed):
+        """The engine's damping coefficient for dimensionless damping ``p`` (see ``damping_physical``)."""
+        factor, pm, pk, pv = self.damping_unit
+        m, k, v = (
+            check_positive(n, x)
+            for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
+        )
+        return _plain(np.asarray(p, dtype=float) * factor * m**pm * k**pk * v**pv)
+
+    def damping_from_physical(self, c, mass, stiffness, approach_speed):
+        """Dimensionless damping ``p`` of the engine's damping coefficient ``c`` (its inverse)."""
+        return _plain(
+            np.asarray(c, dtype=float) / self.physical_damping(1.0, mass, stiffness, approach_speed)
+        )
+
+    # --- maps ---------------------------------------------------------------------------
+    def impact(self, p, xi, **settings):
+        """Both restitutions and the end state of one impact at damping ``p``, load factor ``xi``."""
+        from .maps import impact
+
+        return impact(self, p, xi, **settings)
+
+    def restitution(self, p, xi, restitution="energetic", **settings):
+        """Forward map: the restitution (``"energetic"`` eps or ``"kinematic"`` e_N) at ``(p, xi)``."""
+        res = self.impact(p, xi, **settings)
+        return res.eps if check_restitution(restitution) == "energetic" else res.e_n
+
+    def damping_for(self, target, xi, restitution="energetic", **settings):
+        """Exact inverse: the damping ``p`` that gives ``target`` at load factor ``xi``."""
+        from .maps import damping_for
+
+        return damping_for(self, target, xi, restitution, **settings)
+
+    def fast_damping(self, target, xi, restitution="energetic"):
+        """Fast evaluator of the inverse (see ``evaluator``)."""
+        from .fast import fast_damping
+
+        return fast_damping(self, target, xi, restitution)
+
+    def fast_restitution(self, p, xi, restitution="energetic"):
+        """Fast evaluator of the forward map (see ``evaluator``)."""
+        from .fast import fast_restitution
+
+        return fast_restitution(self, p, xi, restitution)
+
+
+def _plain(arr):
+    arr = np.asarray(arr, dtype=float)
+    return float(arr) if arr.ndim == 0 else arr
+
+
+_LINEAR_UNIT = (2.0, 0.5, 0.5, 0.0)  # c = 2 zeta sqrt(k m)
+
+LAWS = [
+    ContactLaw(
+        name="hunt_crossley",
+        label="Hunt–Crossley, n = 3/2",
+        formula="F = k δ^{3/2} (1 + α δ̇/δ̇⁻)",
+        scaled_formula="x'' = A − (5/4) x^{3/2} (1 + α x')",
+        engines=("OpenSim", "Exudyn", "Simbody"),
+        exponent=1.5,
+        damping="alpha",
+        damping_physical="μ/k = α / δ̇⁻ (s/m)",
+        damping_unit=(1.0, 0.0, 0.0, -1.0),
+        piecewise_linear=False,
+        floor_reached=False,
+        end_states=ALL_END_STATES,
+        force=forces.hunt_crossley_force,
+        code=forces.HUNT_CROSSLEY,
+        evaluator="engine table",
+        backend=ENGINE,
+        restitution_domain=(0.01, 1.0),
+    ),
+    ContactLaw(
+        name="hunt_crossley_linear",
+        label="Hunt–Crossley, n = 1 (Drake)",
+        formula="F = k δ (1 + d δ̇)₊",
+        scaled_formula="x'' = A − x (1 + α x'),  α = d δ̇⁻",
+        engines=("Drake (point contact)",),
+        exponent=1.0,
+        damping="alpha",
+        damping_physical="d = α / δ̇⁻ (s/m)",
+        damping_unit=(1.0, 0.0, 0.0, -1.0),
+        piecewise_linear=False,
+        floor_reached=False,
+        end_states=ALL_END_STATES,
+        force=forces.hunt_crossley_linear_force,
+        code=forces.HUNT_CROSSLEY_LINEAR,
+        evaluator="table",
+    ),
+    ContactLaw(
+        name="kelvin_voigt",
+        label="spring–dashpot with floor",
+        formula="F = max(0, k δ + c δ̇)",
+        scaled_formula="x'' = A − max(0, x + 2ζ x'),  ζ = c / (2√(k m))",
+        engines=("PhysX compliant contact", "Bullet", "ODE", "Gazebo", "Simscape", "Newton"),
+        exponent=1.0,
+        damping="zeta",
+        damping_physical="c = 2 ζ √(k m) (N s/m)",
+        damping_unit=_LINEAR_UNIT,
+        piecewise_linear=True,
+        floor_reached=True,
+        end_states=ALL_END_STATES,
+        force=forces.kelvin_voigt_force,
+        code=forces.KELVIN_VOIGT,
+        evaluator="closed form",
+    ),
+    ContactLaw(
+        name="mujoco_soft",
+        label="MuJoCo soft contact",
+        formula="δ̈ = a − max(0, d a + b δ̇ + s δ)  (per unit mass; solref = (−s, −b), solimp = (d, d, …))",
+        scaled_formula="x'' = A − max(0, d A + x + 2ζ x'),  ζ = b / (2√s)",
+        engines=("MuJoCo", "MJX", "MuJoCo Warp", "Genesis", "Newton (MuJoCo solver)"),
+        exponent=1.0,
+        damping="zeta",
+        damping_physical="b = 2 ζ √s (1/s), s the stiffness per unit mass (pass mass = 1)",
+        damping_unit=_LINEAR_UNIT,
+        piecewise_linear=True,
+        floor_reached=True,
+        end_states=ALL_END_STATES,
+        force=forces.mujoco_soft_force,
+        code=forces.MUJOCO_SOFT,
+        evaluator="closed form",
+        impedance=0.9,
+        impedance_range=(0.0, 1.0),
+    ),
+    ContactLaw(
+        name="hertz_tsuji",
+        label="Hertz with Tsuji damping",
+        formula="F = max(0, k δ^{3/2} + η δ^{1/4} δ̇),  η = β √(m k)",
+        scaled_formula="x'' = A − max(0, (5/4) x^{3/2} + (√5/2) β x^{1/4} x')",
+        engines=("Chrono SMC", "LIGGGHTS", "LAMMPS", "MercuryDPM", "Yade"),
+        exponent=1.5,
+        damping="beta",
+        damping_physical="η = β √(m k) (N s/m^{5/4})",
+        damping_unit=(1.0, 0.5, 0.5, 0.0),
+        piecewise_linear=False,
+        floor_reached=True,
+        end_states=ALL_END_STATES,
+        force=forces.hertz_tsuji_force,
+        code=forces.HERTZ_TSUJI,
+        evaluator="table",
+    ),
+]
+
+_BY_NAME = {law.name: law for law in LAWS}
+DEFAULT_LAW = "hunt_crossley"
+
+
+def _with_impedance():
+    return ", ".join(law.name for law in LAWS if law.impedance_range is not None)
+
+
+def get_law(law=DEFAULT_LAW, **shape):
+    """The registered law named ``law`` (a ``ContactLaw`` passes through), with ``impedance=`` if given.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, naming the valid choices.
+    """
+    if isinstance(law, ContactLaw):
+        found = law
+    elif isinstance(law, str) and law in _BY_NAME:
+        found = _BY_NAME[law]
+    else:
+        raise ValueError(f"unknown contact law {law!r}; valid: {', '.join(_BY_NAME)}")
+    if "impedance" in shape:
+        found = found.with_impedance(shape.pop("impedance"))
+    if shape:
+        raise ValueError(f"unknown law settings {sorted(shape)}; valid: impedance (laws {_with_impedance()})")
+    return found
+
+
+__all__ = ["END_STATES", "STATUS"]

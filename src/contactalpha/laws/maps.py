@@ -1,0 +1,130 @@
+"""Validated, broadcasting forward map and exact inverse of any registered law."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.engine.codes import END_STATES, OK, STATUS
+from contactalpha.validation import check_range
+
+from .domain import check_restitution
+
+
+@dataclass(frozen=True)
+class LawImpact:
+    """One impact of a law (arrays for array input).
+
+    Attributes
+    ----------
+    eps : Stronge's energetic restitution, from the energy identity; NaN if the run failed.
+    e_n : Newton's kinematic restitution, separation speed / approach speed; 0 without separation.
+    state : end state: separation, nonseparation (capture), creep, no_restitution, failed.
+    status : "ok" or why the integrator stopped.
+    x_max, x_end, v_end : scaled maximum compression and end state.
+    """
+
+    eps: object
+    e_n: object
+    state: object
+    status: object
+    x_max: object
+    x_end: object
+    v_end: object
+
+    @property
+    def ok(self):
+        """True where the integrator finished."""
+        return np.asarray(self.status) == "ok"
+
+
+@dataclass(frozen=True)
+class DampingSolution:
+    """The damping that meets a target restitution, and what it delivers.
+
+    Attributes
+    ----------
+    damping : the law's dimensionless damping ``p``; NaN where the solve failed.
+    eps, e_n : both restitutions the damping delivers (reference integrator).
+    state : end state at that damping.
+    status : "ok" or why the solve failed.
+    """
+
+    damping: object
+    eps: object
+    e_n: object
+    state: object
+    status: object
+
+    @property
+    def ok(self):
+        """True where the solve met its target."""
+        return np.asarray(self.status) == "ok"
+
+
+def _shaped(a, shape):
+    a = np.asarray(a).reshape(shape)
+    return a[()] if a.ndim == 0 else a
+
+
+def _words(codes, names):
+    return np.array([names[int(c)] if c == c else "failed" for c in codes], dtype=object)
+
+
+def check_load_factor(law, xi):
+    """Load factor ``xi`` inside the law's domain [0, 1)."""
+    return check_range("xi", xi, 0.0, 1.0, hi_open=True)
+
+
+def impact(law, p, xi, **settings):
+    """Both restitutions and the end state at damping ``p`` and load factor ``xi`` (broadcast)."""
+    pp = check_range(law.damping, p, 0.0, np.inf, hi_open=True)
+    xx = check_load_factor(law, xi)
+    pp, xx = np.broadcast_arrays(pp, xx)
+    shape = pp.shape
+    pf = np.ascontiguousarray(pp, dtype=float).ravel()
+    xf = np.ascontiguousarray(xx, dtype=float).ravel()
+    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    rows = law.backend.impact(law, pf, A, xf, **settings)
+    return LawImpact(
+        eps=_shaped(rows[:, 0], shape),
+        e_n=_shaped(rows[:, 1], shape),
+        state=_shaped(_words(rows[:, 2], END_STATES), shape),
+        status=_shaped(_words(rows[:, 3], STATUS), shape),
+        x_max=_shaped(rows[:, 4], shape),
+        x_end=_shaped(rows[:, 5], shape),
+        v_end=_shaped(rows[:, 6], shape),
+    )
+
+
+def check_target(law, target, restitution):
+    """Target restitution in (0, 1]: e = 0 has no unique damping (every p past a boundary gives it)."""
+    kind = check_restitution(restitution)
+    name = "eps" if kind == "energetic" else "e_N"
+    return check_range(name, target, 0.0, 1.0, lo_open=True)
+
+
+def damping_for(law, target, xi, restitution="energetic", **settings):
+    """Exact inverse: the damping ``p`` whose impact restitutes ``target`` at load factor ``xi``.
+
+    Returns
+    -------
+    DampingSolution
+        ``damping`` and what it delivers (both restitutions, end state), broadcast shape.
+    """
+    tt = check_target(law, target, restitution)
+    xx = check_load_factor(law, xi)
+    tt, xx = np.broadcast_arrays(tt, xx)
+    shape = tt.shape
+    tf = np.ascontiguousarray(tt, dtype=float).ravel()
+    xf = np.ascontiguousarray(xx, dtype=float).ravel()
+    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    p, status = law.backend.damping(law, tf, restitution == "kinematic", A, xf, **settings)
+    p = np.where(status == OK, p, np.nan)
+    rows = law.backend.impact(law, np.nan_to_num(p), A, xf, **settings)
+    return DampingSolution(
+        damping=_shaped(p, shape),
+        eps=_shaped(np.where(status == OK, rows[:, 0], np.nan), shape),
+        e_n=_shaped(np.where(status == OK, rows[:, 1], np.nan), shape),
+        state=_shaped(np.where(status == OK, _words(rows[:, 2], END_STATES), "failed"), shape),
+        status=_shaped(_words(status, STATUS), shape),
+    )

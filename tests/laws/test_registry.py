@@ -1,0 +1,95 @@
+"""The law registry: one list of values with their capabilities, and clear errors."""
+
+import numpy as np
+import pytest
+
+from contactalpha.engine.exact import restitution_exact
+from contactalpha.laws import LAWS, ContactLaw, get_law
+
+
+def test_every_law_is_a_registered_value_with_its_capabilities():
+    names = [law.name for law in LAWS]
+    assert names == ["hunt_crossley", "hunt_crossley_linear", "kelvin_voigt", "mujoco_soft", "hertz_tsuji"]
+    for law in LAWS:
+        assert isinstance(law, ContactLaw)
+        assert get_law(law.name) is law
+        assert law.exponent in (1.0, 1.5)
+        assert set(law.restitutions) == {"energetic", "kinematic"}
+        assert law.load_domain == (0.0, 0.99)
+        # The scaled force is the law's: f(x_eq(A), 0) = A at a load.
+        A = 0.37
+        assert law.force(float(law.equilibrium(A)), 0.0, 0.5, A, law.impedance) == pytest.approx(A, rel=1e-14)
+    assert [law.piecewise_linear for law in LAWS] == [False, False, True, True, False]
+
+
+def test_unknown_law_and_bad_parameters_name_the_valid_choices():
+    with pytest.raises(
+        ValueError, match=r"unknown contact law 'bullet'; valid: hunt_crossley, hunt_crossley_linear"
+    ):
+        get_law("bullet")
+    with pytest.raises(ValueError, match=r"impedance = 1.0 is outside the valid range \[0.0, 1.0\)"):
+        get_law("mujoco_soft", impedance=1.0)
+    with pytest.raises(ValueError, match="has no impedance; laws with one: mujoco_soft"):
+        get_law("kelvin_voigt", impedance=0.5)
+    law = get_law("kelvin_voigt")
+    with pytest.raises(ValueError, match=r"zeta = -0.1 is outside the valid range"):
+        law.impact(-0.1, 0.0)
+    with pytest.raises(ValueError, match=r"xi = 1.0 is outside the valid range \[0.0, 1.0\)"):
+        law.impact(0.1, 1.0)
+    with pytest.raises(ValueError, match=r"e_N = 0.0 is outside the valid range \(0.0, 1.0\]"):
+        law.damping_for(0.0, 0.1, restitution="kinematic")
+    with pytest.raises(ValueError, match="restitution = 'newton' is not one of 'energetic', 'kinematic'"):
+        law.damping_for(0.5, 0.1, restitution="newton")
+
+
+@pytest.mark.parametrize("law", LAWS, ids=lambda law: law.name)
+def test_load_factor_and_scaled_load_are_inverse(law):
+    xi = np.array([0.0, 1e-6, 0.2325, 0.5, 0.99])
+    A = law.scaled_load(xi)
+    assert np.all(np.diff(A) > 0)
+    np.testing.assert_allclose(law.load_factor(A), xi, rtol=1e-13, atol=1e-16)
+
+
+def test_load_factor_generalises_the_papers_influence_factor():
+    from contactalpha.engine.scaling import scaled_load
+
+    xi = np.linspace(0.0, 0.99, 12)
+    np.testing.assert_allclose(get_law("hertz_tsuji").scaled_load(xi), scaled_load(xi), rtol=1e-14)
+    # n = 1: A = xi (1 - xi)^(-1/2) / 2 (docs/laws.md).
+    np.testing.assert_allclose(
+        get_law("kelvin_voigt").scaled_load(xi), 0.5 * xi / np.sqrt(1 - xi), rtol=1e-14
+    )
+
+
+def test_spring_dashpot_with_floor_matches_schwager_poeschel():
+    """Schwager & Poeschel 2007: zeta = 0.3 delivers e_N = 0.451 with the floor, not the textbook 0.372."""
+    law = get_law("kelvin_voigt")
+    A = np.array([0.0, 0.1])
+    r = law.impact(0.3, law.load_factor(A))
+    np.testing.assert_allclose(r.e_n, [0.451, 0.348], atol=5e-4)
+    # Their closed form at zero load: e = exp(-zeta (pi - phi) / w), phi the angle where the force is 0.
+    z = np.array([0.05, 0.3, 0.6, 0.9])
+    w = np.sqrt(1 - z**2)
+    phase = np.arctan2(2 * z * w, 1 - 2 * z**2)  # the angle at which x + 2 zeta x' = 0
+    closed = np.exp(-z / w * (np.pi - phase))
+    np.testing.assert_allclose(law.impact(z, 0.0).e_n, closed, rtol=0, atol=1e-11)
+
+
+def test_hunt_crossley_n1_reproduces_the_exact_unloaded_relation():
+    alpha = np.geomspace(1e-3, 300.0, 25)
+    r = get_law("hunt_crossley_linear").impact(alpha, 0.0)
+    np.testing.assert_allclose(r.eps, restitution_exact(alpha), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(r.e_n, r.eps)
+
+
+def test_hunt_crossley_law_is_the_engine_unchanged():
+    from contactalpha.engine.driver import impact
+    from contactalpha.engine.solver import solve_alpha
+
+    law = get_law("hunt_crossley")
+    r = law.impact([0.3, 2.0], [0.1, 0.5])
+    ref = impact(np.array([0.3, 2.0]), np.array([0.1, 0.5]))
+    np.testing.assert_array_equal(r.eps, ref.eps)
+    np.testing.assert_array_equal(r.e_n, ref.e_n)
+    s = law.damping_for(0.5, 0.2325)
+    assert s.damping == solve_alpha(0.5, 0.2325).alpha
