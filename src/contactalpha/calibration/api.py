@@ -12,8 +12,9 @@ from contactalpha.scene.parameters import contact_parameters
 from contactalpha.validation import check_positive, check_range
 
 from . import data as data_mod
+from . import family  # noqa: F401  (registers the contact-law family's laws)
 from .fit import LEVEL, Setup, fit_law
-from .laws import LAWS, check_law
+from .laws import LAWS, law_names
 
 
 @dataclass
@@ -197,8 +198,9 @@ def calibrate(
         For array data.
     t : array_like, optional
         Sample times of a trajectory, s.
-    laws : sequence of str, optional
-        Names in ``calibration.laws.LAWS`` (default: all registered laws).
+    laws : sequence of str or "all", optional
+        Names in ``calibration.laws.LAWS``; default ``laws.DEFAULT_LAWS`` (the three Hunt–Crossley
+        n = 3/2 laws); ``"all"`` adds the contact-law family's (slower: seconds per law).
     gravity, force : float
         m/s^2, and a constant extra push towards the ground, N (>= 0).
     stiffness : float, optional
@@ -229,9 +231,7 @@ def calibrate(
     elif stiffness is not None:
         stiffness = float(check_positive("stiffness", stiffness))
     d = _as_data(data, kind, t)
-    names = list(LAWS) if laws is None else [check_law(n).name for n in laws]
-    if not names:
-        raise ValueError("laws is empty; choose from " + ", ".join(map(repr, LAWS)))
+    names = law_names(laws)
     setup = Setup(m, g + f / m)
     fits = {
         n: fit_law(LAWS[n], d, setup, stiffness_guess=stiffness, level=level, intervals=intervals)

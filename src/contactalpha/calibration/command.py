@@ -12,7 +12,7 @@ def add_parser(sub, number):
     c.add_argument("--stiffness", type=number, help="stiffness guess, N/m^1.5")
     c.add_argument("--moduli", type=number, nargs=2, metavar=("E_BALL", "E_GROUND"), help="Young moduli, Pa")
     c.add_argument("--poisson", type=number, nargs=2, default=(0.3, 0.3), metavar=("NU_BALL", "NU_GROUND"))
-    c.add_argument("--law", action="append", help="a law to fit, e.g. hc_eps (repeat; default all)")
+    c.add_argument("--law", action="append", help="a law to fit, e.g. hc_eps, or all (repeat)")
     c.add_argument("--json", metavar="PATH", help="write the JSON report there")
     c.add_argument("--figures", metavar="PREFIX", help="write PREFIX_restitution.png, PREFIX_residuals.png")
     return c

@@ -29,14 +29,17 @@ from scipy.stats import f as f_dist
 
 from . import sequence as seq_mod
 from .data import first_guess
+from .laws import STIFFNESS
 
 LEVEL = 0.95
 # Residual scales: they only condition the optimiser (sigma is estimated).
 SCALES = {"times": 1e-4, "heights": 1e-2, "trajectory": 1e-3}
-# Starting stiffnesses when none is given, N/m^1.5 (the fit keeps the best start).
-STIFFNESS_STARTS = (1e5, 1e7, 1e9, 1e11)
+# Starting stiffnesses when none is given, log-spaced inside the law's range.
+STIFFNESS_STARTS = 4
 # Relative finite-difference step of the Jacobian (well above the contacts' 1e-12 tolerance).
 DIFF_STEP = 1e-6
+# Stiffness held by a law whose stiffness the data cannot see, when no guess is given, N/m^1.5.
+HELD_STIFFNESS = 1e8
 # Starts fitted (the best by their residuals after the scan).
 FITTED_STARTS = 2
 # Values of a law's first parameter tried before each start's fit.
@@ -178,7 +181,11 @@ def _starts(problem, stiffness_guess):
     t0 = {"times": float(data.t[0]) if data.t.size else 0.0, "heights": 0.0}.get(data.kind)
     if t0 is None:
         t0 = _trajectory_t0(data)
-    ks = (stiffness_guess,) if stiffness_guess else STIFFNESS_STARTS
+    stiff = next(p for p in law.params if p.name == "stiffness")
+    if stiffness_guess and stiff.unit == STIFFNESS.unit:
+        ks = (stiffness_guess,)
+    else:  # a few decades apart inside the law's range
+        ks = tuple(np.geomspace(stiff.lo * 1e2, stiff.hi * 1e-2, STIFFNESS_STARTS))
     for k in ks:
         values = {**law.start(e, v0 * e), "stiffness": k}
         x = [p.to_fit(np.clip(values[p.name], p.lo, p.hi)) for p in problem.law_free]
@@ -234,7 +241,7 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
     """
     fixed = tuple(p.name for p in law.params if p.timing_only and data.kind == "heights")
     problem = Problem(law, data, setup, fixed)
-    problem.fixed_values = {name: (stiffness_guess or 1e8) for name in fixed}
+    problem.fixed_values = {name: (stiffness_guess or HELD_STIFFNESS) for name in fixed}
     best = None
     starts = sorted(_starts(problem, stiffness_guess), key=lambda x0: _cost(problem, x0))
     for x0 in starts[:FITTED_STARTS]:

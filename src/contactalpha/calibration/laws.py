@@ -200,10 +200,29 @@ register(
     )
 )
 DEFAULT_LAW = "hc_eps"
+# Laws ``calibrate`` fits when none are named: the package's own exact n = 3/2 engine.  The
+# family's laws (``calibration.family``) are fitted on request (``laws="all"`` or by name): their
+# general integrator costs seconds per fit.
+DEFAULT_LAWS = ("hc_eps", "hc_damping", "constant_e")
+ALL = "all"
+
+
+def law_names(laws=None):
+    """Names to fit: ``DEFAULT_LAWS`` for None, every registered law for ``"all"``, else checked names."""
+    if laws is None:
+        return list(DEFAULT_LAWS)
+    if laws == ALL or (not isinstance(laws, str) and list(laws) == [ALL]):
+        return list(LAWS)
+    if isinstance(laws, str):
+        laws = [laws]
+    names = [check_law(n).name for n in laws]
+    if not names:
+        raise ValueError("laws is empty; choose from " + ", ".join(map(repr, LAWS)))
+    return names
 
 
 def check_law(name):
     """The registered law called ``name``; ValueError naming the choices otherwise."""
     if name not in LAWS:
-        raise ValueError(f"law = {name!r} is not one of {', '.join(map(repr, LAWS))}")
+        raise ValueError(f"law = {name!r} is not one of {', '.join(map(repr, LAWS))}, or 'all'")
     return LAWS[name]
