@@ -10,7 +10,7 @@ import json
 import sys
 import time
 
-from contactalpha.calibration.recovery import SCENES, study
+from contactalpha.calibration.recovery import SCENES, selection_study, study
 
 
 def main():
@@ -28,6 +28,16 @@ def main():
                 f"width {q['mean_width']:.3g}  bias/width {q['bias_over_width']:.3f}"
             )
         print(f"scene {i}: {r['impacts']} impacts, {r['seconds']:.1f} s")
+    for i, scene in enumerate(SCENES):
+        start = time.perf_counter()
+        s = selection_study(scene, replicates=min(replicates, 50), seed=100 + i)
+        s["seconds"] = time.perf_counter() - start
+        results.append(s)
+        print(
+            f"scene {i} selection: hc_eps data -> hc_eps {s['right']['hc_eps']}/{s['replicates']}, "
+            f"constant_e data -> constant_e {s['right']['constant_e']}/{s['replicates']}, "
+            f"median AIC gaps {s['median_aic_gap']}, {s['seconds']:.1f} s"
+        )
     if len(sys.argv) > 2:
         with open(sys.argv[2], "w") as fh:
             json.dump(results, fh, indent=1, default=float)

@@ -7,7 +7,7 @@ fit are wrong.  benchmarks/study_calibrate_recovery.py prints the same numbers.
 
 import pytest
 
-from contactalpha.calibration.recovery import SCENES, study
+from contactalpha.calibration.recovery import SCENES, selection_study, study
 
 
 def test_small_recovery_study():
@@ -24,3 +24,11 @@ def test_recovery_coverage_and_bias(index):
     for k in ("eps", "stiffness"):
         assert r[k]["covered"] >= 90, (k, r[k])
         assert r[k]["bias_over_width"] < 0.1, (k, r[k])
+
+
+@pytest.mark.integration
+@pytest.mark.parametrize("index", range(len(SCENES)))
+def test_selection_picks_the_law_that_made_the_data(index):
+    s = selection_study(SCENES[index], replicates=50, seed=100 + index)
+    assert s["right"]["hc_eps"] >= 48, s
+    assert s["right"]["constant_e"] >= 48, s

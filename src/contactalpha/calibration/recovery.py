@@ -17,6 +17,7 @@ from contactalpha.scene.bounces import predict_bounces
 from .data import from_arrays
 from .fit import Setup, fit_law
 from .laws import LAWS
+from .sequence import simulate
 
 
 @dataclass(frozen=True)
@@ -96,3 +97,39 @@ def study(scene, replicates=100, seed=0, jitter=JITTER, impacts=IMPACTS):
             "bias_over_width": abs(bias) / width,
         }
     return out
+
+
+def selection_study(scene, replicates=50, seed=0, jitter=JITTER, impacts=IMPACTS):
+    """How often AIC picks the law that made the data, ``hc_eps`` against ``constant_e``.
+
+    Each replicate makes two noisy sequences of the scene: one by the package's prediction
+    (``hc_eps``, gravity in the contact) and one by ``constant_e`` with ``e = eps``; both laws
+    are fitted to each (no intervals).  Returns the counts of right picks and the median AIC gaps.
+    """
+    rng = np.random.default_rng(seed)
+    truth_hc = exact_times(scene, impacts)
+    null = simulate(
+        LAWS["constant_e"],
+        {"e": scene.eps, "stiffness": scene.stiffness},
+        scene.mass,
+        GRAVITY,
+        scene.speed,
+        0.0,
+        truth_hc.size,
+    )
+    setup = Setup(scene.mass, GRAVITY)
+    right = {"hc_eps": 0, "constant_e": 0}
+    gaps = {"hc_eps": [], "constant_e": []}
+    for _ in range(replicates):
+        for made, t in (("hc_eps", truth_hc), ("constant_e", null.touchdowns)):
+            data = from_arrays("times", values=t + rng.normal(0.0, jitter, t.size))
+            aic = {n: fit_law(LAWS[n], data, setup, intervals=False).aic for n in right}
+            other = "constant_e" if made == "hc_eps" else "hc_eps"
+            right[made] += int(aic[made] < aic[other])
+            gaps[made].append(aic[other] - aic[made])
+    return {
+        "scene": scene.__dict__,
+        "replicates": replicates,
+        "right": right,
+        "median_aic_gap": {k: float(np.median(v)) for k, v in gaps.items()},
+    }
