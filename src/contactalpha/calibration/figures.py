@@ -22,15 +22,19 @@ def law_curve(fit, setup, speeds):
     return out
 
 
-def observed_restitution(data, accel):
-    """Model-free e_N per bounce: ``(approach speeds, e_N)`` from the data, rigid flights assumed.
+def observed_restitution(data, accel, durations=None):
+    """e_N per bounce from the data: ``(approach speeds, e_N)``.
 
-    Times: the ratio of successive intervals at speed ``a dt / 2``; heights: the square root of
-    successive apex ratios at ``sqrt(2 a h)``.  Contact durations are not removed (they bias the
-    ratios of short flights); the fitted curves include them.
+    Times: the ratio of successive flights at approach speed ``a T / 2``, a flight being an
+    interval less the contact duration that opens it (``durations``, s, one per impact: the
+    selected fit's; rigid contacts if None).  Heights: the square root of successive apex ratios
+    at ``sqrt(2 a h)``.  Trajectories: none (the fitted curves only).
     """
     if data.kind == "times":
         dt = np.diff(data.values)
+        if durations is not None:
+            d = np.asarray(durations, dtype=float)[: dt.size]
+            dt = dt - np.concatenate([d, np.zeros(dt.size - d.size)])
         return 0.5 * accel * dt[:-1], dt[1:] / dt[:-1]
     if data.kind == "heights":
         h = data.values
@@ -47,9 +51,11 @@ def draw(cal, prefix):
 
     paths = [f"{prefix}_restitution.png", f"{prefix}_residuals.png"]
     fig, ax = plt.subplots(figsize=(6, 4))
-    v_obs, e_obs = observed_restitution(cal.data, cal.setup.accel)
+    durations = cal.best.sequence.durations
+    v_obs, e_obs = observed_restitution(cal.data, cal.setup.accel, durations)
     if v_obs.size:
-        ax.plot(v_obs, e_obs, "ko", ms=4, label="data (interval or height ratios)")
+        what = "flight ratios, selected law's contact times removed" if cal.data.kind == "times" else "apexes"
+        ax.plot(v_obs, e_obs, "ko", ms=4, label=f"data ({what})")
     for name, fit in cal.fits.items():
         s = fit.sequence
         top = float(s.v_in.max()) * 1.05
