@@ -47,7 +47,10 @@ class Calibration:
 
     def to_dict(self):
         """Everything as plain data (the JSON report)."""
+        from contactalpha.version import __version__
+
         return {
+            "contactalpha": __version__,
             "data": {"kind": self.data.kind, "source": self.data.source, "count": self.data.count},
             "mass": self.setup.mass,
             "accel": self.setup.accel,
