@@ -16,6 +16,10 @@ from . import family  # noqa: F401  (registers the contact-law family's laws)
 from .fit import LEVEL, Setup, fit_law
 from .laws import LAWS, law_names
 
+# Laws whose AIC is more than this above the best get no intervals (their Akaike weight is below
+# 5e-5: intervals of a law the data reject would only cost time).
+INTERVAL_AIC_GAP = 20.0
+
 
 @dataclass
 class Calibration:
@@ -213,7 +217,8 @@ def calibrate(
     level : float
         Confidence level of the intervals, in (0, 1).
     intervals : bool
-        False skips the profile-likelihood intervals.
+        False skips the profile-likelihood intervals; they are computed for every law whose AIC is
+        within ``INTERVAL_AIC_GAP`` of the best.
 
     Returns
     -------
@@ -236,10 +241,15 @@ def calibrate(
     d = _as_data(data, kind, t)
     names = law_names(laws)
     setup = Setup(m, g + f / m)
-    fits = {
-        n: fit_law(LAWS[n], d, setup, stiffness_guess=stiffness, level=level, intervals=intervals)
-        for n in names
-    }
+    kw = {"stiffness_guess": stiffness, "level": level}
+    fits = {n: fit_law(LAWS[n], d, setup, intervals=False, **kw) for n in names}
+    best_aic = min(f.aic for f in fits.values())
+    for n in names:
+        gap = fits[n].aic - best_aic
+        if intervals and gap <= INTERVAL_AIC_GAP:
+            fits[n] = fit_law(LAWS[n], d, setup, intervals=True, **kw)
+        elif intervals:
+            fits[n].status += f"; no intervals: AIC {gap:.1f} above the best law's"
     aic = np.array([fits[n].aic for n in names])
     rel = np.exp(-0.5 * (aic - aic.min()))
     weights = dict(zip(names, (rel / rel.sum()).tolist(), strict=True))
@@ -261,8 +271,9 @@ def format_calibration(cal):
             closed = f.bounded.get(key, (True, True))
             lo_t = f"{lo:.6g}" if closed[0] else f"<={lo:.6g}"
             hi_t = f"{hi:.6g}" if closed[1] else f">={hi:.6g}"
+            span = f"{int(100 * f.level)}% [{lo_t}, {hi_t}]" if np.isfinite([lo, hi]).all() else ""
             held = "  (held: the data cannot see it)" if key in f.fixed else ""
-            lines.append(f"    {key:10s} {value:.6g}   {int(100 * f.level)}% [{lo_t}, {hi_t}]{held}")
+            lines.append(f"    {key:10s} {value:.6g}   {span}{held}")
     lines.append(f"selected: {cal.selected} (lowest AIC)")
     eng = cal.engines[cal.selected]
     for engine, values in eng.get("engines", {}).items():

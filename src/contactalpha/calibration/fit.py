@@ -341,9 +341,10 @@ def _profile(problem, best, j, limit):
 
         lo, hi = np.array(sub_bounds).T
         y0 = np.clip(warm["x"], lo + 1e-12 * (hi - lo), hi - 1e-12 * (hi - lo))
-        sol = least_squares(
-            res, y0, bounds=(lo, hi), x_scale="jac", diff_step=DIFF_STEP, xtol=1e-10, max_nfev=PROFILE_NFEV
-        )
+        opts = {"bounds": (lo, hi), "x_scale": "jac", "diff_step": DIFF_STEP, "xtol": 1e-10}
+        sol = least_squares(res, y0, max_nfev=PROFILE_NFEV, **opts)
+        if sol.status == 0:  # not converged within the cap: an unconverged refit would shrink the interval
+            sol = least_squares(res, sol.x, max_nfev=10 * PROFILE_NFEV, **opts)
         warm["x"] = sol.x
         return 2.0 * sol.cost * scale2 - limit
 
