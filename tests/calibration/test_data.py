@@ -57,3 +57,10 @@ def test_rising_apex_and_unknown_columns_are_refused(tmp_path):
         read_drop(_csv(tmp_path, "speed", [1.0, 0.6]))
     with pytest.raises(ValueError, match=r"kind = 'bogus' is not one of"):
         from_arrays("bogus", values=GOOD)
+
+
+def test_interval_tolerance_allows_jitter_but_not_a_missed_impact(tmp_path):
+    jittered = [0.0, 0.1, 0.19, 0.27, 0.34, 0.4105]  # last interval 0.5 ms longer than the one before
+    assert read_drop(_csv(tmp_path, "t", jittered)).count == 6
+    with pytest.raises(ValueError, match=r"row 6, column 't'.* by more than 0.0001 s"):
+        read_drop(_csv(tmp_path, "t", jittered), interval_tolerance=1e-4)

@@ -163,14 +163,16 @@ def engine_parameters(fit, setup, radius=None):
     return out
 
 
-def _as_data(source, kind, t):
+def _as_data(source, kind, t, tolerance):
     if isinstance(source, data_mod.DropData):
         return source
     if isinstance(source, str | Path):
-        return data_mod.read_drop(source)
+        return data_mod.read_drop(source, tolerance)
     if kind is None:
         raise ValueError("give kind ('times', 'heights' or 'trajectory') with array data")
-    return data_mod.from_arrays(kind, t=t, values=np.asarray(source, dtype=float))
+    return data_mod.from_arrays(
+        kind, t=t, values=np.asarray(source, dtype=float), interval_tolerance=tolerance
+    )
 
 
 def calibrate(
@@ -188,6 +190,7 @@ def calibrate(
     poisson=(0.3, 0.3),
     level=LEVEL,
     intervals=True,
+    interval_tolerance=data_mod.INTERVAL_TOLERANCE,
 ):
     """Fit restitution laws to a drop test and select one.
 
@@ -219,6 +222,9 @@ def calibrate(
     intervals : bool
         False skips the profile-likelihood intervals; they are computed for every law whose AIC is
         within ``INTERVAL_AIC_GAP`` of the best.
+    interval_tolerance : float
+        s; an impact interval longer than the one before by more than this is refused (a missed
+        or spurious impact), ``data.INTERVAL_TOLERANCE`` by default.
 
     Returns
     -------
@@ -238,7 +244,8 @@ def calibrate(
         stiffness = stiffness_from_moduli(radius, moduli, poisson)
     elif stiffness is not None:
         stiffness = float(check_positive("stiffness", stiffness))
-    d = _as_data(data, kind, t)
+    tol = float(check_range("interval_tolerance", interval_tolerance, 0.0, np.inf, hi_open=True))
+    d = _as_data(data, kind, t, tol)
     names = law_names(laws)
     setup = Setup(m, g + f / m)
     kw = {"stiffness_guess": stiffness, "level": level}

@@ -13,6 +13,12 @@ def add_parser(sub, number):
     c.add_argument("--moduli", type=number, nargs=2, metavar=("E_BALL", "E_GROUND"), help="Young moduli, Pa")
     c.add_argument("--poisson", type=number, nargs=2, default=(0.3, 0.3), metavar=("NU_BALL", "NU_GROUND"))
     c.add_argument("--law", action="append", help="a law to fit, e.g. hc_eps, or all (repeat)")
+    c.add_argument(
+        "--interval-tolerance",
+        type=number,
+        default=1e-3,
+        help="s an interval may exceed the one before (default 1e-3)",
+    )
     c.add_argument("--json", metavar="PATH", help="write the JSON report there")
     c.add_argument("--figures", metavar="PREFIX", help="write PREFIX_restitution.png, PREFIX_residuals.png")
     return c
@@ -33,6 +39,7 @@ def run(args):
             stiffness=args.stiffness,
             moduli=args.moduli,
             poisson=tuple(args.poisson),
+            interval_tolerance=args.interval_tolerance,
         )
     except OSError as exc:
         raise ValueError(f"{args.file}: {exc.strerror or exc}") from None

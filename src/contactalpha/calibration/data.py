@@ -30,6 +30,11 @@ MIN_IMPACTS = 5
 MIN_HEIGHTS = 5
 MIN_SAMPLES = 20
 KINDS = ("times", "heights", "trajectory")
+# How much longer than the one before an interval may be before it is refused, s.  The true
+# intervals shorten, but at the last bounces by less than a millisecond (the contacts lengthen
+# as the flights shrink), so timing jitter can reverse two of them; a missed impact or an echo
+# changes an interval by a whole flight.  1 ms is about 4 sigma of the reversal for 0.1 ms jitter.
+INTERVAL_TOLERANCE = 1e-3
 _UNIT = re.compile(r"\s*[\(\[].*[\)\]]\s*$")
 
 
@@ -80,11 +85,12 @@ def _check_finite(values, header):
         )
 
 
-def check_times(t, header="t"):
+def check_times(t, header="t", tolerance=INTERVAL_TOLERANCE):
     """Impact times: finite, strictly increasing, each interval not longer than the one before.
 
     A ball under a constant load loses speed at every contact, so its flights only shorten;
-    a longer interval means a missed or a spurious impact.
+    an interval longer than the one before by more than ``tolerance`` (s) means a missed or a
+    spurious impact.
     """
     t = np.asarray(t, dtype=float)
     _check_finite(t, header)
@@ -99,13 +105,13 @@ def check_times(t, header="t"):
         raise ValueError(
             f"row {i + 1}, column {header!r}: time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
         )
-    longer = np.flatnonzero(dt[1:] > dt[:-1])
+    longer = np.flatnonzero(dt[1:] > dt[:-1] + tolerance)
     if longer.size:
         i = longer[0] + 2
         raise ValueError(
             f"row {i + 1}, column {header!r}: the interval {dt[i - 1]:.6g} s before this impact is longer "
-            f"than the one before it ({dt[i - 2]:.6g} s); a ball's bounces only shorten (a missed or extra "
-            "impact?)"
+            f"than the one before it ({dt[i - 2]:.6g} s) by more than {tolerance:g} s; a ball's bounces only "
+            "shorten (a missed or extra impact?)"
         )
     return t
 
@@ -150,10 +156,10 @@ def check_trajectory(t, z):
     return t, z
 
 
-def from_arrays(kind, t=None, values=None, source="array"):
+def from_arrays(kind, t=None, values=None, source="array", interval_tolerance=INTERVAL_TOLERANCE):
     """``DropData`` of ``kind`` from arrays, checked (``values``: times, heights or z)."""
     if kind == "times":
-        v = check_times(values if values is not None else t)
+        v = check_times(values if values is not None else t, tolerance=interval_tolerance)
         return DropData(kind, v, v, source)
     if kind == "heights":
         return DropData(kind, np.empty(0), check_heights(values), source)
@@ -163,8 +169,12 @@ def from_arrays(kind, t=None, values=None, source="array"):
     raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, KINDS))}")
 
 
-def read_drop(path):
-    """Read a drop-test CSV (see the module docstring for its columns) into checked ``DropData``."""
+def read_drop(path, interval_tolerance=INTERVAL_TOLERANCE):
+    """Read a drop-test CSV (see the module docstring for its columns) into checked ``DropData``.
+
+    ``interval_tolerance`` (s) is ``check_times``' allowance for an interval longer than the one
+    before it.
+    """
     with open(path, newline="", encoding="utf-8-sig") as fh:
         sample = fh.read(4096)
         fh.seek(0)
@@ -184,11 +194,12 @@ def read_drop(path):
         return DropData("trajectory", *check_trajectory(t, z), name)
     if "t" in keys:
         head = header[keys["t"]]
-        return DropData("times", *(2 * [check_times(_floats(body, keys["t"], head), head)]), name)
+        t = check_times(_floats(body, keys["t"], head), head, interval_tolerance)
+        return DropData("times", t, t, name)
     if "dt" in keys:
         dt = _floats(body, keys["dt"], header[keys["dt"]])
         _check_finite(dt, header[keys["dt"]])
-        t = check_times(np.concatenate([[0.0], np.cumsum(dt)]), header[keys["dt"]])
+        t = check_times(np.concatenate([[0.0], np.cumsum(dt)]), header[keys["dt"]], interval_tolerance)
         return DropData("times", t, t, name)
     if "h" in keys:
         return DropData(
