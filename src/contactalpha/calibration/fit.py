@@ -21,7 +21,7 @@ Model selection: AIC ``n log(RSS/n) + 2 (p + 1)`` and BIC ``n log(RSS/n) + (p + 
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq, least_squares
@@ -46,6 +46,8 @@ FITTED_STARTS = 2
 SCAN_POINTS = 16
 # The first approach speed is fitted within this factor of its rigid-bounce guess.
 V0_RANGE = 4.0
+# A nuisance parameter this close to an end of its range (fraction of the range) is "at" it.
+AT_BOUND = 1e-3
 # Most residual evaluations of one refit along a profile (warm-started: a few suffice).
 PROFILE_NFEV = 40
 # Smallest first step of a profile, as a fraction of the parameter's range (fitting coordinates).
@@ -99,7 +101,6 @@ class LawFit:
     status: str = "ok"
     level: float = LEVEL
     evaluations: int = 0
-    extra: dict = field(default_factory=dict)
 
 
 class Problem:
@@ -142,8 +143,6 @@ class Problem:
         values, nuis = self.unpack(x)
         d = self.data
         count = {"times": d.count, "heights": d.count - 1}.get(d.kind, MAX_CONTACTS)
-        if d.kind == "trajectory":
-            count = MAX_CONTACTS
         self.evaluations += 1
         return seq_mod.simulate(
             self.law, values, self.setup.mass, self.setup.accel, nuis["v0"], nuis.get("t0", 0.0), count
@@ -275,10 +274,12 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
     at_bound = [
         name
         for name, xi, (lo, hi) in zip(problem.names, x, problem.bounds, strict=True)
-        if name in problem.nuis and (xi <= lo or xi >= hi)
+        if name in problem.nuis and min(xi - lo, hi - xi) <= AT_BOUND * (hi - lo)
     ]
     if at_bound:
         out.status = f"{', '.join(at_bound)} at the end of its range: the law does not follow the data"
+    if out.sequence.status != "ok":
+        out.status = f"a contact of the fitted sequence failed ({out.sequence.status})"
     if n <= p:
         out.status = f"{n} observations for {p} parameters: no intervals"
         intervals = False
