@@ -106,3 +106,16 @@ def test_length_scale_and_load_are_the_laws_scaling():
     linear = get_law("kelvin_voigt")
     assert linear.length_scale(2.0, 800.0, 0.5) == pytest.approx(0.5 / 20.0, rel=1e-15)
     assert linear.load(2.0, 800.0, 0.5, 9.81) == pytest.approx(9.81 / (20.0 * 0.5), rel=1e-15)
+
+
+def test_tsuji_at_zero_load_is_the_spring_dashpot_with_zeta_beta_over_sqrt5():
+    """With tau = int x^{1/4} dt and y = x^{5/4}, Tsuji's unloaded motion is y'' + gamma y' + (25/16) y = 0.
+
+    So zeta = 2 gamma / 5 = beta / sqrt(5), the floor maps to the floor, and y' = (5/4) x': the same
+    e_N as the spring-dashpot (docs/laws.md, "Zero-load anchors").  Independent of the approach speed.
+    """
+    zeta = np.array([0.05, 0.3, 0.9, 1.0, 3.0])
+    tsuji = get_law("hertz_tsuji").impact(np.sqrt(5.0) * zeta, 0.0)
+    spring = get_law("kelvin_voigt").fast_restitution(zeta, 0.0, "kinematic")
+    np.testing.assert_allclose(tsuji.e_n, spring, rtol=0, atol=2e-11)
+    np.testing.assert_array_equal(tsuji.eps, tsuji.e_n)
