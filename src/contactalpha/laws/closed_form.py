@@ -127,7 +127,9 @@ def _polish(zeta, P, Q, c, lo, hi, g0, glo, ghi):
             lo = hi
             glo = ghi
             hi *= 2.0
-    # Start from the secant through the bracket's ends.
+    # Start from the secant through the bracket's ends; a Newton step that leaves the bracket is
+    # replaced by the Illinois secant of the bracket (bisection would need ~35 halvings to 1e-10).
+    side = 0
     t = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
     if not (lo < t < hi):
         t = 0.5 * (lo + hi)
@@ -138,11 +140,21 @@ def _polish(zeta, P, Q, c, lo, hi, g0, glo, ghi):
             return t
         if (g > 0.0) == (g0 > 0.0):
             lo = t
+            glo = g
+            if side == 1:
+                ghi *= 0.5
+            side = 1
         else:
             hi = t
-        new = t - g / dz if dz != 0.0 else 0.5 * (lo + hi)
+            ghi = g
+            if side == -1:
+                glo *= 0.5
+            side = -1
+        new = t - g / dz if dz != 0.0 else lo - 1.0
         if not (lo < new < hi):
-            new = 0.5 * (lo + hi)
+            new = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+            if not (lo < new < hi):
+                new = 0.5 * (lo + hi)
         # Newton converges quadratically: after a step of 1e-10 t the error is ~1e-20 t.
         if abs(new - t) <= NEWTON_DONE * t or hi - lo <= 4e-16 * hi:
             return new
@@ -181,30 +193,29 @@ def closed_form_impact(zeta, A, d):
         t_f = np.inf
         if zeta > 0.0:
             t_f = _root(zeta, Pu + 2.0 * zeta * Pv, Qu + 2.0 * zeta * Qv, A, t_v)
-        # x = 0 before the floor needs f = d A + 2 zeta v >= 0 at x = 0: only with an offset d A
-        # (or without damping, where the floor is x = 0 itself).
+        # v < 0 until t_v, so x falls monotonically up to the first of the floor and the turn; it
+        # reaches 0 before them only if it is <= 0 there.  That needs f = d A + 2 zeta v >= 0 at x = 0:
+        # an offset d A, or no damping (where the floor is x = 0 itself).
+        t_end = min(t_v, t_f)
+        zu, dzu = _z(zeta, Pu, Qu, t_end) if np.isfinite(t_end) else (-x_eq, 0.0)
         t_s = np.inf
         if x <= 0.0:
             t_s = 0.0
-        elif d > 0.0 or zeta == 0.0:
-            t_s = _root(zeta, Pu, Qu, x_eq, min(t_v, t_f))
+        elif (d > 0.0 or zeta == 0.0) and (x_eq + zu <= 0.0 or not np.isfinite(t_end)):
+            t_s = _root(zeta, Pu, Qu, x_eq, t_end)
         if t_s <= t_f and np.isfinite(t_s):
             _, dz = _z(zeta, Pu, Qu, t_s)
             v_e = dz
             return (0.5 * v_e * v_e + A * x_m) / (0.5 + A * x_m), -v_e, SEPARATION, x_m, 0.0, v_e
         if np.isfinite(t_f):
-            zu, dzu = _z(zeta, Pu, Qu, t_f)
-            x = x_eq + zu
-            v = dzu
             # Flight from the floor.
-            ft, x, v = _flight_step(zeta, A, d, x, v)
+            ft, x, v = _flight_step(zeta, A, d, x_eq + zu, dzu)
             if ft == SEPARATION:
                 return (0.5 * v * v + A * x_m) / (0.5 + A * x_m), -v, SEPARATION, x_m, 0.0, v
             if ft == NONSEPARATION:
                 return A * (x_m - x) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x, 0.0
             continue  # re-contact: the oscillator again
         if np.isfinite(t_v):
-            zu, _ = _z(zeta, Pu, Qu, t_v)
             x_e = x_eq + zu
             return A * (x_m - x_e) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x_e, 0.0
         return A * (x_m - x_eq) / (0.5 + A * x_m), 0.0, CREEP, x_m, x_eq, 0.0
