@@ -261,10 +261,11 @@ def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
     if restitution not in ("energetic", "kinematic"):
         raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
     if restitution not in found.restitutions:
-        takes = " or ".join(map(repr, found.restitutions))
+        takes = " and ".join(_DEFINITIONS[r] for r in found.restitutions)
+        others = [m.name for m in REGISTRY if m.law == found.law and restitution in m.restitutions]
         raise ValueError(
-            f"model {model!r} takes restitution={takes}, not {restitution!r}; models that take it: "
-            f"{', '.join(m.name for m in REGISTRY if restitution in m.restitutions)}"
+            f"model {model!r} is defined for {takes}; restitution={restitution!r} needs one of "
+            f"{', '.join(map(repr, others))} (models of law {found.law!r})"
             + (" (or convert_restitution first)" if restitution == "kinematic" else "")
         )
     fn = found.kinematic_fn if restitution == "kinematic" and found.kinematic_fn is not None else found.fn
@@ -282,6 +283,9 @@ def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
         out = fn(e, x)
     out = np.asarray(out, dtype=float)
     return out[()] if out.ndim == 0 else out
+
+
+_DEFINITIONS = {"energetic": "Stronge's energetic eps", "kinematic": "Newton's kinematic e_N"}
 
 
 def _raise_unsolved(sol):
