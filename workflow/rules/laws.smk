@@ -2,6 +2,11 @@
 # engines' usual restitution mapping and the exact inverse, judged by the e_N the law delivers across
 # the target and the load: a figure and a Markdown table (contactalpha.studies.laws).
 
+from contactalpha.provenance import source_hash
+
+# Hash of the package sources the study runs (the laws, the models): editing them reruns it.
+LAWS_CODE_VERSION = source_hash("contactalpha.studies.laws.compute")
+
 ALL_TARGETS += [
     "results/laws/delivered.nc",
     "results/laws/delivered.md",
@@ -17,6 +22,8 @@ rule laws_delivered:
         table="results/laws/delivered.md",
         png="results/figures/laws_delivered.png",
         pdf="results/figures/laws_delivered.pdf",
+    params:
+        code_version=LAWS_CODE_VERSION,
     log:
         "logs/laws/delivered.log",
     conda:

@@ -1,6 +1,7 @@
 """Delivered e_N of the engines' usual mappings and of the exact inverse, law by law: data, figure, table.
 
-Settings: the package's defaults (contactalpha.studies.laws.compute.LawStudySettings).
+Settings: the package's defaults (contactalpha.studies.laws.compute.LawStudySettings); snakemake.params.
+code_version (source hash) only makes an edit of the laws or the models rerun it.
 Inputs: none.
 Outputs: data (netCDF, with settings, version, commit and compute time), png, pdf, table (Markdown).
 """
