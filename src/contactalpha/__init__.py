@@ -37,6 +37,9 @@ _EXPORTS = {
     "Scene": "scene.ball",
     "BouncePrediction": "scene.bounces",
     "predict_bounces": "scene.bounces",
+    "ContactLaw": "laws.law",
+    "LAWS": "laws.law",
+    "get_law": "laws.law",
 }
 __all__ = sorted(_EXPORTS)
 
