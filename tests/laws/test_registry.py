@@ -119,3 +119,34 @@ def test_tsuji_at_zero_load_is_the_spring_dashpot_with_zeta_beta_over_sqrt5():
     spring = get_law("kelvin_voigt").fast_restitution(zeta, 0.0, "kinematic")
     np.testing.assert_allclose(tsuji.e_n, spring, rtol=0, atol=2e-11)
     np.testing.assert_array_equal(tsuji.eps, tsuji.e_n)
+
+
+@pytest.mark.parametrize("speed", [0.01, 1.0, 30.0])
+def test_tsuji_restitution_does_not_depend_on_the_approach_speed_at_zero_load(speed):
+    """The physical Tsuji law, integrated by SciPy in SI units, restitutes as the scaled law at any speed."""
+    from scipy.integrate import solve_ivp
+
+    m, k, beta = 0.2, 3.0e6, 0.8
+    eta = beta * np.sqrt(m * k)
+
+    def rhs(_t, y):
+        d = max(y[0], 0.0)
+        return [y[1], -max(0.0, k * d**1.5 + eta * d**0.25 * y[1]) / m]
+
+    def leaves(_t, y):
+        return y[0]
+
+    leaves.terminal, leaves.direction = True, -1.0
+    t_scale = (1.25 * m * speed**2 / k) ** 0.4 / speed
+    sol = solve_ivp(
+        rhs,
+        (0.0, 50 * t_scale),
+        [0.0, speed],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12 * speed * t_scale,
+        events=leaves,
+        max_step=0.01 * t_scale,
+    )
+    e_n = -sol.y_events[0][0][1] / speed
+    assert e_n == pytest.approx(get_law("hertz_tsuji").impact(beta, 0.0).e_n, abs=1e-8)
