@@ -68,6 +68,7 @@ include: "workflow/rules/closedform.smk"
 include: "workflow/rules/engines.smk"
 include: "workflow/rules/adequacy.smk"
 include: "workflow/rules/restitution.smk"
+include: "workflow/rules/laws.smk"
 include: "workflow/rules/ship.smk"
 
 

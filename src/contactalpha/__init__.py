@@ -39,6 +39,9 @@ _EXPORTS = {
     "predict_bounces": "scene.bounces",
     "Calibration": "calibration.api",
     "calibrate": "calibration.api",
+    "ContactLaw": "laws.law",
+    "LAWS": "laws.law",
+    "get_law": "laws.law",
 }
 __all__ = sorted(_EXPORTS)
 

@@ -93,3 +93,60 @@ def test_hunt_crossley_law_is_the_engine_unchanged():
     np.testing.assert_array_equal(r.e_n, ref.e_n)
     s = law.damping_for(0.5, 0.2325)
     assert s.damping == solve_alpha(0.5, 0.2325).alpha
+
+
+def test_length_scale_and_load_are_the_laws_scaling():
+    """delta_s is the undamped unloaded maximum compression: v / omega for n = 1, Eq. 8's delta* for 3/2."""
+    from contactalpha.engine.scaling import influence_factor, length_scale
+
+    m, k, v, a = 0.5, 1.4e8, 0.5, 129.81
+    tsuji = get_law("hertz_tsuji")
+    assert tsuji.length_scale(m, k, v) == pytest.approx(float(length_scale(m, k, v)), rel=1e-15)
+    assert tsuji.load_factor(tsuji.load(m, k, v, a)) == pytest.approx(influence_factor(m, k, v, a), rel=1e-13)
+    linear = get_law("kelvin_voigt")
+    assert linear.length_scale(2.0, 800.0, 0.5) == pytest.approx(0.5 / 20.0, rel=1e-15)
+    assert linear.load(2.0, 800.0, 0.5, 9.81) == pytest.approx(9.81 / (20.0 * 0.5), rel=1e-15)
+
+
+def test_tsuji_at_zero_load_is_the_spring_dashpot_with_zeta_beta_over_sqrt5():
+    """With tau = int x^{1/4} dt and y = x^{5/4}, Tsuji's unloaded motion is y'' + gamma y' + (25/16) y = 0.
+
+    So zeta = 2 gamma / 5 = beta / sqrt(5), the floor maps to the floor, and y' = (5/4) x': the same
+    e_N as the spring-dashpot (docs/laws.md, "Zero-load anchors").  Independent of the approach speed.
+    """
+    zeta = np.array([0.05, 0.3, 0.9, 1.0, 3.0])
+    tsuji = get_law("hertz_tsuji").impact(np.sqrt(5.0) * zeta, 0.0)
+    spring = get_law("kelvin_voigt").fast_restitution(zeta, 0.0, "kinematic")
+    np.testing.assert_allclose(tsuji.e_n, spring, rtol=0, atol=2e-11)
+    np.testing.assert_array_equal(tsuji.eps, tsuji.e_n)
+
+
+@pytest.mark.parametrize("speed", [0.01, 1.0, 30.0])
+def test_tsuji_restitution_does_not_depend_on_the_approach_speed_at_zero_load(speed):
+    """The physical Tsuji law, integrated by SciPy in SI units, restitutes as the scaled law at any speed."""
+    from scipy.integrate import solve_ivp
+
+    m, k, beta = 0.2, 3.0e6, 0.8
+    eta = beta * np.sqrt(m * k)
+
+    def rhs(_t, y):
+        d = max(y[0], 0.0)
+        return [y[1], -max(0.0, k * d**1.5 + eta * d**0.25 * y[1]) / m]
+
+    def leaves(_t, y):
+        return y[0]
+
+    leaves.terminal, leaves.direction = True, -1.0
+    t_scale = (1.25 * m * speed**2 / k) ** 0.4 / speed
+    sol = solve_ivp(
+        rhs,
+        (0.0, 50 * t_scale),
+        [0.0, speed],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12 * speed * t_scale,
+        events=leaves,
+        max_step=0.01 * t_scale,
+    )
+    e_n = -sol.y_events[0][0][1] / speed
+    assert e_n == pytest.approx(get_law("hertz_tsuji").impact(beta, 0.0).e_n, abs=1e-8)

@@ -12,8 +12,21 @@ import numpy as np
 
 from contactalpha.engine.codes import STATE_CODES, STATUS
 
-from .integrate import ATOL, MAX_STEPS, R_EN, R_EPS2, R_STATE, R_STATUS, R_VE, R_XE, R_XM, RTOL, impact_rows
-from .solve import damping_rows
+from .integrate import (
+    ATOL,
+    MAX_STEPS,
+    R_EN,
+    R_EPS2,
+    R_STATE,
+    R_STATUS,
+    R_TE,
+    R_VE,
+    R_XE,
+    R_XM,
+    RTOL,
+    impact_rows,
+)
+from .solve import solve_damping
 
 _STATUS_CODES = {word: code for code, word in STATUS.items()}
 
@@ -25,7 +38,7 @@ class FamilyBackend:
     name: str = "family integrator"
 
     def impact(self, law, p, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
-        """Rows (eps, e_N, state, status, x_m, x_e, v_e) of impacts at flat ``p``, ``A``, ``xi``."""
+        """Rows (eps, e_N, state, status, x_m, x_e, v_e, t_e) of impacts at flat ``p``, ``A``, ``xi``."""
         rows = impact_rows(law.code, p, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps)
         eps = np.sqrt(np.maximum(rows[:, R_EPS2], 0.0))
         eps = np.where(np.isnan(rows[:, R_EPS2]), np.nan, eps)
@@ -37,12 +50,13 @@ class FamilyBackend:
             rows[:, R_XM],
             rows[:, R_XE],
             rows[:, R_VE],
+            rows[:, R_TE],
         )
         return np.column_stack(cols)
 
     def damping(self, law, target, kinematic, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """(p, status code) that meet flat ``target`` restitutions at flat ``A``, ``xi``."""
-        return damping_rows(
+        return solve_damping(
             law.code, target, kinematic, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps
         )
 
@@ -54,13 +68,13 @@ class EngineBackend:
     name: str = "Hunt–Crossley engine"
 
     def impact(self, law, p, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
-        """Rows (eps, e_N, state, status, x_m, x_e, v_e) of impacts at flat ``p``, ``A``, ``xi``."""
+        """Rows (eps, e_N, state, status, x_m, x_e, v_e, t_e) of impacts at flat ``p``, ``A``, ``xi``."""
         from contactalpha.engine.driver import impact
 
         r = impact(p, xi, rtol=rtol, atol=atol, max_steps=max_steps)
         state = np.array([STATE_CODES[s] for s in np.atleast_1d(r.state)], dtype=float)
         status = np.array([_STATUS_CODES[s] for s in np.atleast_1d(r.status)], dtype=float)
-        cols = (r.eps, r.e_n, state, status, r.x_max, r.x_end, r.v_end)
+        cols = (r.eps, r.e_n, state, status, r.x_max, r.x_end, r.v_end, r.t_end)
         return np.column_stack([np.atleast_1d(np.asarray(c, dtype=float)) for c in cols])
 
     def damping(self, law, target, kinematic, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):

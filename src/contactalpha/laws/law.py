@@ -21,6 +21,7 @@ from contactalpha.validation import check_positive, check_range
 from . import forces
 from .backends import ENGINE, FAMILY
 from .domain import RESTITUTIONS, check_restitution
+from .fast import CLOSED_FORM, ENGINE_TABLE
 
 # The load factors every law covers: the paper's 0 <= xi <= 0.99.
 XI_MAX = 0.99
@@ -57,7 +58,7 @@ class ContactLaw:
     force : jitted scaled force argument ``f(x, v, p, A, d)`` (``forces.py``).
     code : its position in the kernels' force table (``forces.scaled_force``).
     backend : where its reference numbers come from (``backends.py``).
-    evaluator : what the fast evaluator is ("engine table", "closed form", "table").
+    fast : its fast evaluator (``fast.py``): the closed form, the engine's table, or None.
     """
 
     name: str
@@ -73,7 +74,7 @@ class ContactLaw:
     floor_reached: bool
     end_states: tuple
     force: Callable
-    evaluator: str
+    fast: object
     code: int
     backend: object = FAMILY
     restitutions: tuple = RESTITUTIONS
@@ -135,7 +136,7 @@ class ContactLaw:
             check_positive(n, x)
             for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
         )
-        return _plain((2.0 * self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
+        return _plain((self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
 
     def load(self, mass, stiffness, approach_speed, accel):
         """Scaled load ``A = a delta_s / v^2`` of a scene."""
@@ -177,13 +178,13 @@ class ContactLaw:
         return damping_for(self, target, xi, restitution, **settings)
 
     def fast_damping(self, target, xi, restitution="energetic"):
-        """Fast evaluator of the inverse (see ``evaluator``)."""
+        """Fast evaluator of the inverse (``fast``; None: not yet, a ValueError says so)."""
         from .fast import fast_damping
 
         return fast_damping(self, target, xi, restitution)
 
     def fast_restitution(self, p, xi, restitution="energetic"):
-        """Fast evaluator of the forward map (see ``evaluator``)."""
+        """Fast evaluator of the forward map (``fast``; None: not yet, a ValueError says so)."""
         from .fast import fast_restitution
 
         return fast_restitution(self, p, xi, restitution)
@@ -212,7 +213,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_force,
         code=forces.HUNT_CROSSLEY,
-        evaluator="engine table",
+        fast=ENGINE_TABLE,
         backend=ENGINE,
         restitution_domain=(0.01, 1.0),
     ),
@@ -231,7 +232,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_linear_force,
         code=forces.HUNT_CROSSLEY_LINEAR,
-        evaluator="table",
+        fast=None,
     ),
     ContactLaw(
         name="kelvin_voigt",
@@ -248,7 +249,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.kelvin_voigt_force,
         code=forces.KELVIN_VOIGT,
-        evaluator="closed form",
+        fast=CLOSED_FORM,
     ),
     ContactLaw(
         name="mujoco_soft",
@@ -265,7 +266,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.mujoco_soft_force,
         code=forces.MUJOCO_SOFT,
-        evaluator="closed form",
+        fast=CLOSED_FORM,
         impedance=0.9,
         impedance_range=(0.0, 1.0),
     ),
@@ -284,7 +285,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
         code=forces.HERTZ_TSUJI,
-        evaluator="table",
+        fast=None,
     ),
 ]
 

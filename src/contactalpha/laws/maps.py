@@ -21,6 +21,7 @@ class LawImpact:
     state : end state: separation, nonseparation (capture), creep, no_restitution, failed.
     status : "ok" or why the integrator stopped.
     x_max, x_end, v_end : scaled maximum compression and end state.
+    t_end : scaled duration of the contact (inf when it creeps to rest).
     """
 
     eps: object
@@ -30,6 +31,7 @@ class LawImpact:
     x_max: object
     x_end: object
     v_end: object
+    t_end: object
 
     @property
     def ok(self):
@@ -93,6 +95,7 @@ def impact(law, p, xi, **settings):
         x_max=_shaped(rows[:, 4], shape),
         x_end=_shaped(rows[:, 5], shape),
         v_end=_shaped(rows[:, 6], shape),
+        t_end=_shaped(rows[:, 7], shape),
     )
 
 

@@ -4,12 +4,15 @@
 ``MODELS`` maps names to their descriptions.
 """
 
-from .registry import MODELS, Model, alpha, contact_force, register
+from .model import Model
+from .registry import ALL_MODELS, MODELS, REGISTRY, alpha, contact_force, register
 from .shen import eq40 as shen_eq40
 from .shen import shen_published, shen_refit
 
 __all__ = [
+    "ALL_MODELS",
     "MODELS",
+    "REGISTRY",
     "Model",
     "alpha",
     "contact_force",

@@ -1,44 +1,24 @@
-"""Registry of alpha(eps, xi) contact models, all of the form F = k d^{3/2} (1 + alpha d'/v0).
+"""Registry of contact models: one list, ``REGISTRY``, of ``Model`` values with their capabilities.
 
-Every model takes arrays ``eps`` (restitution) and ``xi`` (influence factor
-of the load) and returns alpha with their broadcast shape.  Models that ignore
-``xi`` say so in ``Model.uses_xi``; they are the classical ones, derived
-without external forces.  Use ``alpha(eps, xi, model=NAME)`` or ``MODELS``.
+A model maps a target restitution and the load factor ``xi`` to the damping of its contact law
+(``Model.law``, a name in ``contactalpha.laws``): alpha for Hunt-Crossley, zeta for the
+spring-dashpot and MuJoCo's soft contact, beta for Tsuji's damping.  Which restitution it takes,
+its domain, whether it reaches eps = 0 and how it is evaluated are fields, never decided by name.
+``MODELS`` is the view of the default law's models (Hunt-Crossley, n = 3/2), by name, that the
+paper's studies iterate; ``ALL_MODELS`` has every model.  Use ``alpha(eps, xi, model=NAME)``.
 """
-
-from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated, scalar_lookup
+from contactalpha.laws import DEFAULT_LAW
 from contactalpha.validation import PLAIN_FLOATS, check_eps, check_xi
 
 from .closed_form import closed_form
+from .engine_mappings import ENGINE_MAPPINGS
+from .model import BOTH, Model
 from .shen import eq25, shen_published, shen_refit
-
-
-@dataclass(frozen=True)
-class Model:
-    """An alpha(eps, xi) model.
-
-    Attributes
-    ----------
-    name : registry key.
-    label : name for legends.
-    source : citation.
-    formula : the formula, as text.
-    uses_xi : False for models derived without an external load.
-    fn : callable ``fn(eps, xi) -> alpha`` on validated float arrays.
-    """
-
-    name: str
-    label: str
-    source: str
-    formula: str
-    uses_xi: bool
-    fn: Callable
 
 
 def hunt_crossley(eps, xi=0.0):
@@ -108,15 +88,30 @@ def exact_surface(eps, xi):
     from contactalpha.engine.solver import solve_alpha
 
     sol = solve_alpha(eps, xi)
-    if not np.all(sol.ok):
-        bad = np.asarray(sol.status)[~np.asarray(sol.ok)]
-        raise RuntimeError(
-            f"alpha solve failed at {np.size(bad)} point(s): {sorted(set(np.atleast_1d(bad)))}"
-        )
+    _raise_unsolved(sol)
     return sol.alpha
 
 
-_REGISTRY = [
+def exact_surface_kinematic(e_n, xi):
+    """Exact alpha for Newton's e_N, solved with the impact engine (``exact_surface`` for e_N)."""
+    from contactalpha.engine.solver import solve_alpha
+
+    sol = solve_alpha(e_n, xi, restitution="kinematic")
+    _raise_unsolved(sol)
+    return sol.alpha
+
+
+def exact_tabulated_kinematic(e_n, xi):
+    """Exact alpha for Newton's e_N from the shipped kinematic table (``engine/table.py``)."""
+    try:
+        return alpha_tabulated(e_n, xi, restitution="kinematic")
+    except ValueError as exc:
+        if not _solvable_off_table(e_n, xi):
+            raise
+        raise ValueError(f"{exc} of the kinematic table; model='exact_solve' covers the rest") from None
+
+
+REGISTRY = [
     Model("hunt_crossley", "Hunt–Crossley", "Hunt & Crossley 1975", "3(1−ε)/2", False, hunt_crossley),
     Model(
         "lankarani_nikravesh",
@@ -152,9 +147,11 @@ _REGISTRY = [
         "ε(α, ξ) = ε",
         True,
         exact_surface,
+        restitutions=BOTH,
+        handles_zero=True,
+        kinematic_fn=exact_surface_kinematic,
+        solver=True,
     ),
-]
-_REGISTRY.append(
     Model(
         "exact",
         "exact",
@@ -162,9 +159,11 @@ _REGISTRY.append(
         "table of ε(α, ξ) = ε, 0.01 ≤ ε ≤ 1, ξ ≤ 0.99",
         True,
         exact_tabulated,
-    )
-)
-_REGISTRY += [
+        restitutions=BOTH,
+        kinematic_fn=exact_tabulated_kinematic,
+        validates=True,
+        scalar_table=True,
+    ),
     Model("shen_published", "Shen et al., Eq. 40", "Shen et al., Eq. 40", "Eq. 40", True, shen_published),
     Model("shen_refit", "Shen et al., refit", "Eq. 40 refit to this surface", "Eq. 40", True, shen_refit),
     Model(
@@ -175,13 +174,18 @@ _REGISTRY += [
         True,
         closed_form,
     ),
+    *ENGINE_MAPPINGS,
 ]
-MODELS = {m.name: m for m in _REGISTRY}
+ALL_MODELS = {m.name: m for m in REGISTRY}
+# The default law's models: what the paper's studies and the advisor compare.
+MODELS = {m.name: m for m in REGISTRY if m.law == DEFAULT_LAW}
 
 
 def register(model):
     """Add or replace a model in the registry (used for the fitted Shen et al. models)."""
-    MODELS[model.name] = model
+    ALL_MODELS[model.name] = model
+    if model.law == DEFAULT_LAW:
+        MODELS[model.name] = model
 
 
 def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip_tension=False):
@@ -223,27 +227,23 @@ def contact_force(delta, delta_dot, v_impact, k, eps, xi, model="exact", *, clip
     return f[()] if np.ndim(f) == 0 else f
 
 
-# Models that know Newton's kinematic e_N: the exact surface solved for it, and its table.
-KINEMATIC_MODELS = ("exact", "exact_solve")
-
-
 def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
-    """Damping factor alpha from a named model.
+    """Damping from a named model: alpha for Hunt-Crossley, the damping of ``MODELS[model].law`` otherwise.
 
     Parameters
     ----------
     eps : array_like
-        Restitution coefficient; 0 < eps <= 1 for models with 1/eps terms.
+        Restitution coefficient; 0 < eps <= 1 (0 only for models with ``handles_zero``).
         Stronge's energetic eps, or Newton's kinematic e_N (separation speed over
         approach speed) when ``restitution="kinematic"``.
     xi : array_like
         Influence factor of the load, 0 <= xi < 1; ignored by models whose
         ``uses_xi`` is False.
     model : str
-        A key of ``MODELS``.
+        A key of ``ALL_MODELS``.
     restitution : {"energetic", "kinematic"}
-        Which coefficient ``eps`` is.  "kinematic" needs a model of ``KINEMATIC_MODELS``
-        and e_N > 0 (e_N = 0 holds for every alpha past the separation boundary).
+        Which coefficient ``eps`` is; it must be one of the model's ``restitutions``
+        (e_N = 0 holds for every damping past the separation boundary, so it has no inverse).
 
     Returns
     -------
@@ -255,46 +255,42 @@ def alpha(eps, xi=0.0, model="exact", *, restitution="energetic"):
         value = fast[0](eps, xi, fast[1])
         if value == value:
             return value
-    if model not in MODELS:
-        raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(MODELS))}")
+    found = ALL_MODELS.get(model) if isinstance(model, str) else None
+    if found is None:
+        raise ValueError(f"unknown model {model!r}; known models: {', '.join(sorted(ALL_MODELS))}")
     if restitution not in ("energetic", "kinematic"):
         raise ValueError(f"restitution = {restitution!r} is not one of 'energetic', 'kinematic'")
-    if restitution == "kinematic":
-        return _alpha_kinematic(eps, xi, model)
-    if model == "exact":
-        return exact_tabulated(eps, xi)  # validates in one jitted pass: keeps formula speed
+    if restitution not in found.restitutions:
+        takes = " and ".join(_DEFINITIONS[r] for r in found.restitutions)
+        others = [m.name for m in REGISTRY if m.law == found.law and restitution in m.restitutions]
+        raise ValueError(
+            f"model {model!r} is defined for {takes}; restitution={restitution!r} needs one of "
+            f"{', '.join(map(repr, others))} (models of law {found.law!r})"
+            + (" (or convert_restitution first)" if restitution == "kinematic" else "")
+        )
+    fn = found.kinematic_fn if restitution == "kinematic" and found.kinematic_fn is not None else found.fn
+    if restitution == "kinematic" and np.any(np.asarray(eps) == 0.0) and found.law == DEFAULT_LAW:
+        from contactalpha.engine.solver import no_kinematic_inverse
+
+        raise no_kinematic_inverse()
+    if found.validates:
+        return fn(eps, xi)  # validates in one jitted pass: keeps formula speed
     e = check_eps(eps)
     x = check_xi(xi)
-    if np.any(e == 0.0) and model not in ("exact_solve",):
+    if np.any(e == 0.0) and not found.handles_zero:
         raise ValueError(f"eps = 0.0 is outside the valid range (0.0, 1.0] of model {model!r}")
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = MODELS[model].fn(e, x)
+        out = fn(e, x)
     out = np.asarray(out, dtype=float)
     return out[()] if out.ndim == 0 else out
 
 
-def _alpha_kinematic(e_n, xi, model):
-    """``alpha(e_N, xi)`` of a model in ``KINEMATIC_MODELS``: the kinematic table or the solver."""
-    from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
+_DEFINITIONS = {"energetic": "Stronge's energetic eps", "kinematic": "Newton's kinematic e_N"}
 
-    if model not in KINEMATIC_MODELS:
-        raise ValueError(
-            f"model {model!r} is defined for Stronge's energetic eps; restitution='kinematic' needs one of "
-            f"{', '.join(map(repr, KINEMATIC_MODELS))} (or convert_restitution first)"
-        )
-    if np.any(np.asarray(e_n) == 0.0):
-        raise no_kinematic_inverse()
-    if model == "exact":
-        try:
-            return alpha_tabulated(e_n, xi, restitution="kinematic")
-        except ValueError as exc:
-            if not _solvable_off_table(e_n, xi):
-                raise
-            raise ValueError(f"{exc} of the kinematic table; model='exact_solve' covers the rest") from None
-    sol = solve_alpha(e_n, xi, restitution="kinematic")
+
+def _raise_unsolved(sol):
     if not np.all(sol.ok):
         bad = np.asarray(sol.status)[~np.asarray(sol.ok)]
         raise RuntimeError(
             f"alpha solve failed at {np.size(bad)} point(s): {sorted(set(np.atleast_1d(bad)))}"
         )
-    return sol.alpha

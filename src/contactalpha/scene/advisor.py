@@ -31,8 +31,10 @@ from contactalpha.engine.driver import impact
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.scaling import influence_factor
 from contactalpha.engine.solver import RESTITUTIONS, solve_alpha
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import check_positive, check_range
 
+from .law_scene import law_advise
 from .parameters import scene_accel
 
 # The paper's three levels of xi (Sect. 3): small 0-0.1, moderate 0.1-0.5, large 0.5-1.
@@ -184,6 +186,7 @@ def advise(
     tol=DEFAULT_TOL,
     restitution="energetic",
     costs=None,
+    law=None,
 ):
     """Which model a scene needs.
 
@@ -207,6 +210,9 @@ def advise(
         of every model is reported and judged in the same definition.
     costs : mapping name -> seconds, optional
         Cost per evaluation of each model; default ``measure_costs()`` (once per process).
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        judges that law's registered models and returns ``scene.law_scene.LawAdvice``.
 
     Returns
     -------
@@ -221,6 +227,8 @@ def advise(
     )
     a = float(scene_accel(m, accel=accel, force=force))
     tol = float(check_range("tol", tol, 0.0, 1.0, lo_open=True))
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_advise(law, e, restitution, m, k, v, a, tol)
     xi = float(influence_factor(m, k, v, a))
     sol = solve_alpha(e, xi, restitution=restitution)
     if not sol.ok:

@@ -29,9 +29,11 @@ from contactalpha.engine.codes import (
     STATUS,
 )
 from contactalpha.engine.driver import ATOL, RTOL
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import check_tolerances
 
 from . import ball
+from .law_scene import law_predict_bounces
 
 # Scaled time step cap of the prediction's contacts: none (nothing is recorded or plotted).
 NO_STEP_CAP = np.inf
@@ -81,7 +83,7 @@ class BouncePrediction:
         return self.status == STATUS[OK]
 
 
-def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX_COLLISIONS):
+def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX_COLLISIONS, law=None):
     """Bounce sequence of ``scene`` with ``model``'s alpha until the ball rests (case A), no time stepping.
 
     Parameters
@@ -94,6 +96,10 @@ def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX
         Tolerances of each contact's impact kernel (scaled units).
     max_contacts : int
         Guard against a runaway sequence; reaching it sets ``status``.
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        takes a model of that law (``models.ALL_MODELS``) and returns a dict of arrays
+        (``scene.law_scene.law_predict_bounces``; the scene's stiffness in the law's units).
 
     Returns
     -------
@@ -101,6 +107,8 @@ def predict_bounces(scene, model, *, rtol=RTOL, atol=ATOL, max_contacts=ball.MAX
         ``time_to_rest`` counts from the first touchdown to the end of the last contact
         (``inf`` if it creeps to rest), as ``ball.simulate``'s ``end_time``.
     """
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_predict_bounces(scene, model, law, max_contacts)
     rtol, atol = check_tolerances(rtol, atol)
     rows = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
     speed, t, status = float(scene.approach_speed), 0.0, STATUS[OK]

@@ -19,9 +19,11 @@ from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
 
 from .engine_conventions import exudyn_restitution_input, opensim_dissipation, opensim_stiffness
+from .law_scene import law_contact_parameters
 
 # Exudyn's impact model whose built-in mapping covers every alpha > 0 (see engine_conventions).
 EXUDYN_IMPACT_MODEL = 2
@@ -117,6 +119,7 @@ def contact_parameters(
     accel=None,
     force=None,
     radius=None,
+    law=None,
 ):
     """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
 
@@ -138,6 +141,9 @@ def contact_parameters(
         included if it acts), or the constant force (N, >= 0; ``accel = force / mass``).
     radius : float, optional
         Radius of a sphere meeting a half space, m (> 0): adds OpenSim's ``stiffness``.
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        returns ``scene.law_scene.LawParameters``, with ``stiffness`` in that law's units.
 
     Returns
     -------
@@ -159,6 +165,8 @@ def contact_parameters(
     k = _positive("stiffness", stiffness)
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_contact_parameters(law, value, restitution, m, k, v, a)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")

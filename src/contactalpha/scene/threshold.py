@@ -52,7 +52,10 @@ from contactalpha.engine.codes import (
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
+from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import check_positive, check_range
+
+from .law_scene import law_critical_speed
 
 # Exponents of the fit's limits (derived, not fitted: ``engine.boundary.LIMIT_*``).
 FIT_EPS_POWER = LIMIT_EPS_POWER
@@ -238,7 +241,7 @@ def speed_for_load(A, mass, stiffness, accel):
     return (a * unit / A) ** (5.0 / 6.0)
 
 
-def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, law=None):
     """Critical approach speed: above it an impact with the exact alpha separates, below it not.
 
     Parameters
@@ -250,6 +253,9 @@ def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_ste
         towards the contact (m/s^2, > 0; gravity plus force over mass).
     rtol, atol, max_steps
         Impact integrator settings of the boundary search.
+    law : str or ContactLaw, optional
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
+        bisects its own boundary (``scene.law_scene.law_critical_speed``; stiffness in its units).
 
     Returns
     -------
@@ -257,6 +263,8 @@ def critical_speed(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_ste
         Good to 1e-8 relative; NaN where the boundary search failed (then see
         ``critical_speed_status``).
     """
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        return law_critical_speed(law, eps, mass, stiffness, accel)
     return critical_speed_status(eps, mass, stiffness, accel, rtol=rtol, atol=atol, max_steps=max_steps)[0]
 
 

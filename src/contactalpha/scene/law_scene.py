@@ -1,0 +1,241 @@
+"""The scene-level answers for any contact law: parameters, advice, critical speed, bounce sequence.
+
+``contact_parameters``, ``advise``, ``critical_speed`` and ``predict_bounces`` take ``law=`` and hand
+every law but the default (Hunt-Crossley, n = 3/2, whose own code stays as it was) to the functions
+here.  A scene's ``stiffness`` is the law's: N/m for the linear laws (per unit mass, 1/s^2, for
+MuJoCo's soft contact with ``mass = 1``), N/m^1.5 for the Hertz laws; its load enters as the scaled
+load ``A = a delta_s / v^2`` of the law's own scaling (``ContactLaw.load``).
+"""
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
+from contactalpha.laws import get_law
+from contactalpha.validation import check_positive, check_range
+
+
+@dataclass(frozen=True)
+class LawParameters:
+    """``contact_parameters`` for a law of the family (SI units).
+
+    Attributes
+    ----------
+    law : the law's name.
+    xi : load factor of the scene (``ContactLaw.load_factor``), in [0, 1).
+    alpha : the law's dimensionless damping (``ContactLaw.damping``: alpha, zeta or beta).
+    damping : the engine's damping coefficient (``ContactLaw.damping_physical``).
+    end_state, eps, e_n : how that impact ends and both its restitutions.
+    accel : relative acceleration of the load, m/s^2.
+    delta_star : the law's length scale, m.
+    alpha_source : "closed form" or "solver".
+    engines : the law's inputs: its stiffness, dimensionless and engine damping (and MuJoCo's solref).
+    """
+
+    law: str
+    xi: float
+    alpha: float
+    damping: float
+    end_state: str
+    eps: float
+    e_n: float
+    accel: float
+    delta_star: float
+    alpha_source: str
+    engines: dict
+
+
+def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel):
+    """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``)."""
+    law = get_law(law)
+    A = law.load(mass, stiffness, approach_speed, accel)
+    xi = float(law.load_factor(A))
+    if value == 0.0:
+        raise ValueError(
+            f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
+            f"of law {law.name!r}"
+        )
+    sol = law.damping_for(value, xi, restitution)
+    if not sol.ok:
+        raise RuntimeError(f"damping of law {law.name!r} not found at {restitution} {value!r}, xi = {xi!r}")
+    p = float(sol.damping)
+    engines = {law.name: {"stiffness": stiffness, law.damping: p}}
+    c = float(law.physical_damping(p, mass, stiffness, approach_speed))
+    engines[law.name]["damping"] = c
+    if law.impedance_range is not None:
+        # MuJoCo's direct mode: solref = (-stiffness, -damping) per unit mass, solimp = (d, d, ...).
+        engines[law.name]["solref"] = (-stiffness / mass, -c / mass)
+        engines[law.name]["solimp"] = (law.impedance, law.impedance, 0.001, 0.5, 2.0)
+    return LawParameters(
+        law=law.name,
+        xi=xi,
+        alpha=p,
+        damping=c,
+        end_state=str(sol.state),
+        eps=float(sol.eps),
+        e_n=float(sol.e_n),
+        accel=accel,
+        delta_star=float(law.length_scale(mass, stiffness, approach_speed)),
+        alpha_source="solver",
+        engines=engines,
+    )
+
+
+@dataclass(frozen=True)
+class LawVerdict:
+    """One registered model of a law in one scene: its damping, what it delivers, whether adequate."""
+
+    name: str
+    uses_xi: bool
+    damping: float
+    delivered: float
+    state: str
+    error: float
+    adequate: bool
+
+
+@dataclass(frozen=True)
+class LawAdvice:
+    """``advise`` for a law of the family: the exact damping and every model of that law, judged."""
+
+    law: str
+    eps: float
+    restitution: str
+    xi: float
+    tol: float
+    exact_damping: float
+    exact_state: str
+    models: tuple
+    cheapest: str | None
+
+    def to_dict(self):
+        """Plain data (for ``--json``)."""
+        return asdict(self)
+
+
+def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, tol):
+    """Judge every registered model of ``law`` in the delivered restitution (see ``advise``)."""
+    from contactalpha import models
+
+    law = get_law(law)
+    xi = float(law.load_factor(law.load(mass, stiffness, approach_speed, accel)))
+    exact = law.damping_for(value, xi, restitution)
+    verdicts = []
+    for model in models.REGISTRY:
+        if model.law != law.name or restitution not in model.restitutions:
+            continue
+        if model.impedance is not None and model.impedance != law.impedance:
+            verdicts.append(LawVerdict(model.name, model.uses_xi, np.nan, np.nan, "failed", np.nan, False))
+            continue  # solved for another impedance than the scene's
+        try:
+            p = float(models.alpha(value, xi, model=model.name, restitution=restitution))
+        except (ValueError, RuntimeError):
+            verdicts.append(LawVerdict(model.name, model.uses_xi, np.nan, np.nan, "failed", np.nan, False))
+            continue
+        r = law.impact(p, xi)
+        got = float(r.eps if restitution == "energetic" else r.e_n)
+        good = abs(got - value) <= tol and (str(r.state) == "separation") == (
+            str(exact.state) == "separation"
+        )
+        verdicts.append(LawVerdict(model.name, model.uses_xi, p, got, str(r.state), abs(got - value), good))
+    # Formulas before solvers: the first adequate model that ignores nothing it needs.
+    ranked = sorted((v for v in verdicts if v.adequate), key=lambda v: (v.uses_xi, v.error))
+    return LawAdvice(
+        law=law.name,
+        eps=value,
+        restitution=restitution,
+        xi=xi,
+        tol=tol,
+        exact_damping=float(exact.damping),
+        exact_state=str(exact.state),
+        models=tuple(verdicts),
+        cheapest=ranked[0].name if ranked else None,
+    )
+
+
+def _separates(law, value, restitution, A):
+    """True if the law's exact damping for ``value`` at scaled load ``A`` separates."""
+    sol = law.damping_for(value, law.load_factor(A), restitution)
+    if not sol.ok:
+        return None
+    return str(sol.state) == "separation"
+
+
+# Bisection steps on ln A for the boundary (2^-60 of the bracket's width).
+BOUNDARY_BISECTIONS = 60
+LOAD_BRACKET = (1e-8, 1e6)
+
+
+def law_boundary_load(law, eps, restitution="energetic"):
+    """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
+    law = get_law(law)
+    lo, hi = np.log(LOAD_BRACKET[0]), np.log(LOAD_BRACKET[1])
+    s_lo, s_hi = _separates(law, eps, restitution, np.exp(lo)), _separates(law, eps, restitution, np.exp(hi))
+    if s_lo is None or s_hi is None:
+        return np.nan, STATUS[NOT_CONVERGED]
+    if not s_lo or s_hi:
+        return np.nan, STATUS[NO_BRACKET]
+    for _ in range(BOUNDARY_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        s = _separates(law, eps, restitution, np.exp(mid))
+        if s is None:
+            return np.nan, STATUS[NOT_CONVERGED]
+        lo, hi = (mid, hi) if s else (lo, mid)
+    return float(np.exp(0.5 * (lo + hi))), STATUS[OK]
+
+
+def law_critical_speed(law, eps, mass, stiffness, accel):
+    """Approach speed below which the law's exact damping for Stronge's ``eps`` no longer separates (m/s)."""
+    law = get_law(law)
+    e = check_range("eps", eps, 0.0, 1.0, lo_open=True)
+    for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
+        check_positive(name, value)
+    flat = np.atleast_1d(e).ravel()
+    out = np.zeros(flat.shape)
+    n = law.exponent
+    unit = law.length_scale(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
+    for i, value in enumerate(flat):
+        if value == 1.0:
+            continue
+        A_b, _ = law_boundary_load(law, float(value))
+        out[i] = (accel * unit / A_b) ** ((n + 1.0) / (2.0 * n))
+    return float(out[0]) if np.ndim(e) == 0 else out.reshape(np.shape(e))
+
+
+def law_predict_bounces(scene, model, law, max_contacts=1000):
+    """Bounce sequence of ``scene`` under ``law`` with ``model``'s damping at each contact (case A).
+
+    Returns a dict of arrays: approach speeds, load factors, dampings, end states, rebound speeds,
+    contact and flight durations (s), and the time to rest (s; inf if it creeps to rest).
+    """
+    from contactalpha import models
+
+    law = get_law(law)
+    found = models.ALL_MODELS.get(model)
+    if found is None or found.law != law.name:
+        valid = ", ".join(m.name for m in models.REGISTRY if m.law == law.name)
+        raise ValueError(f"model {model!r} is not a model of law {law.name!r}; valid: {valid}")
+    restitution = found.restitutions[0]
+    m, k, a = scene.mass, scene.stiffness, scene.accel
+    rows = {key: [] for key in ("v", "xi", "p", "state", "v_out", "contact", "flight")}
+    speed, t = float(scene.approach_speed), 0.0
+    while len(rows["v"]) < max_contacts:
+        xi = float(law.load_factor(law.load(m, k, speed, a)))
+        p = float(models.alpha(scene.eps, xi, model=model, restitution=restitution))
+        r = law.impact(p, xi)
+        contact = float(r.t_end) * float(law.length_scale(m, k, speed)) / speed
+        for key, val in (("v", speed), ("xi", xi), ("p", p), ("state", str(r.state)), ("contact", contact)):
+            rows[key].append(val)
+        t += contact
+        if str(r.state) != "separation":
+            rows["v_out"].append(0.0)
+            break
+        speed = float(r.e_n) * speed
+        rows["v_out"].append(speed)
+        rows["flight"].append(2.0 * speed / a)
+        t += 2.0 * speed / a
+    out = {key: np.array(val) for key, val in rows.items() if key != "state"}
+    out["states"] = tuple(rows["state"])
+    out["time_to_rest"] = t
+    return out
