@@ -64,17 +64,6 @@ ENTRIES = (
 )
 
 
-def length_scale(law, mass, stiffness, v):
-    """``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``, m: the scale of the law's scaled force.
-
-    With it ``k delta^n`` scales to ``((n + 1)/2) x^n`` (5/4 x^{3/2}, x), as ``laws.forces`` has
-    it.  ``ContactLaw.length_scale`` of the laws branch at commit f8305a3 computes
-    ``((n + 1) m v^2 / k)^(1/(n+1))`` instead (2^(1/(n+1)) larger, against its own docstring);
-    that gave contact durations 32 % long for Hertz-Tsuji against SciPy, so it is not used.
-    """
-    return (0.5 * (law.exponent + 1.0) * mass * v * v / stiffness) ** (1.0 / (law.exponent + 1.0))
-
-
 def family_contact(entry):
     """``Law.contact`` of a family law with constant engine damping and stiffness."""
     law = get_law(entry.law)
@@ -82,7 +71,7 @@ def family_contact(entry):
     def contact(values, mass, accel, v):
         m = 1.0 if entry.per_unit_mass else mass
         k, c = values["stiffness"], values["damping"]
-        ds = length_scale(law, m, k, v)
+        ds = law.length_scale(m, k, v)
         A = accel * ds / (v * v)
         p = float(law.damping_from_physical(c, m, k, v))
         x_eq = float(law.equilibrium(A))
