@@ -27,7 +27,7 @@ def test_exact_times_give_the_parameters_back():
 
 def test_noisy_times_intervals_hold_the_truth_and_hc_beats_constant_e():
     # One replicate (seed 7 is one of the ~5 % whose 95 % intervals miss; the coverage itself is
-    # tested over 100 replicates in test_recovery.py).
+    # tested over 100 replicates in test_calibrate_recovery.py).
     rng = np.random.default_rng(8)
     t = _sequence().touchdowns
     cal = ca.calibrate(t + rng.normal(0.0, 1e-4, t.size), kind="times", mass=M, laws=["hc_eps", "constant_e"])
