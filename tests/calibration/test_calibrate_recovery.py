@@ -7,7 +7,7 @@ fit are wrong.  benchmarks/study_calibrate_recovery.py prints the same numbers.
 
 import pytest
 
-from contactalpha.calibration.recovery import SCENES, selection_study, study
+from contactalpha.calibration.recovery import SCENES, heights_study, selection_study, study
 
 
 def test_small_recovery_study():
@@ -40,3 +40,11 @@ def test_selection_picks_the_law_that_made_the_data(index):
     s = selection_study(SCENES[index], replicates=50, seed=100 + index)
     assert s["right"]["hc_eps"] >= 48, s
     assert s["right"]["constant_e"] >= 48, s
+
+
+@pytest.mark.integration
+@pytest.mark.parametrize("index", range(len(SCENES)))
+def test_heights_with_one_percent_noise_cover_eps(index):
+    q = heights_study(SCENES[index], replicates=100, seed=200 + index)["eps"]
+    assert q["covered"] >= 90, q
+    assert q["bias_over_width"] < 0.1, q

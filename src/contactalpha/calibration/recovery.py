@@ -40,15 +40,20 @@ IMPACTS = 21
 JITTER = 1e-4
 
 
-def exact_times(scene, impacts=IMPACTS):
-    """Touchdown times (s) of the first ``impacts`` contacts predicted for ``scene``, from 0."""
+def prediction(scene):
+    """``predict_bounces`` of ``scene`` (exact alpha; solved where the table's xi <= 0.99 ends)."""
     s = Scene(
         mass=scene.mass, stiffness=scene.stiffness, approach_speed=scene.speed, force=0.0, eps=scene.eps
     )
     try:
-        p = predict_bounces(s, "exact")
+        return predict_bounces(s, "exact")
     except ValueError:  # a last contact beyond the alpha table's xi <= 0.99: solve alpha there
-        p = predict_bounces(s, "exact_solve")
+        return predict_bounces(s, "exact_solve")
+
+
+def exact_times(scene, impacts=IMPACTS):
+    """Touchdown times (s) of the first ``impacts`` contacts predicted for ``scene``, from 0."""
+    p = prediction(scene)
     gaps = p.contact_durations[:-1] + p.flight_durations
     t = np.concatenate([[0.0], np.cumsum(gaps)])
     return t[: min(impacts, t.size)]
@@ -132,4 +137,35 @@ def selection_study(scene, replicates=50, seed=0, jitter=JITTER, impacts=IMPACTS
         "replicates": replicates,
         "right": right,
         "median_aic_gap": {k: float(np.median(v)) for k, v in gaps.items()},
+    }
+
+
+def heights_study(scene, replicates=100, seed=0, noise=0.01, apexes=11):
+    """Coverage of ``eps`` from the drop height and ``apexes`` rebound apexes with relative ``noise``.
+
+    The exact apexes come from the package's prediction (``predict_bounces``); each replicate
+    multiplies every height by ``exp(N(0, noise))`` and fits ``hc_eps``.  Heights see the
+    stiffness only through the load factor, so only eps is scored.
+    """
+    p = prediction(scene)
+    accel = p.scene.accel
+    h = np.concatenate([[scene.speed**2 / (2.0 * accel)], p.rebound_speeds[:apexes] ** 2 / (2.0 * accel)])
+    h = h[h > 0.0]
+    rng = np.random.default_rng(seed)
+    est, covered, widths = [], 0, []
+    for _ in range(replicates):
+        noisy = h * np.exp(rng.normal(0.0, noise, h.size))
+        f = fit_law(LAWS["hc_eps"], from_arrays("heights", values=noisy), Setup(scene.mass, accel))
+        lo, hi = f.intervals["eps"]
+        covered += int(lo <= scene.eps <= hi)
+        est.append(f.values["eps"])
+        widths.append(hi - lo)
+    bias = float(np.mean(est) - scene.eps)
+    width = float(np.mean(widths))
+    return {
+        "scene": scene.__dict__,
+        "replicates": replicates,
+        "noise": noise,
+        "heights": int(h.size),
+        "eps": {"covered": covered, "bias": bias, "mean_width": width, "bias_over_width": abs(bias) / width},
     }
