@@ -3,8 +3,8 @@
 Run: PYTHONPATH=src nice -n 10 python benchmarks/study_calibrate_recovery.py [REPLICATES] [OUT.json]
 Each replicate: the package's own bounce prediction (scene.bounces.predict_bounces), 0.1 ms
 Gaussian jitter on every impact time, a profile-likelihood fit; then the selection study (AIC,
-hc_eps against constant_e data) and the heights study (1 % noise on 12 heights, eps scored).  Done when each parameter's 95 %
-interval covers the truth in >= 90 of 100 replicates and |bias| < a tenth of the mean width.
+hc_eps against constant_e data) and the heights study (1 % noise on 12 heights, eps scored).
+Done when each parameter's 95 % interval covers the truth in >= 90 of 100 replicates and |bias| < a tenth of the mean width.
 """
 
 import json
@@ -44,7 +44,8 @@ def main():
         results.append(h)
         q = h["eps"]
         print(
-            f"scene {i} heights (1 % noise, {h['heights']} heights): eps covered {q['covered']}/{replicates}  "
+            f"scene {i} heights (1 % noise, {h['heights']} heights): "
+            f"eps covered {q['covered']}/{replicates}  "
             f"bias/width {q['bias_over_width']:.3f}"
         )
     if len(sys.argv) > 2:
