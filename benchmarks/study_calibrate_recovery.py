@@ -4,7 +4,8 @@ Run: PYTHONPATH=src nice -n 10 python benchmarks/study_calibrate_recovery.py [RE
 Each replicate: the package's own bounce prediction (scene.bounces.predict_bounces), 0.1 ms
 Gaussian jitter on every impact time, a profile-likelihood fit; then the selection study (AIC,
 hc_eps against constant_e data) and the heights study (1 % noise on 12 heights, eps scored).
-Done when each parameter's 95 % interval covers the truth in >= 90 of 100 replicates and |bias| < a tenth of the mean width.
+Done when each parameter's 95 % interval covers the truth in >= 90 of 100 replicates and
+|bias| < a tenth of the mean width.
 """
 
 import json
