@@ -22,6 +22,7 @@ RANKS = {
     "warmup": 5,
     "paper": 6,
     "studies": 6,
+    "calibration": 6,  # drop-test calibration: scene-level physics, plus a hint from studies
     "config": 7,
     "cli": 7,
     "__main__": 7,

@@ -38,6 +38,8 @@ _EXPORTS = {
     "Scene": "scene.ball",
     "BouncePrediction": "scene.bounces",
     "predict_bounces": "scene.bounces",
+    "Calibration": "calibration.api",
+    "calibrate": "calibration.api",
     "ContactLaw": "laws.law",
     "LAWS": "laws.law",
     "get_law": "laws.law",

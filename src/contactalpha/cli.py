@@ -10,6 +10,7 @@ import re
 import sys
 
 from contactalpha.adapters.registry import ENGINE_NAMES
+from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
 from contactalpha.version import __version__
@@ -73,6 +74,10 @@ EXAMPLES = {
     "export-c": ("contactalpha export-c build/  # build/contactalpha.h, build/contactalpha.c",),
     "check-config": ("contactalpha check-config config.yaml workflow/configs/fine.yaml",),
     "warmup": ("contactalpha warmup  # once after installing: first calls then load compiled code",),
+    "calibrate": (
+        "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
+        "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
+    ),
 }
 
 
@@ -171,6 +176,7 @@ def build_parser():
     x = _sub(sub, "export-c", "write the exact-alpha tables and evaluator as C99 source")
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     _sub(sub, "warmup", "compile every numba kernel now (later first calls load the compiled code)")
+    calibrate_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
     return p
 
 
@@ -342,6 +348,7 @@ COMMANDS = {
     "hertz": _hertz,
     "export-c": _export_c,
     "warmup": _warmup,
+    "calibrate": lambda args, parser: calibrate_command.run(args),
 }
 
 

@@ -1,0 +1,293 @@
+"""``calibrate``: a drop test in, each law's fitted parameters, the selected law and engine inputs out."""
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from contactalpha.scene.ball import GRAVITY
+from contactalpha.scene.engine_conventions import opensim_dissipation
+from contactalpha.scene.parameters import contact_parameters
+from contactalpha.validation import check_positive, check_range
+
+from . import data as data_mod
+from . import family  # noqa: F401  (registers the contact-law family's laws)
+from .fit import LEVEL, Setup, fit_law
+from .laws import LAWS, law_names
+
+# Laws whose AIC is more than this above the best get no intervals (their Akaike weight is below
+# 5e-5: intervals of a law the data reject would only cost time).
+INTERVAL_AIC_GAP = 20.0
+
+
+@dataclass
+class Calibration:
+    """Result of ``calibrate``.
+
+    Attributes
+    ----------
+    data : data.DropData fitted.
+    setup : fit.Setup (mass, acceleration).
+    radius : m, or None.
+    fits : law name -> fit.LawFit, in the order asked.
+    selected : name of the law with the lowest AIC.
+    weights : law name -> Akaike weight (relative likelihood of the laws asked).
+    engines : law name -> engine parameters (``engine_parameters``).
+    """
+
+    data: object
+    setup: Setup
+    radius: object
+    fits: dict
+    selected: str
+    weights: dict
+    engines: dict
+
+    @property
+    def best(self):
+        """The selected law's ``LawFit``."""
+        return self.fits[self.selected]
+
+    def to_dict(self):
+        """Everything as plain data (the JSON report)."""
+        from contactalpha.version import __version__
+
+        return {
+            "contactalpha": __version__,
+            "data": {"kind": self.data.kind, "source": self.data.source, "count": self.data.count},
+            "mass": self.setup.mass,
+            "accel": self.setup.accel,
+            "radius": self.radius,
+            "noise_model": NOISE_MODELS[self.data.kind],
+            "interval_method": "profile likelihood, F(1, n - p) threshold",
+            "selected": self.selected,
+            "selection": "lowest AIC = n log(RSS/n) + 2 (p + 1)",
+            "laws": {
+                name: _fit_dict(f, self.weights[name], self.engines[name]) for name, f in self.fits.items()
+            },
+        }
+
+    def to_json(self, path=None):
+        """The report as JSON text; written to ``path`` too when given."""
+        from contactalpha.io import json_text, write_text_atomic
+
+        text = json_text(self.to_dict(), indent=1) + "\n"
+        if path is not None:
+            write_text_atomic(path, text)
+        return text
+
+    def figures(self, prefix):
+        """Write ``PREFIX_restitution.png`` and ``PREFIX_residuals.png``; returns their paths."""
+        from .figures import draw
+
+        return draw(self, prefix)
+
+
+NOISE_MODELS = {
+    "times": "independent Gaussian error of unknown sigma (s) on every impact time",
+    "heights": "independent Gaussian error of unknown sigma on the log of every height (relative)",
+    "trajectory": "independent Gaussian error of unknown sigma (m) on every tracked height",
+}
+
+
+def _fit_dict(f, weight, engines):
+    s = f.sequence
+    return {
+        "values": f.values,
+        "intervals": {k: list(v) for k, v in f.intervals.items()},
+        "interval_closed": {k: list(v) for k, v in f.bounded.items()},
+        "level": f.level,
+        "fixed": list(f.fixed),
+        "nuisance": f.nuisance,
+        "rss": f.rss,
+        "sigma": f.sigma,
+        "n": f.n,
+        "p": f.p,
+        "aic": f.aic,
+        "bic": f.bic,
+        "akaike_weight": weight,
+        "status": f.status,
+        "per_contact": {
+            "v_in": s.v_in,
+            "e_n": s.e_n,
+            "duration": s.durations,
+            "touchdown": s.touchdowns,
+        },
+        "residuals": f.residuals,
+        "engines": engines,
+    }
+
+
+def stiffness_from_moduli(radius, moduli, poisson=(0.0, 0.0)):
+    """Hertz stiffness (N/m^1.5) of a ball of ``radius`` on a flat from both moduli (Pa) and Poissons."""
+    from contactalpha.studies.adequacy.report import hertz_stiffness
+
+    (e1, e2), (n1, n2) = moduli, poisson
+    for name, nu in (("poisson[0]", n1), ("poisson[1]", n2)):
+        check_range(name, nu, -1.0, 0.5, lo_open=True, hi_open=True)
+    inv = (1.0 - n1**2) / check_positive("moduli[0]", e1) + (1.0 - n2**2) / check_positive("moduli[1]", e2)
+    return float(hertz_stiffness(radius, 1.0 / inv))
+
+
+def engine_parameters(fit, setup, radius=None):
+    """Engine inputs of one fitted law at its first impact (``scene.parameters.contact_parameters``).
+
+    Every supported engine's parameters for the first contact's approach speed and fitted e_N
+    (the load kept for laws that keep it).  A law with a constant damping also gets OpenSim's
+    ``dissipation``, which then holds for every bounce.
+    """
+    s = fit.sequence
+    k, v1, e1 = fit.values["stiffness"], float(s.v_in[0]), float(s.e_n[0])
+    if not (s.v_out.size and e1 > 0.0):
+        return {"status": "the first contact does not separate: no restitution to convert"}
+    accel = 0.0 if fit.law == "constant_e" else setup.accel
+    try:
+        cp = contact_parameters(
+            e_N=e1, mass=setup.mass, stiffness=k, approach_speed=v1, accel=accel, radius=radius
+        )
+    except (ValueError, RuntimeError) as exc:
+        return {"status": f"not converted: {exc}"}
+    out = {
+        "at_approach_speed": v1,
+        "e_n": e1,
+        "alpha": cp.alpha,
+        "damping_mu": cp.damping,
+        "engines": cp.engines,
+        "note": "alpha (and OpenSim's dissipation) hold for this approach speed; reset them per impact",
+    }
+    if "damping" in fit.values:
+        d = fit.values["damping"]
+        out["opensim_constant_dissipation"] = float(opensim_dissipation(d * v1, v1))
+        out["note"] = "constant damping: OpenSim's dissipation holds for every bounce"
+    return out
+
+
+def _as_data(source, kind, t, tolerance):
+    if isinstance(source, data_mod.DropData):
+        return source
+    if isinstance(source, str | Path):
+        return data_mod.read_drop(source, tolerance)
+    if kind is None:
+        raise ValueError("give kind ('times', 'heights' or 'trajectory') with array data")
+    return data_mod.from_arrays(
+        kind, t=t, values=np.asarray(source, dtype=float), interval_tolerance=tolerance
+    )
+
+
+def calibrate(
+    data,
+    *,
+    mass,
+    radius=None,
+    kind=None,
+    t=None,
+    laws=None,
+    gravity=GRAVITY,
+    force=0.0,
+    stiffness=None,
+    moduli=None,
+    poisson=(0.3, 0.3),
+    level=LEVEL,
+    intervals=True,
+    interval_tolerance=data_mod.INTERVAL_TOLERANCE,
+):
+    """Fit restitution laws to a drop test and select one.
+
+    Parameters
+    ----------
+    data : str, Path, DropData or array_like
+        A CSV file (``calibration.data`` describes its columns), checked data, or an array of
+        impact times, heights, or trajectory heights ``z`` (then ``kind``, and ``t`` for a
+        trajectory).
+    mass : float
+        Ball mass, kg (> 0).
+    radius : float, optional
+        Ball radius, m; needed for OpenSim's per-geometry stiffness and for ``moduli``.
+    kind : {"times", "heights", "trajectory"}, optional
+        For array data.
+    t : array_like, optional
+        Sample times of a trajectory, s.
+    laws : sequence of str or "all", optional
+        Names in ``calibration.laws.LAWS``; default ``laws.DEFAULT_LAWS`` (the three Hunt–Crossley
+        n = 3/2 laws); ``"all"`` adds the contact-law family's (slower: seconds per law).
+    gravity, force : float
+        m/s^2, and a constant extra push towards the ground, N (>= 0).
+    stiffness : float, optional
+        A stiffness guess, N/m^1.5, to start from (else several decades are tried).
+    moduli, poisson : pair of float, optional
+        Young's moduli (Pa) and Poisson ratios of ball and ground: the Hertz stiffness guess.
+    level : float
+        Confidence level of the intervals, in (0, 1).
+    intervals : bool
+        False skips the profile-likelihood intervals; they are computed for every law whose AIC is
+        within ``INTERVAL_AIC_GAP`` of the best.
+    interval_tolerance : float
+        s; an impact interval longer than the one before by more than this is refused (a missed
+        or spurious impact), ``data.INTERVAL_TOLERANCE`` by default.
+
+    Returns
+    -------
+    Calibration
+    """
+    m = float(check_positive("mass", mass))
+    g = float(check_range("gravity", gravity, 0.0, np.inf, hi_open=True))
+    f = float(check_range("force", force, 0.0, np.inf, hi_open=True))
+    check_range("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
+    if radius is not None:
+        radius = float(check_positive("radius", radius))
+    if g + f / m <= 0.0:
+        raise ValueError("gravity + force / mass must be > 0: the ball would not come back")
+    if moduli is not None:
+        if radius is None:
+            raise ValueError("moduli need the ball's radius")
+        stiffness = stiffness_from_moduli(radius, moduli, poisson)
+    elif stiffness is not None:
+        stiffness = float(check_positive("stiffness", stiffness))
+    tol = float(check_range("interval_tolerance", interval_tolerance, 0.0, np.inf, hi_open=True))
+    d = _as_data(data, kind, t, tol)
+    names = law_names(laws)
+    setup = Setup(m, g + f / m)
+    kw = {"stiffness_guess": stiffness, "level": level}
+    fits = {n: fit_law(LAWS[n], d, setup, intervals=False, **kw) for n in names}
+    best_aic = min(f.aic for f in fits.values())
+    for n in names:
+        gap = fits[n].aic - best_aic
+        if intervals and gap <= INTERVAL_AIC_GAP:
+            fits[n] = fit_law(LAWS[n], d, setup, intervals=True, **kw)
+        elif intervals:
+            fits[n].status += f"; no intervals: AIC {gap:.1f} above the best law's"
+    aic = np.array([fits[n].aic for n in names])
+    rel = np.exp(-0.5 * (aic - aic.min()))
+    weights = dict(zip(names, (rel / rel.sum()).tolist(), strict=True))
+    selected = names[int(np.argmin(aic))]
+    engines = {n: engine_parameters(fits[n], setup, radius) for n in names}
+    return Calibration(d, setup, radius, fits, selected, weights, engines)
+
+
+def format_calibration(cal):
+    """Text summary: each law's parameters with intervals, AIC, and the selection."""
+    lines = [f"{cal.data.kind}: {cal.data.count} observations from {cal.data.source}"]
+    for name, f in cal.fits.items():
+        mark = "*" if name == cal.selected else " "
+        lines.append(
+            f"{mark} {name:12s} AIC {f.aic:10.2f}  BIC {f.bic:10.2f}  sigma {f.sigma:.3g}  {f.status}"
+        )
+        for key, value in f.values.items():
+            lo, hi = f.intervals.get(key, (math.nan, math.nan))
+            closed = f.bounded.get(key, (True, True))
+            lo_t = f"{lo:.6g}" if closed[0] else f"<={lo:.6g}"
+            hi_t = f"{hi:.6g}" if closed[1] else f">={hi:.6g}"
+            span = f"{int(100 * f.level)}% [{lo_t}, {hi_t}]" if np.isfinite([lo, hi]).all() else ""
+            held = "  (held: the data cannot see it)" if key in f.fixed else ""
+            lines.append(f"    {key:10s} {value:.6g}   {span}{held}")
+    lines.append(f"selected: {cal.selected} (lowest AIC)")
+    eng = cal.engines[cal.selected]
+    for engine, values in eng.get("engines", {}).items():
+        for key, value in values.items():
+            lines.append(f"    {engine + '.' + key:32s} {value:.10g}")
+    if "opensim_constant_dissipation" in eng:
+        lines.append(
+            f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}"
+        )
+    return "\n".join(lines)

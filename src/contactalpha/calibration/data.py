@@ -1,0 +1,228 @@
+"""Drop-test data: read and check a CSV of impact times, apex heights or a tracked trajectory.
+
+Three kinds, told apart by the CSV's column names (case-insensitive; a unit in brackets or
+parentheses after the name, ``t (s)``, is ignored; other columns are ignored):
+
+``times``
+    Column ``t``: the time of each impact (touchdown), s, one row per impact, in order; or
+    column ``dt``: the interval between successive impacts, s (what phyphox's "(In)elastic
+    collision" shows as "Time 1..5"), turned into times from 0.
+``heights``
+    Column ``h``: the drop height (row 1: the lowest point of the ball above the ground when
+    it is released at rest) and then the apex height of each rebound, m.
+``trajectory``
+    Columns ``t`` and ``z``: a tracked trajectory, s and m, ``z`` the height of the ball's
+    lowest point above the ground (0 while it touches), starting in the first fall.
+
+Errors name the row (1-based, the header not counted) and the column.
+"""
+
+import csv
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+# Fewest impacts of a sequence: 4 times are 3 intervals, barely enough for 4 fitted numbers.
+MIN_IMPACTS = 5
+# Fewest apexes (the drop height included) and trajectory samples.
+MIN_HEIGHTS = 5
+MIN_SAMPLES = 20
+KINDS = ("times", "heights", "trajectory")
+# How much longer than the one before an interval may be before it is refused, s.  The true
+# intervals shorten, but at the last bounces by less than a millisecond (the contacts lengthen
+# as the flights shrink), so timing jitter can reverse two of them; a missed impact or an echo
+# changes an interval by a whole flight.  1 ms is about 4 sigma of the reversal for 0.1 ms jitter.
+INTERVAL_TOLERANCE = 1e-3
+_UNIT = re.compile(r"\s*[\(\[].*[\)\]]\s*$")
+
+
+@dataclass(frozen=True)
+class DropData:
+    """Checked drop-test observations.
+
+    Attributes
+    ----------
+    kind : one of ``KINDS``.
+    t : s, impact times (``times``) or sample times (``trajectory``); empty for ``heights``.
+    values : the observations fitted: impact times, heights, or heights z.
+    source : where they came from (file name or "array").
+    """
+
+    kind: str
+    t: np.ndarray
+    values: np.ndarray
+    source: str = "array"
+
+    @property
+    def count(self):
+        """Number of observations."""
+        return int(self.values.size)
+
+
+def _column_key(name):
+    return _UNIT.sub("", name.strip()).strip().lower()
+
+
+def _floats(rows, column, header):
+    """Column ``header`` of ``rows`` as floats; ValueError naming the row and column if not numbers."""
+    out = np.empty(len(rows))
+    for i, row in enumerate(rows):
+        try:
+            out[i] = float(row[column])
+        except (ValueError, IndexError):
+            cell = row[column] if column < len(row) else ""
+            raise ValueError(f"row {i + 1}, column {header!r}: {cell!r} is not a number") from None
+    return out
+
+
+def _check_finite(values, header):
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise ValueError(
+            f"row {bad[0] + 1}, column {header!r}: {float(values[bad[0]])!r} is not a finite number"
+        )
+
+
+def check_times(t, header="t", tolerance=INTERVAL_TOLERANCE):
+    """Impact times: finite, strictly increasing, each interval not longer than the one before.
+
+    A ball under a constant load loses speed at every contact, so its flights only shorten;
+    an interval longer than the one before by more than ``tolerance`` (s) means a missed or a
+    spurious impact.
+    """
+    t = np.asarray(t, dtype=float)
+    _check_finite(t, header)
+    if t.size < MIN_IMPACTS:
+        raise ValueError(
+            f"column {header!r} has {t.size} impacts; at least {MIN_IMPACTS} are needed for a fit"
+        )
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0.0)
+    if bad.size:
+        i = bad[0] + 1
+        raise ValueError(
+            f"row {i + 1}, column {header!r}: time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
+        )
+    longer = np.flatnonzero(dt[1:] > dt[:-1] + tolerance)
+    if longer.size:
+        i = longer[0] + 2
+        raise ValueError(
+            f"row {i + 1}, column {header!r}: the interval {dt[i - 1]:.6g} s before this impact is longer "
+            f"than the one before it ({dt[i - 2]:.6g} s) by more than {tolerance:g} s; a ball's bounces only "
+            "shorten (a missed or extra impact?)"
+        )
+    return t
+
+
+def check_heights(h, header="h"):
+    """Drop height then apex heights: finite, > 0, each below the one before."""
+    h = np.asarray(h, dtype=float)
+    _check_finite(h, header)
+    if h.size < MIN_HEIGHTS:
+        raise ValueError(
+            f"column {header!r} has {h.size} heights; at least {MIN_HEIGHTS} (the drop height and 4 "
+            "apexes) are needed"
+        )
+    bad = np.flatnonzero(h <= 0.0)
+    if bad.size:
+        raise ValueError(f"row {bad[0] + 1}, column {header!r}: height {float(h[bad[0]])!r} must be > 0 m")
+    up = np.flatnonzero(h[1:] >= h[:-1])
+    if up.size:
+        i = up[0] + 1
+        raise ValueError(
+            f"row {i + 1}, column {header!r}: apex {float(h[i])!r} m is not below the one before "
+            f"({float(h[i - 1])!r} m)"
+        )
+    return h
+
+
+def check_trajectory(t, z):
+    """Tracked samples: finite, time strictly increasing, enough of them, some flight."""
+    t, z = np.asarray(t, dtype=float), np.asarray(z, dtype=float)
+    _check_finite(t, "t")
+    _check_finite(z, "z")
+    if t.size < MIN_SAMPLES:
+        raise ValueError(f"column 't' has {t.size} samples; at least {MIN_SAMPLES} are needed")
+    bad = np.flatnonzero(np.diff(t) <= 0.0)
+    if bad.size:
+        i = bad[0] + 1
+        raise ValueError(
+            f"row {i + 1}, column 't': time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
+        )
+    if not np.any(z > 0.0):
+        raise ValueError("column 'z': no sample above the ground (z > 0); the ball never flies")
+    return t, z
+
+
+def from_arrays(kind, t=None, values=None, source="array", interval_tolerance=INTERVAL_TOLERANCE):
+    """``DropData`` of ``kind`` from arrays, checked (``values``: times, heights or z)."""
+    if kind == "times":
+        v = check_times(values if values is not None else t, tolerance=interval_tolerance)
+        return DropData(kind, v, v, source)
+    if kind == "heights":
+        return DropData(kind, np.empty(0), check_heights(values), source)
+    if kind == "trajectory":
+        tt, z = check_trajectory(t, values)
+        return DropData(kind, tt, z, source)
+    raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, KINDS))}")
+
+
+def read_drop(path, interval_tolerance=INTERVAL_TOLERANCE):
+    """Read a drop-test CSV (see the module docstring for its columns) into checked ``DropData``.
+
+    ``interval_tolerance`` (s) is ``check_times``' allowance for an interval longer than the one
+    before it.
+    """
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        sample = fh.read(4096)
+        fh.seek(0)
+        try:
+            dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
+        except csv.Error:
+            dialect = csv.excel
+        rows = [r for r in csv.reader(fh, dialect) if any(c.strip() for c in r)]
+    if not rows:
+        raise ValueError(f"{path}: empty file")
+    header, body = rows[0], rows[1:]
+    keys = {_column_key(h): i for i, h in reversed(list(enumerate(header)))}
+    name = str(path)
+    if "t" in keys and "z" in keys:
+        t = _floats(body, keys["t"], header[keys["t"]])
+        z = _floats(body, keys["z"], header[keys["z"]])
+        return DropData("trajectory", *check_trajectory(t, z), name)
+    if "t" in keys:
+        head = header[keys["t"]]
+        t = check_times(_floats(body, keys["t"], head), head, interval_tolerance)
+        return DropData("times", t, t, name)
+    if "dt" in keys:
+        dt = _floats(body, keys["dt"], header[keys["dt"]])
+        _check_finite(dt, header[keys["dt"]])
+        t = check_times(np.concatenate([[0.0], np.cumsum(dt)]), header[keys["dt"]], interval_tolerance)
+        return DropData("times", t, t, name)
+    if "h" in keys:
+        return DropData(
+            "heights",
+            np.empty(0),
+            check_heights(_floats(body, keys["h"], header[keys["h"]]), header[keys["h"]]),
+            name,
+        )
+    raise ValueError(
+        f"{path}: no known columns in the header {header!r}; expected 't' (impact times), 'dt' "
+        "(intervals), 'h' (drop and apex heights) or 't' and 'z' (trajectory)"
+    )
+
+
+def first_guess(data, accel):
+    """Rough ``(v0, e)`` from the data alone (rigid bounces), to start the fit."""
+    if data.kind == "heights":
+        h = data.values
+        e = float(np.median(np.sqrt(h[1:] / h[:-1])))
+        return math.sqrt(2.0 * accel * h[0]), e
+    if data.kind == "times":
+        dt = np.diff(data.values)
+        e = float(np.median(dt[1:] / dt[:-1]))
+        return 0.5 * accel * dt[0] / e, e
+    top = float(data.values.max())
+    return math.sqrt(2.0 * accel * top), 0.8

@@ -1,0 +1,66 @@
+"""Drop-test CSVs: columns recognised, and every bad input named by row and column."""
+
+import numpy as np
+import pytest
+
+from contactalpha.calibration.data import from_arrays, read_drop
+
+GOOD = [0.0, 0.5, 0.9, 1.22, 1.48, 1.69]
+
+
+def _csv(tmp_path, header, rows):
+    path = tmp_path / "drop.csv"
+    path.write_text(header + "\n" + "\n".join(str(r) for r in rows) + "\n")
+    return path
+
+
+def test_times_column_with_unit_is_read(tmp_path):
+    d = read_drop(_csv(tmp_path, "t (s)", GOOD))
+    assert d.kind == "times"
+    np.testing.assert_array_equal(d.values, GOOD)
+
+
+def test_intervals_become_times_from_zero(tmp_path):
+    d = read_drop(_csv(tmp_path, "dt", np.diff(GOOD).round(6)))
+    assert d.kind == "times"
+    np.testing.assert_allclose(d.values, GOOD, atol=1e-12)
+
+
+def test_heights_and_trajectory_kinds(tmp_path):
+    assert read_drop(_csv(tmp_path, "h [m]", [1.0, 0.6, 0.4, 0.3, 0.2])).kind == "heights"
+    t = np.linspace(0, 1, 30)
+    path = tmp_path / "traj.csv"
+    path.write_text("t,z\n" + "\n".join(f"{a},{abs(np.sin(6 * a))}" for a in t))
+    d = read_drop(path)
+    assert d.kind == "trajectory" and d.count == 30
+
+
+@pytest.mark.parametrize(
+    ("rows", "message"),
+    [
+        ([0.0, 0.5, 0.4, 1.2, 1.4, 1.6], r"row 3, column 't \(s\)': time 0.4 is not after row 2's 0.5"),
+        ([0.0, 0.5, 0.9, 1.4, 1.6, 1.7], r"row 4, column 't \(s\)': the interval 0.5 s before this impact"),
+        ([0.0, 0.5, 0.9, 1.2], r"column 't \(s\)' has 4 impacts; at least 5"),
+        ([0.0, 0.5, "nan", 1.2, 1.4, 1.6], r"row 3, column 't \(s\)': nan is not a finite number"),
+        ([0.0, 0.5, "x", 1.2, 1.4, 1.6], r"row 3, column 't \(s\)': 'x' is not a number"),
+    ],
+)
+def test_bad_times_are_named_by_row_and_column(tmp_path, rows, message):
+    with pytest.raises(ValueError, match=message):
+        read_drop(_csv(tmp_path, "t (s)", rows))
+
+
+def test_rising_apex_and_unknown_columns_are_refused(tmp_path):
+    with pytest.raises(ValueError, match=r"row 3, column 'h': apex 0.7 m is not below"):
+        read_drop(_csv(tmp_path, "h", [1.0, 0.6, 0.7, 0.3, 0.2]))
+    with pytest.raises(ValueError, match=r"no known columns"):
+        read_drop(_csv(tmp_path, "speed", [1.0, 0.6]))
+    with pytest.raises(ValueError, match=r"kind = 'bogus' is not one of"):
+        from_arrays("bogus", values=GOOD)
+
+
+def test_interval_tolerance_allows_jitter_but_not_a_missed_impact(tmp_path):
+    jittered = [0.0, 0.1, 0.19, 0.27, 0.34, 0.4105]  # last interval 0.5 ms longer than the one before
+    assert read_drop(_csv(tmp_path, "t", jittered)).count == 6
+    with pytest.raises(ValueError, match=r"row 6, column 't'.* by more than 0.0001 s"):
+        read_drop(_csv(tmp_path, "t", jittered), interval_tolerance=1e-4)
