@@ -206,7 +206,9 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
             new *= 1.0 + 0.5 * ONSET_RTOL
         else:
             best = res
-            if abs(eps - eps_t) <= tol:
+            # Only an impact that ends in the target's own end state meets it: an impact without
+            # restitution (or, kinematic, without separation) reaches 0, within tol of a tiny target.
+            if abs(eps - eps_t) <= tol and not dead:
                 status = OK
                 break
             has_slope = eps > 0.0 and de2_here < 0.0 and alpha > 0.0 and not dead
@@ -257,8 +259,10 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
                 break
             new = ALPHA_MAX
         if new == alpha or (np.isfinite(hi) and hi - lo <= ALPHA_RESOLVED * hi):
-            # The bracket cannot shrink further: alpha is the root to double precision.
-            status = OK if not onset else status
+            # The bracket cannot shrink further: alpha is the root to double precision (unless the
+            # last impact ended in another end state than the target's).
+            if not onset and not _target_of(best, kinematic)[2]:
+                status = OK
             break
         alpha = new
     out[SOL_ALPHA] = alpha
