@@ -162,8 +162,10 @@ def main(argv=None):
         print(f"steps        {r.steps}")
         print(f"status       {r.status}")
         return 0 if r.ok else 1
-    except ValueError as exc:
-        print(f"contactalpha: error: {exc}", file=sys.stderr)
+    except (ValueError, RuntimeError, OSError) as exc:
+        # Bad input, a failed solve, a file that cannot be written: one line, never a traceback.
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"contactalpha: error: {message}", file=sys.stderr)
         return 2
 
 

@@ -10,6 +10,9 @@ from contactalpha.scene.ball import Scene
 from contactalpha.scene.engine_conventions import exudyn_alpha, exudyn_restitution_input
 from contactalpha.studies.engines.compute import exact_alpha
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 BALL = Scene()  # the paper's ball
 M, R, K, V, G = BALL.mass, BALL.radius, BALL.stiffness, BALL.approach_speed, BALL.gravity
 FAST = {"tolerance": 1e-9, "steps_per_tstar": 200, "window": 12.0}

@@ -18,6 +18,9 @@ from contactalpha.engine.codes import END_STATES
 from contactalpha.io import TMP_TAG, load_dataset
 from contactalpha.paper.surface.compute import grid_from_config
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 SURFACE_FIGURES = ["fig4_alpha_surface", "fig5_alpha_section", "end_states"]
