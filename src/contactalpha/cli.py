@@ -34,7 +34,8 @@ class Parser(argparse.ArgumentParser):
         """Print ``message`` on one line to stderr and exit with status 2 (argparse prints usage too)."""
         misplaced = [opt for opt in GLOBAL_OPTIONS if "unrecognized arguments" in message and opt in message]
         if misplaced:
-            message += f"; {' and '.join(misplaced)}: global, give before the command (contactalpha --rtol 1e-10 alpha ...)"
+            where = "global, give before the command (contactalpha --rtol 1e-10 alpha ...)"
+            message += f"; {' and '.join(misplaced)}: {where}"
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} -h)\n")
 
 
@@ -52,8 +53,12 @@ def build_parser():
         prog="contactalpha",
         description="Hunt-Crossley damping factor alpha under a constant external load.",
     )
-    p.add_argument("--rtol", type=_number, default=RTOL, help=f"integrator rtol, before the command (default {RTOL})")
-    p.add_argument("--atol", type=_number, default=ATOL, help=f"integrator atol, before the command (default {ATOL})")
+    p.add_argument(
+        "--rtol", type=_number, default=RTOL, help=f"integrator rtol, before the command (default {RTOL})"
+    )
+    p.add_argument(
+        "--atol", type=_number, default=ATOL, help=f"integrator atol, before the command (default {ATOL})"
+    )
     sub = p.add_subparsers(dest="command", required=True)
     a = sub.add_parser("alpha", help="alpha that gives restitution EPS at influence factor XI")
     a.add_argument("eps", type=_number, help="Stronge restitution coefficient, 0 <= EPS <= 1")
