@@ -9,7 +9,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.skipif(shutil.which("git") is None or not (ROOT / ".git").exists(), reason="needs a git checkout")
+@pytest.mark.skipif(
+    shutil.which("git") is None or not (ROOT / ".git").exists(), reason="needs a git checkout"
+)
 @pytest.mark.parametrize("folder", [".venv", "venv", "env", ".tox", ".mypy_cache"])
 def test_environment_folders_are_ignored(folder):
     probe = f"{folder}/bin/python"

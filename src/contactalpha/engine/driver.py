@@ -8,7 +8,9 @@ from numba import njit
 
 from contactalpha.validation import (
     check_alpha,
+    check_count,
     check_max_steps,
+    check_range,
     check_tolerances,
     check_xi,
     plain_in,
@@ -225,11 +227,15 @@ def restitution(alpha, xi, **kwargs):
     return impact(alpha, xi, **kwargs).eps
 
 
+# Largest ``max_rows`` of a trajectory (24 GB of rows): a guard against a mistyped size.
+MAX_ROWS_LIMIT = 10**9
+
+
 def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100_000):
     """Accepted steps ``(t, x, v)`` of one impact, scaled, plus its ``ImpactResult``.
 
-    ``max_step`` caps the time step (scaled time) for smooth plots and
-    quadratures; ``max_rows`` caps the rows recorded.
+    ``max_step`` caps the time step (scaled time, > 0; ``inf`` for none) for smooth plots and
+    quadratures; ``max_rows`` (a whole number >= 1) caps the rows recorded.
 
     Returns
     -------
@@ -239,6 +245,9 @@ def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100
     alpha = float(check_alpha(alpha))
     A = float(scaled_load(xi))
     rtol, atol = check_tolerances(rtol, atol)
-    rec = np.empty((int(max_rows), N_REC))
+    if not (type(max_step) in (float, np.float64) and max_step == np.inf):
+        max_step = float(check_range("max_step", max_step, 0.0, np.inf, lo_open=True, hi_open=True))
+    max_rows = check_count("max_rows", max_rows, 1, MAX_ROWS_LIMIT)
+    rec = np.empty((max_rows, N_REC))
     out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, float(max_step))
     return rec[:n].copy(), _as_result(out[None, :], ())

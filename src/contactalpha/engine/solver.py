@@ -43,6 +43,7 @@ from numba import njit
 from contactalpha.validation import (
     PLAIN_FLOATS,
     check_eps,
+    check_flag,
     check_max_steps,
     check_range,
     check_tolerances,
@@ -480,6 +481,7 @@ def solve_table(
 ):
     """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
     kinematic = check_restitution(restitution)
+    exact_at_zero = check_flag("exact_at_zero", exact_at_zero)
     eps, xi = _check_targets(eps, xi, kinematic, exact_at_zero)
     rtol, atol = check_tolerances(rtol, atol)
     max_steps = check_max_steps(max_steps)
