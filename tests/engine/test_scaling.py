@@ -91,3 +91,44 @@ def test_scalar_length_scale_is_the_array_one_bit_for_bit():
         assert got == ca.length_scale(np.array([m]), np.array([k]), np.array([v]))[0]
     with pytest.raises(ValueError, match="k = 0.0"):
         ca.length_scale(1.0, 0.0, 1.0)
+
+
+@pytest.mark.parametrize("v0", [1e300, 1e-300, 1e170, 1e-170])
+def test_scales_at_extreme_valid_speeds_are_their_logarithms_values(v0, recwarn):
+    """Issue 29, N7: length_scale, time_scale and load_for gave 0.0, inf or NaN with only a warning."""
+    m, k = 0.5, 1.4e8
+    log_d = 0.4 * (np.log(1.25) + np.log(m) - np.log(k)) + 0.8 * np.log(v0)
+    assert ca.length_scale(m, k, v0) == pytest.approx(np.exp(log_d), rel=1e-12)
+    assert ca.time_scale(m, k, v0) == pytest.approx(np.exp(log_d - np.log(v0)), rel=1e-12)
+    arr = ca.length_scale(np.array([m, m]), k, np.array([v0, 1.0]))
+    assert arr[0] == ca.length_scale(m, k, v0)
+    assert len(recwarn) == 0
+
+
+@pytest.mark.parametrize("v0", [1e170, 1e-170])
+def test_load_for_at_extreme_speeds_inverts_influence_factor(v0, recwarn):
+    m, k = 0.5, 1.4e8
+    log_a = np.log(ca.scaled_load(0.2)) + 2 * np.log(v0) - np.log(ca.length_scale(m, k, v0))
+    a = ca.load_for(0.2, m, k, v0)
+    assert a == pytest.approx(np.exp(log_a), rel=1e-12)
+    assert ca.influence_factor(m, k, v0, a) == pytest.approx(0.2, rel=1e-9)
+    assert len(recwarn) == 0
+
+
+def test_contact_parameters_at_a_huge_speed_reports_a_finite_length_scale():
+    cp = ca.contact_parameters(0.5, 0.5, 1.4e8, 1e300, accel=9.81)
+    log_d = 0.4 * (np.log(1.25) + np.log(0.5) - np.log(1.4e8)) + 0.8 * np.log(1e300)
+    assert cp.delta_star == pytest.approx(np.exp(log_d), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: ca.length_scale(1e300, 1e-300, 1e300),
+        lambda: ca.time_scale(1e-300, 1e300, 1e-300),
+        lambda: ca.load_for(0.2, 0.5, 1.4e8, 1e300),
+    ],
+)
+def test_a_scale_beyond_the_doubles_is_an_error_naming_the_inputs(call):
+    with pytest.raises(ValueError, match="beyond the range of double precision"):
+        call()

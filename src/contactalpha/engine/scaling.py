@@ -15,26 +15,87 @@ from numba import njit
 
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range, check_xi
 
+# ln(5/4), the constant of delta_star's logarithm.
+LOG_5_4 = math.log(1.25)
+# Beyond this logarithm exp overflows (ln of the largest double is 709.78): the value is inf.
+LOG_HUGE = 709.0
 
-def length_scale(m_e, k, v0):
-    """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s."""
-    if (
+
+def _scales(m_e, k, v0):
+    """``(delta_star, t_star)`` of one contact: the direct products, or their logarithms' values.
+
+    The direct forms are the ones used before (bit for bit); where they under- or overflow at
+    extreme valid speeds (or lose digits in a subnormal), ``exp`` of the logarithm takes over,
+    and returns 0.0 or inf only where the scale itself is beyond the doubles.
+    """
+    # A direct value counts where it agrees with its logarithm (no under- or overflow on the way).
+    log_d = 0.4 * (LOG_5_4 + math.log(m_e) - math.log(k)) + 0.8 * math.log(v0)
+    d = (1.25 * m_e * (v0 * v0) / k) ** 0.4
+    if not (0.0 < d < math.inf and abs(math.log(d) - log_d) <= 1e-9 * max(1.0, abs(log_d))):
+        d = math.exp(log_d) if log_d < LOG_HUGE else math.inf
+    log_t = log_d - math.log(v0)
+    t = d / v0
+    if not (0.0 < t < math.inf and abs(math.log(t) - log_t) <= 1e-9 * max(1.0, abs(log_t))):
+        t = math.exp(log_t) if log_t < LOG_HUGE else math.inf
+    return d, t
+
+
+# The same arithmetic compiled, for arrays: numpy's own SIMD power can differ from libm's pow in the
+# last bit, and the scalar path (Python floats, libm) must give the array path's numbers.
+_scales_jit = njit(cache=True, error_model="numpy")(_scales)
+
+
+@njit(cache=True, error_model="numpy")
+def _scales_rows(m_e, k, v0, d, t):
+    for i in range(m_e.size):
+        d[i], t[i] = _scales_jit(m_e[i], k[i], v0[i])
+
+
+def _scales_checked(m_e, k, v0):
+    """``(delta_star, t_star)`` as floats (plain input) or arrays; raise where one is beyond the doubles."""
+    plain = (
         type(m_e) in PLAIN_FLOATS
         and type(k) in PLAIN_FLOATS
         and type(v0) in PLAIN_FLOATS
         and 0.0 < m_e < math.inf
         and 0.0 < k < math.inf
         and 0.0 < v0 < math.inf
-    ):
-        # Scalar fast path, no array checks: numpy squares v0 as v0 * v0 and powers with the same libm.
-        return (1.25 * m_e * (v0 * v0) / k) ** 0.4
-    m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
-    return (1.25 * m_e * v0**2 / k) ** 0.4
+    )
+    if plain:
+        d, t = _scales(m_e, k, v0)
+    else:
+        m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
+        m_e, k, v0 = np.broadcast_arrays(m_e, k, v0)
+        d, t = np.empty(m_e.shape), np.empty(m_e.shape)
+        flat = [np.ascontiguousarray(a, dtype=float).ravel() for a in (m_e, k, v0)]
+        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+    bad = ~(
+        (np.asarray(d) > 0.0) & (np.asarray(d) < np.inf) & (np.asarray(t) > 0.0) & (np.asarray(t) < np.inf)
+    )
+    if np.any(bad):
+        m1, k1, v1 = (
+            float(np.atleast_1d(np.broadcast_to(x, np.shape(d)))[np.atleast_1d(bad)][0]) for x in (m_e, k, v0)
+        )
+        raise ValueError(
+            f"m_e = {m1!r} kg, k = {k1!r} N/m^1.5, v0 = {v1!r} m/s give a length or time scale "
+            "beyond the range of double precision (delta_star = (5 m_e v0^2 / (4 k))^(2/5), "
+            "t_star = delta_star / v0); valid: a scene whose scales lie between 1e-300 and 1e300"
+        )
+    return d, t
+
+
+def length_scale(m_e, k, v0):
+    """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s.
+
+    Formed from logarithms where the direct product under- or overflows; raises ``ValueError``
+    naming the inputs where the scale itself is beyond the doubles.
+    """
+    return _scales_checked(m_e, k, v0)[0]
 
 
 def time_scale(m_e, k, v0):
-    """``t_star = delta_star / v0`` in seconds."""
-    return length_scale(m_e, k, v0) / np.asarray(v0, dtype=float)
+    """``t_star = delta_star / v0`` in seconds (from logarithms where the quotient would not fit)."""
+    return _scales_checked(m_e, k, v0)[1]
 
 
 def scaled_load(xi):
@@ -72,6 +133,20 @@ def _xi_of_load(A):
 # The same iteration compiled, for the scalar fast path of ``influence_factor`` (the Newton
 # steps cost ~15 us in Python floats, ~0.1 us compiled; same libm pow, same numbers).
 xi_of_load_scalar = njit(cache=True, error_model="numpy")(_xi_of_load)
+
+
+@njit(cache=True, error_model="numpy")
+def _xi_of_load_rows(A, out):
+    for i in range(A.size):
+        out[i] = xi_of_load_scalar(A[i])
+
+
+def _xi_of_load_many(A):
+    """``_xi_of_load`` of an array with libm's pow, as the scalar path (numpy's SIMD pow may differ)."""
+    A = np.asarray(A, dtype=float)
+    out = np.empty(A.shape)
+    _xi_of_load_rows(np.ascontiguousarray(A).ravel(), out.reshape(-1))
+    return out
 
 
 def _influence_factor_plain(m_e, k, v0, a):
@@ -149,14 +224,18 @@ def influence_factor(m_e, k, v0, a):
     a = check_range("a", a, 0.0, np.inf, hi_open=True)
     m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
     with np.errstate(all="ignore"):
-        A = a * length_scale(m_e, k, v0) / v0**2
+        m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
+        d, t = np.empty(m_b.shape), np.empty(m_b.shape)
+        flat = [np.ascontiguousarray(x, dtype=float).ravel() for x in (m_b, k_b, v_b)]
+        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+        A = a * d / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
         log_A = np.log(a) + 0.4 * (np.log(1.25) + np.log(m_e) - np.log(k)) - 1.2 * np.log(v0)
         # The direct product where it neither under- nor overflowed (bit-identical to before).
         direct = np.isfinite(A) & (np.abs(np.log(A) - log_A) <= 1e-9 * np.maximum(1.0, abs(log_A)))
         direct |= a == 0.0
         A = np.where(direct, A, np.exp(np.minimum(log_A, np.log(A_ROUNDS_TO_ONE))))
-    xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
+    xi = _xi_of_load_many(np.minimum(A, A_ROUNDS_TO_ONE))
     if np.any(xi >= 1.0):
         a1, v1, m1, k1 = (_first_rounding_to_one(v, xi) for v in (a, v0, m_e, k))
         raise _xi_rounds_to_one(f"a = {a1!r} m/s^2 at v0 = {v1!r} m/s (m_e = {m1!r} kg, k = {k1!r} N/m^1.5)")
@@ -164,10 +243,27 @@ def influence_factor(m_e, k, v0, a):
 
 
 def load_for(xi, m_e, k, v0):
-    """Relative acceleration ``a`` (m/s^2) that gives influence factor ``xi``."""
+    """Relative acceleration ``a`` (m/s^2) that gives influence factor ``xi``.
+
+    ``a = A(xi) v0^2 / delta_star``, from logarithms where the product under- or overflows;
+    raises ``ValueError`` naming the inputs where ``a`` itself is beyond the doubles.
+    """
     A = scaled_load(xi)
     v0a = check_positive("v0", v0)
-    return _scalar_or_array(A * v0a**2 / length_scale(m_e, k, v0))
+    d = length_scale(m_e, k, v0)
+    with np.errstate(all="ignore"):
+        a = A * v0a**2 / d
+        log_a = np.log(A) + 2.0 * np.log(v0a) - np.log(d)
+        good = (A == 0.0) | (
+            (a > 0.0) & (a < np.inf) & (np.abs(np.log(a) - log_a) <= 1e-9 * np.maximum(1.0, np.abs(log_a)))
+        )
+        a = np.where(good, a, np.exp(np.minimum(log_a, 710.0)))
+    if np.any((A > 0.0) & ~((a > 0.0) & (a < np.inf))):
+        raise ValueError(
+            f"xi = {xi!r}, m_e = {m_e!r}, k = {k!r}, v0 = {v0!r} need an acceleration beyond the range "
+            "of double precision; valid: a scene whose load lies between 1e-300 and 1e300 m/s^2"
+        )
+    return _scalar_or_array(a)
 
 
 def _scalar_or_array(arr):
