@@ -202,6 +202,23 @@ def json_text(obj, *, indent=None, sort_keys=False):
     return json.dumps(jsonable(obj), indent=indent, sort_keys=sort_keys, allow_nan=False)
 
 
+def read_json(path, what="data file"):
+    """The JSON file ``path`` as Python data; an unreadable or malformed file raises naming itself.
+
+    Raises
+    ------
+    ValueError
+        ``<what> <path> cannot be read (...)`` for a truncated, corrupted or non-UTF-8 file.
+    """
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise ValueError(
+            f"{what} {path} cannot be read ({type(err).__name__}: {err}): truncated or corrupted; "
+            "reinstall the package or ship it again"
+        ) from None
+
+
 def write_json_atomic(path, obj):
     """Write ``obj`` as indented JSON (``json_text``, one space per level) to ``path`` atomically."""
     return write_text_atomic(path, json_text(obj, indent=1) + "\n")

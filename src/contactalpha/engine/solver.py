@@ -373,22 +373,24 @@ _NO_TABLE = (
 def _guess_arrays(use_table, kinematic):
     """``(found, energetic arrays, kinematic arrays)`` for the starting guess.
 
-    Only the table of the definition being solved for is read; the other, and a table that
-    cannot be read, is replaced by empty stand-ins (then ``found`` is False).
+    Only the table of the definition being solved for is read; the other is replaced by empty
+    stand-ins.  A table that is missing or cannot be read raises (naming the file): the
+    formula guess is asked for with ``guess="formula"``, never taken silently.
     """
     tb, tk = _NO_TABLE
-    if use_table:
-        from .table import kinematic_table_arrays, table_arrays
+    if not use_table:
+        return False, tb, tk
+    from .table import kinematic_table_arrays, table_arrays
 
-        try:
-            if kinematic:
-                return True, tb, kinematic_table_arrays()
-            return True, table_arrays(), tk
-        except (FileNotFoundError, ValueError) as err:
-            import warnings
-
-            warnings.warn(f"solve_alpha: no usable table ({err}); formula starting guess", stacklevel=3)
-    return False, tb, tk
+    try:
+        if kinematic:
+            return True, tb, kinematic_table_arrays()
+        return True, table_arrays(), tk
+    except (FileNotFoundError, ValueError) as err:
+        raise type(err)(
+            f"solve_alpha: guess='table' needs the shipped table: {err}; "
+            "reinstall the package, or pass guess='formula'"
+        ) from None
 
 
 @dataclass(frozen=True)
