@@ -37,7 +37,7 @@ from .codes import (
 )
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
 # over the paper's domain, which the alpha root-finder needs for 1e-10.
@@ -213,7 +213,7 @@ def impact(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    alpha, A = np.ascontiguousarray(alpha.ravel()), np.ascontiguousarray(A.ravel())
+    alpha, A = flat_owned(alpha), flat_owned(A)
     table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)
 

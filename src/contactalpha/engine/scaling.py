@@ -15,6 +15,8 @@ from numba import njit
 
 from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range, check_xi
 
+from .threads import flat_owned
+
 # ln(5/4), the constant of delta_star's logarithm.
 LOG_5_4 = math.log(1.25)
 # Beyond this logarithm exp overflows (ln of the largest double is 709.78): the value is inf.
@@ -67,7 +69,7 @@ def _scales_checked(m_e, k, v0):
         m_e, k, v0 = (check_positive(n, val) for n, val in (("m_e", m_e), ("k", k), ("v0", v0)))
         m_e, k, v0 = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_e.shape), np.empty(m_e.shape)
-        flat = [np.ascontiguousarray(a, dtype=float).ravel() for a in (m_e, k, v0)]
+        flat = [flat_owned(a) for a in (m_e, k, v0)]
         _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
     bad = ~(
         (np.asarray(d) > 0.0) & (np.asarray(d) < np.inf) & (np.asarray(t) > 0.0) & (np.asarray(t) < np.inf)
@@ -145,7 +147,7 @@ def _xi_of_load_many(A):
     """``_xi_of_load`` of an array with libm's pow, as the scalar path (numpy's SIMD pow may differ)."""
     A = np.asarray(A, dtype=float)
     out = np.empty(A.shape)
-    _xi_of_load_rows(np.ascontiguousarray(A).ravel(), out.reshape(-1))
+    _xi_of_load_rows(flat_owned(A), out.reshape(-1))
     return out
 
 
@@ -226,7 +228,7 @@ def influence_factor(m_e, k, v0, a):
     with np.errstate(all="ignore"):
         m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_b.shape), np.empty(m_b.shape)
-        flat = [np.ascontiguousarray(x, dtype=float).ravel() for x in (m_b, k_b, v_b)]
+        flat = [flat_owned(x) for x in (m_b, k_b, v_b)]
         _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
         A = a * d / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)

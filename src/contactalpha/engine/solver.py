@@ -90,7 +90,7 @@ from .exact import alpha_exact_scalar, max_compression_exact
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .table import EPS_MIN, XI_MAX, alpha_from_table, kinematic_alpha_from_table
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Default absolute tolerance on the restitution coefficient reached, and the loosest accepted.
 EPS_TOL = 1e-12
@@ -492,9 +492,9 @@ def solve_table(
     use_table, tb, tk = _guess_arrays(guess == "table", kinematic)
     A = scaled_load(xi)
     table = solve_many(
-        np.ascontiguousarray(eps.ravel()),
-        np.ascontiguousarray(A.ravel()),
-        np.ascontiguousarray(xi.ravel()),
+        flat_owned(eps),
+        flat_owned(A),
+        flat_owned(xi),
         tol,
         rtol,
         atol,

@@ -37,7 +37,7 @@ from numba import njit
 from contactalpha.validation import PLAIN_FLOATS, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
 TABLE_FORMAT_VERSION = 3
@@ -399,8 +399,7 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     tables = arrays(default if path is None else path)
     name = "e_N" if restitution == "kinematic" else "eps"
     e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
-    e_flat = np.ascontiguousarray(e).ravel()
-    x_flat = np.ascontiguousarray(x).ravel()
+    e_flat, x_flat = flat_owned(e), flat_owned(x)
     # One jitted pass finds bad input; check_range then words the error.
     if _first_outside(e_flat, EPS_MIN, 1.0) >= 0:
         check_range(name, e_flat, EPS_MIN, 1.0)

@@ -69,6 +69,7 @@ from numba import njit
 
 from contactalpha.engine.boundary import LIMIT_EPS_POWER, LIMIT_ONE_MINUS_EPS_POWER, LOG_LIMIT_AT_ONE
 from contactalpha.engine.scaling import scaled_load_unchecked
+from contactalpha.engine.threads import flat_owned
 from contactalpha.engine.unloaded import alpha_unloaded_scalar
 from contactalpha.io import read_json
 
@@ -220,7 +221,7 @@ def alpha_closed_form(eps, xi, constants=None):
     if c.shape != (len(CONSTANT_NAMES),):
         raise ValueError(f"closed-form constants have shape {c.shape}; expected ({len(CONSTANT_NAMES)},)")
     e, x = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
-    out = alpha_closed_form_many(np.ascontiguousarray(e).ravel(), np.ascontiguousarray(x).ravel(), c)
+    out = alpha_closed_form_many(flat_owned(e), flat_owned(x), c)
     out = out.reshape(e.shape)
     return out[()] if out.ndim == 0 else out
 

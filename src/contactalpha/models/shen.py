@@ -34,6 +34,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.engine.scaling import scaled_load
+from contactalpha.engine.threads import flat_owned
 from contactalpha.io import read_json
 from contactalpha.validation import check_eps, check_xi
 
@@ -347,8 +348,8 @@ def eq40_gradient(eps, xi, c=PUBLISHED, reading=BEST_READING, names=None):
     value = np.empty(eps.size)
     full = np.zeros((eps.size, len(PUBLISHED)))
     _eq40_gradient_kernel(
-        np.ascontiguousarray(eps),
-        np.ascontiguousarray(xi),
+        flat_owned(eps),
+        flat_owned(xi),
         constants,
         list(READINGS).index(reading),
         value,
