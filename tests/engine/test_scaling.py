@@ -132,3 +132,32 @@ def test_contact_parameters_at_a_huge_speed_reports_a_finite_length_scale():
 def test_a_scale_beyond_the_doubles_is_an_error_naming_the_inputs(call):
     with pytest.raises(ValueError, match="beyond the range of double precision"):
         call()
+
+
+def _xi_by_brentq(m, k, v, a):
+    """Eq. 10 independently: x_m of (x^{5/2} - 1)/2 = A x by Brent's method, A from SI by hand."""
+    from scipy.optimize import brentq
+
+    A = a * (5 * m * v * v / (4 * k)) ** 0.4 / (v * v)
+    x_m = brentq(
+        lambda x: 0.5 * (x**2.5 - 1.0) - A * x,
+        1.0,
+        (1.0 + 2.0 * A) ** (2.0 / 3.0) + 1.0,
+        xtol=1e-15,
+        rtol=1e-15,
+    )
+    return A * x_m / (0.5 + A * x_m)
+
+
+@pytest.mark.parametrize(
+    "m, k, v, a", [(0.5, 1.4e8, 0.5, 19.61), (5.0, 5.4e9, 0.01, 9.81), (1e-3, 1e5, 3.0, 1e3)]
+)
+def test_the_scalar_fast_path_answers_and_equals_an_independent_xi(m, k, v, a):
+    """Issue 29, planted bug: a wrong exponent in the fast path was hidden by its guard (the array path
+    answered instead); the fast path must answer plain floats itself, and with the right number."""
+    from contactalpha.engine.scaling import _influence_factor_plain
+
+    fast = _influence_factor_plain(m, k, v, a)
+    assert fast is not None
+    assert fast == pytest.approx(_xi_by_brentq(m, k, v, a), rel=1e-12)
+    assert ca.influence_factor(m, k, v, a) == fast
