@@ -139,9 +139,9 @@ RTOL_FLOOR = 1e-15
 
 
 def check_tolerances(rtol, atol):
-    """Relative tolerance in [RTOL_FLOOR, 0.1], absolute tolerance in (0, 1]."""
-    check_range("rtol", rtol, 0.0, 0.1, lo_open=True)
-    check_range("atol", atol, 0.0, 1.0, lo_open=True)
+    """Relative tolerance in [RTOL_FLOOR, 0.1], absolute tolerance in (0, 1]: one number each."""
+    rtol = check_scalar("rtol", rtol, 0.0, 0.1, lo_open=True)
+    atol = check_scalar("atol", atol, 0.0, 1.0, lo_open=True)
     if rtol < RTOL_FLOOR:
         raise ValueError(f"rtol = {rtol!r} is below the floor {RTOL_FLOOR} set by double precision")
     return float(rtol), float(atol)

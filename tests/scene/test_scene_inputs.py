@@ -93,3 +93,44 @@ def test_exact_at_zero_must_be_a_bool(flag):
     """exact_at_zero = "False" counted as True."""
     with pytest.raises(ValueError, match=re.escape(f"exact_at_zero = {flag!r} is not a bool")):
         ca.solve_alpha(0.5, 0.0, exact_at_zero=flag)
+
+
+SCENE = {"mass": 0.5, "stiffness": 1.4e8, "approach_speed": 0.5, "accel": 9.81}
+API = {
+    "solve_alpha": (ca.solve_alpha, {"eps": 0.5, "xi": 0.2, "rtol": 1e-12, "atol": 1e-14}),
+    "impact": (ca.impact, {"alpha": 1.0, "xi": 0.2, "rtol": 1e-12, "atol": 1e-14}),
+    "trajectory": (ca.trajectory, {"alpha": 1.0, "xi": 0.2, "atol": 1e-14, "max_step": 0.1}),
+    "contact_parameters": (ca.contact_parameters, {"eps": 0.5, **SCENE}),
+    "advise": (ca.advise, {"eps": 0.5, **SCENE}),
+    "critical_speed": (ca.critical_speed, {"eps": 0.5, "mass": 0.5, "stiffness": 1.4e8, "accel": 9.81}),
+    "predict_bounces": (ca.predict_bounces, {"scene": ca.Scene(), "model": "exact", "atol": 1e-14}),
+}
+# Arguments that take arrays (broadcast), and the two a bad value of which is tested elsewhere.
+ARRAYS = {
+    ("solve_alpha", "eps"),
+    ("solve_alpha", "xi"),
+    ("impact", "alpha"),
+    ("impact", "xi"),
+    ("critical_speed", "eps"),
+}
+CASES = [
+    (name, arg)
+    for name, (_, kwargs) in API.items()
+    for arg in kwargs
+    if (name, arg) not in ARRAYS and arg not in ("scene", "model")
+]
+
+
+@pytest.mark.parametrize("name, arg", CASES, ids=[f"{n}-{a}" for n, a in CASES])
+@pytest.mark.parametrize("bad", [[0.5, 0.5], None], ids=["list", "None"])
+def test_a_bad_argument_is_named_not_a_numpy_or_python_message(name, arg, bad):
+    """Issue 29, N10: lists gave 'only 0-dimensional arrays can be converted to Python scalars',
+    'float() argument must be ...' or 'setting an array element with a sequence'."""
+    fn, kwargs = API[name]
+    with pytest.raises(ValueError, match=re.escape(arg)):
+        fn(**{**kwargs, arg: bad})
+
+
+def test_alpha_tabulated_names_a_restitution_that_is_not_a_word():
+    with pytest.raises(ValueError, match=r"restitution = \['kinematic'\] is not one of"):
+        ca.alpha_tabulated(0.5, 0.2, restitution=["kinematic"])

@@ -10,7 +10,7 @@ from contactalpha.validation import (
     check_alpha,
     check_count,
     check_max_steps,
-    check_range,
+    check_scalar,
     check_tolerances,
     check_xi,
     plain_in,
@@ -242,11 +242,11 @@ def trajectory(alpha, xi, *, rtol=RTOL, atol=ATOL, max_step=np.inf, max_rows=100
     path : ndarray, shape (n, 3)
     result : ImpactResult
     """
-    alpha = float(check_alpha(alpha))
-    A = float(scaled_load(xi))
+    alpha = check_scalar("alpha", alpha, 0.0, np.inf, hi_open=True)
+    A = float(scaled_load(check_scalar("xi", xi, 0.0, 1.0, hi_open=True)))
     rtol, atol = check_tolerances(rtol, atol)
     if not (type(max_step) in (float, np.float64) and max_step == np.inf):
-        max_step = float(check_range("max_step", max_step, 0.0, np.inf, lo_open=True, hi_open=True))
+        max_step = check_scalar("max_step", max_step, 0.0, np.inf, lo_open=True, hi_open=True)
     max_rows = check_count("max_rows", max_rows, 1, MAX_ROWS_LIMIT)
     rec = np.empty((max_rows, N_REC))
     out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, float(max_step))

@@ -390,6 +390,8 @@ def alpha_tabulated(eps, xi, *, path=None, restitution="energetic"):
     restitution : {"energetic", "kinematic"}
         Which coefficient ``eps`` is.
     """
+    if not isinstance(restitution, str):
+        raise ValueError(f"restitution = {restitution!r:.80} is not one of 'energetic', 'kinematic'")
     if path is None and type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
         fast = _SCALAR.get(restitution) or scalar_lookup(restitution)
         value = fast[0](eps, xi, fast[1])  # NaN outside the domain: then the checks below word it

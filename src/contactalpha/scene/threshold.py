@@ -52,7 +52,13 @@ from contactalpha.engine.codes import (
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
-from contactalpha.validation import check_max_steps, check_positive, check_range, check_tolerances
+from contactalpha.validation import (
+    check_max_steps,
+    check_positive,
+    check_range,
+    check_scalar,
+    check_tolerances,
+)
 
 # Exponents of the fit's limits (derived, not fitted: ``engine.boundary.LIMIT_*``).
 FIT_EPS_POWER = LIMIT_EPS_POWER
@@ -270,7 +276,7 @@ def critical_speed_status(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, 
     """``critical_speed`` and a status (``"ok"`` or why it is NaN) per point."""
     e = check_range("eps", eps, CRITICAL_EPS_MIN, 1.0)
     for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
-        check_positive(name, value)
+        check_scalar(name, value, 0.0, np.inf, lo_open=True, hi_open=True)
     rtol, atol = check_tolerances(rtol, atol)
     max_steps = check_max_steps(max_steps)
     flat = np.atleast_1d(e).ravel()
