@@ -169,3 +169,22 @@ def test_trapped_above_sector_edge_keeps_its_margin_inside():
     assert not trapped_above(x, -s0 * u * (1.0 + 1e-7), A, alpha)
     assert not trapped_above(x, +1e-9, A, alpha)  # moving away from x_eq
     assert not trapped_above(0.99 * x_eq, -1e-9, A, alpha)  # below x_eq: the other sector
+
+
+def test_trapped_below_sector_edge_keeps_its_margin_inside():
+    """The mirror sector below x_eq: edge v = s0 u with s0 from c(x) and the tangent slope at x_eq."""
+    from contactalpha.engine.events import trapped_below
+
+    A, alpha = 0.2, 80.0
+    x_eq = (A / 1.25) ** (2.0 / 3.0)
+    x = 0.99 * x_eq
+    u = x_eq - x
+    c = 1.25 * alpha * x**1.5
+    g = 1.5 * 1.25 * np.sqrt(x_eq)
+    assert c * c > 4.0 * g * 1.01
+    s0 = 0.5 * (c + np.sqrt(c * c - 4.0 * g))
+    assert trapped_below(x, s0 * u * (1.0 - 1e-4), A, alpha)
+    assert not trapped_below(x, s0 * u * (1.0 - 1e-7), A, alpha)
+    assert not trapped_below(x, s0 * u * (1.0 + 1e-7), A, alpha)
+    assert not trapped_below(x, -1e-9, A, alpha)  # moving away from x_eq
+    assert not trapped_below(1.01 * x_eq, 1e-9, A, alpha)  # above x_eq: the other sector
