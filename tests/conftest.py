@@ -35,6 +35,18 @@ def _require_engine(module):
         pytest.skip(reason)
 
 
+# Fixtures of the real engines: a test that uses one is an integration test (pytest -m integration).
+ENGINE_FIXTURES = ("opensim", "exudyn")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Mark every test that runs a real engine ``integration`` (before ``-m`` selects)."""
+    for item in items:
+        if any(name in getattr(item, "fixturenames", ()) for name in ENGINE_FIXTURES):
+            item.add_marker(pytest.mark.integration)
+
+
 @pytest.fixture(scope="session")
 def opensim():
     return _require_engine("opensim")

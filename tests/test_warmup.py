@@ -10,6 +10,9 @@ import pytest
 
 from contactalpha.warmup import ENTRY_POINTS, PARTS, warm_up
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[1]
 
 # Calls of the kind the jobs make, with other sizes and arguments than the warm-up's own; then the

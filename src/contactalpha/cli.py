@@ -40,7 +40,15 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message):
         """Print ``message`` on one line to stderr and exit with status 2 (argparse prints usage too)."""
+        misplaced = [opt for opt in GLOBAL_OPTIONS if "unrecognized arguments" in message and opt in message]
+        if misplaced:
+            where = "global, give before the command (contactalpha --rtol 1e-10 alpha ...)"
+            message += f"; {' and '.join(misplaced)}: {where}"
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} -h)\n")
+
+
+# Options of the command itself, not of a subcommand: they go before it.
+GLOBAL_OPTIONS = ("--rtol", "--atol")
 
 
 # The workflow's config schema, relative to a checkout (check-config --schema overrides it).
@@ -201,8 +209,10 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         return COMMANDS[args.command](args, args.subparser)
-    except ValueError as exc:
-        print(f"contactalpha: error: {exc}", file=sys.stderr)
+    except (ValueError, RuntimeError, OSError) as exc:
+        # Bad input, a failed solve, a file that cannot be written: one line, never a traceback.
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"contactalpha: error: {message}", file=sys.stderr)
         return 2
 
 

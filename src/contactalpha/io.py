@@ -206,21 +206,109 @@ def json_text(obj, *, indent=None, sort_keys=False):
     return json.dumps(jsonable(obj), indent=indent, sort_keys=sort_keys, allow_nan=False)
 
 
+def read_json(path, what="data file"):
+    """The JSON file ``path`` as Python data; an unreadable or malformed file raises naming itself.
+
+    Raises
+    ------
+    ValueError
+        ``<what> <path> cannot be read (...)`` for a truncated, corrupted or non-UTF-8 file.
+    """
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise ValueError(
+            f"{what} {path} cannot be read ({type(err).__name__}: {err}): truncated or corrupted; "
+            "reinstall the package or ship it again"
+        ) from None
+
+
 def write_json_atomic(path, obj):
     """Write ``obj`` as indented JSON (``json_text``, one space per level) to ``path`` atomically."""
     return write_text_atomic(path, json_text(obj, indent=1) + "\n")
 
 
+# Global attribute of a written Dataset: the SHA-256 of its variables' values (``data_digest``),
+# checked when it is read back, so that a value changed or corrupted after the write is refused.
+DIGEST_ATTR = "contactalpha_data_sha256"
+
+
+def data_digest(ds):
+    """SHA-256 (hex) of every variable's name, dims, shape and values, as written and as read back.
+
+    NaN counts as one value whatever its bits (netCDF's fill value reads back as numpy's NaN);
+    text is hashed as UTF-8 whether numpy holds it as ``<U`` or as objects.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    for name in sorted(ds.variables, key=str):
+        var = ds.variables[name]
+        values = np.asarray(var.values)
+        digest.update(repr((str(name), tuple(map(str, var.dims)), values.shape)).encode())
+        if values.dtype.kind in "OUS":
+            digest.update("\0".join(map(str, values.ravel())).encode())
+            continue
+        if values.dtype.kind in "fc":
+            values = np.where(np.isnan(values), np.nan, values).astype(values.dtype)
+        digest.update(values.dtype.kind.encode() + str(values.dtype.itemsize).encode())
+        digest.update(np.ascontiguousarray(values).tobytes())
+    return digest.hexdigest()
+
+
 def write_dataset_atomic(ds, path):
-    """Write an xarray Dataset as netCDF4/HDF5 to ``path`` atomically."""
+    """Write an xarray Dataset as netCDF4/HDF5 to ``path`` atomically, with its ``data_digest``."""
+    ds = ds.assign_attrs({DIGEST_ATTR: data_digest(ds)})
     return write_atomic(path, lambda tmp: ds.to_netcdf(tmp, engine=ENGINE, invalid_netcdf=False))
 
 
-def load_dataset(path):
-    """Read a netCDF4/HDF5 file fully into memory (the file is closed on return)."""
+def _read_dataset(path):
+    """``(ds, digest)``: the file's Dataset without the digest attribute, and the digest (or None).
+
+    Raises ``ValueError`` naming the file when it is not readable netCDF/HDF5 (e.g. truncated).
+    """
     import xarray as xr  # here: io is imported by light processes (Snakemake's own) that read none
 
-    return xr.load_dataset(path, engine=ENGINE)
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    try:
+        ds = xr.load_dataset(path, engine=ENGINE)
+    except (OSError, ValueError, KeyError, TypeError) as err:
+        raise ValueError(
+            f"{path} is not a readable netCDF4/HDF5 file (truncated or corrupted?): {err}; "
+            "rerun the step that writes it"
+        ) from None
+    digest = ds.attrs.pop(DIGEST_ATTR, None)
+    if digest is not None and digest != data_digest(ds):
+        raise ValueError(
+            f"{path}: its values do not match the checksum written with them ({DIGEST_ATTR}): "
+            "the file was changed or corrupted after it was written; rerun the step that writes it"
+        )
+    return ds, digest
+
+
+def load_dataset(path):
+    """Read a netCDF4/HDF5 file fully into memory (the file is closed on return).
+
+    A file written by ``write_dataset_atomic`` is checked against its ``data_digest``.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, if it cannot be read or its values fail the checksum.
+    """
+    return _read_dataset(path)[0]
+
+
+def _load_with_digest(path):
+    """``load_dataset`` of a workflow result, which must carry its checksum."""
+    ds, digest = _read_dataset(path)
+    if digest is None:
+        raise ValueError(
+            f"{path} carries no checksum ({DIGEST_ATTR}); valid: a file written by the workflow "
+            "(io.write_dataset_atomic)"
+        )
+    return ds
 
 
 def _checked_surface(ds, path):
@@ -236,6 +324,16 @@ def _checked_surface(ds, path):
                 f"{path}: coordinate {dim} is not strictly increasing floats ({values[:6]!r}...); "
                 "valid: sorted values without duplicates"
             )
+    alpha = ds["alpha"].values
+    solved = ds["status"].values == 0 if "status" in ds else np.isfinite(alpha)
+    bad = solved & ~(np.isfinite(alpha) & (alpha >= 0.0))
+    if np.any(bad):
+        i, j = (int(k[0]) for k in np.nonzero(bad))
+        raise ValueError(
+            f"{path}: {int(bad.sum())} point(s) solved (status 0) with alpha not a finite number >= 0, "
+            f"first alpha = {float(alpha[i, j])!r} at epsilon = {float(ds['epsilon'][i])!r}, "
+            f"xi = {float(ds['xi'][j])!r}; valid: alpha >= 0 where solved, NaN with a failed status"
+        )
     return ds
 
 
@@ -245,11 +343,13 @@ def load_surface(path: str | Path) -> "xr.Dataset":
     Raises
     ------
     ValueError
-        If the file holds no floating-point ``alpha`` over dims ``epsilon`` and ``xi``, if a
-        coordinate is not strictly increasing, or if it is a single chunk of a surface
+        Naming the file: if it cannot be read (e.g. truncated), carries no checksum or fails it
+        (a value changed after the write), holds no floating-point ``alpha`` over dims ``epsilon``
+        and ``xi``, a solved point (status 0) has an alpha that is not finite and >= 0, a
+        coordinate is not strictly increasing, or it is a single chunk of a surface
         (``load_surface_chunk``).
     """
-    ds = _checked_surface(load_dataset(path), path)
+    ds = _checked_surface(_load_with_digest(path), path)
     if "chunk" in ds.attrs:
         raise ValueError(
             f"{path} is chunk {ds.attrs['chunk']} of {ds.attrs.get('chunks', '?')}, not a whole surface; "
@@ -266,7 +366,7 @@ def load_surface_chunk(path):
     ValueError
         If it is not an alpha surface or carries no ``chunk`` and ``chunks`` attributes.
     """
-    ds = _checked_surface(load_dataset(path), path)
+    ds = _checked_surface(_load_with_digest(path), path)
     if "chunk" not in ds.attrs or "chunks" not in ds.attrs:
         raise ValueError(
             f"{path} is not a surface chunk (no chunk attribute); valid: a file of compute_chunk"

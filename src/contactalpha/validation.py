@@ -96,11 +96,27 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
 
 
 def check_count(name, value, lo, hi):
-    """Return ``value`` as an int, or raise unless it is one whole number in [lo, hi]."""
+    """Return ``value`` as an int, or raise unless it is one whole number in [lo, hi] (not a bool)."""
+    if isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} = {value!r} is a bool, not one whole number in [{lo:g}, {hi:g}]")
     arr = check_range(name, value, lo, hi)
     if arr.ndim != 0 or arr != np.floor(arr):
         raise ValueError(f"{name} = {reprlib.repr(value)} is not one whole number in [{lo:g}, {hi:g}]")
     return int(arr)
+
+
+def check_scalar(name, value, lo, hi, *, lo_open=False, hi_open=False):
+    """Return ``value`` as a float, or raise unless it is one real number in range (no bool, text, list)."""
+    if isinstance(value, bool | np.bool_ | str | bytes) or np.ndim(value) != 0:
+        raise ValueError(f"{name} = {reprlib.repr(value)} is not one real number; valid: a float")
+    return float(check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open))
+
+
+def check_flag(name, value):
+    """Return ``value`` as a bool, or raise unless it is True or False (a string such as "False" is not)."""
+    if not isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} = {reprlib.repr(value)} is not a bool; valid: True or False")
+    return bool(value)
 
 
 def check_max_steps(max_steps):
@@ -162,9 +178,9 @@ RTOL_FLOOR = 1e-15
 
 
 def check_tolerances(rtol, atol):
-    """Relative tolerance in [RTOL_FLOOR, 0.1], absolute tolerance in (0, 1]."""
-    check_range("rtol", rtol, 0.0, 0.1, lo_open=True)
-    check_range("atol", atol, 0.0, 1.0, lo_open=True)
+    """Relative tolerance in [RTOL_FLOOR, 0.1], absolute tolerance in (0, 1]: one number each."""
+    rtol = check_scalar("rtol", rtol, 0.0, 0.1, lo_open=True)
+    atol = check_scalar("atol", atol, 0.0, 1.0, lo_open=True)
     if rtol < RTOL_FLOOR:
         raise ValueError(f"rtol = {rtol!r} is below the floor {RTOL_FLOOR} set by double precision")
     return float(rtol), float(atol)

@@ -10,6 +10,9 @@ from contactalpha.scene.ball import Scene
 from contactalpha.scene.engine_conventions import exudyn_alpha, exudyn_restitution_input
 from contactalpha.studies.engines.compute import exact_alpha
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 BALL = Scene()  # the paper's ball
 M, R, K, V, G = BALL.mass, BALL.radius, BALL.stiffness, BALL.approach_speed, BALL.gravity
 FAST = {"tolerance": 1e-9, "steps_per_tstar": 200, "window": 12.0}
@@ -65,3 +68,17 @@ def test_builtin_restitution_delivers_what_the_package_predicts_for_its_alpha(ex
 def test_unknown_solver_is_named(ex):
     with pytest.raises(ValueError, match="solver = 'rk4'"):
         ex.drop_impact(M, R, K, V, 0.5, G, 0.1, solver="rk4")
+
+
+@pytest.mark.parametrize("solver", ["dopri5", "generalized_alpha"])
+def test_a_stiff_steel_contact_runs_at_the_default_settings(ex, solver):
+    """Issue 29, also: k = 2e10 N/m^1.5 stopped with SolverError (Exudyn's absolute 1e-8 s step floor)."""
+    steel = Scene(stiffness=2e10)
+    xi, alpha, _ = exact_alpha(steel, 0.5, 5.1)
+    res, _ = ex.drop_impact(
+        steel.mass, steel.radius, steel.stiffness, steel.approach_speed, exudyn_restitution_input(alpha),
+        steel.gravity, 5.1, solver=solver,
+    )  # fmt: skip
+    assert res.state == "separation"
+    assert abs(res.eps - 0.5) <= 1e-5
+    assert res.e_n == pytest.approx(-float(impact(alpha, xi).v_end), abs=1e-5)

@@ -13,6 +13,9 @@ from contactalpha.scene.ball import Scene, simulate
 from contactalpha.scene.engine_conventions import opensim_dissipation, opensim_stiffness
 from contactalpha.studies.engines.compute import exact_alpha
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 BALL = Scene()  # the paper's ball
 M, R, K, V, G = BALL.mass, BALL.radius, BALL.stiffness, BALL.approach_speed, BALL.gravity
 # Coarse but ample for the checks below: each impact takes ~0.1 s.

@@ -143,3 +143,48 @@ def test_locate_places_maximum_compression_to_roundoff():
     assert y[0] == pytest.approx(tm, abs=1e-11)
     rhs(y, A, alpha, 0, K[0])
     assert K[0, 2] < 0  # decelerating: a true maximum
+
+
+def test_trapped_above_sector_edge_keeps_its_margin_inside():
+    """Issue 29, planted bug: flipping the sign of TRAP_MARGIN passed every test (the slow ones too).
+
+    At x above x_eq the sector's edge is v = -s0 u with s0 the larger root of s (c - s) = g (c the
+    damping at x_eq, g the secant slope of the Hertz force), computed here by hand.  A state a
+    little inside the edge is a proof of creep; one within the margin of the edge, or outside it,
+    is not.
+    """
+    from contactalpha.engine.events import trapped_above
+
+    A, alpha = 0.2, 50.0
+    x_eq = (A / 1.25) ** (2.0 / 3.0)
+    x = 1.01 * x_eq
+    u = x - x_eq
+    c = alpha * A
+    g = 1.25 * (x**1.5 - x_eq**1.5) / u
+    assert c * c > 4.0 * g * 1.01  # a real sector, well clear of the discriminant's zero
+    s0 = 0.5 * (c + np.sqrt(c * c - 4.0 * g))
+    # The margin is 1e-6 (relative): 1e-4 inside the edge is inside it, 1e-7 inside is not.
+    assert trapped_above(x, -s0 * u * (1.0 - 1e-4), A, alpha)
+    assert not trapped_above(x, -s0 * u * (1.0 - 1e-7), A, alpha)
+    assert not trapped_above(x, -s0 * u * (1.0 + 1e-7), A, alpha)
+    assert not trapped_above(x, +1e-9, A, alpha)  # moving away from x_eq
+    assert not trapped_above(0.99 * x_eq, -1e-9, A, alpha)  # below x_eq: the other sector
+
+
+def test_trapped_below_sector_edge_keeps_its_margin_inside():
+    """The mirror sector below x_eq: edge v = s0 u with s0 from c(x) and the tangent slope at x_eq."""
+    from contactalpha.engine.events import trapped_below
+
+    A, alpha = 0.2, 80.0
+    x_eq = (A / 1.25) ** (2.0 / 3.0)
+    x = 0.99 * x_eq
+    u = x_eq - x
+    c = 1.25 * alpha * x**1.5
+    g = 1.5 * 1.25 * np.sqrt(x_eq)
+    assert c * c > 4.0 * g * 1.01
+    s0 = 0.5 * (c + np.sqrt(c * c - 4.0 * g))
+    assert trapped_below(x, s0 * u * (1.0 - 1e-4), A, alpha)
+    assert not trapped_below(x, s0 * u * (1.0 - 1e-7), A, alpha)
+    assert not trapped_below(x, s0 * u * (1.0 + 1e-7), A, alpha)
+    assert not trapped_below(x, -1e-9, A, alpha)  # moving away from x_eq
+    assert not trapped_below(1.01 * x_eq, 1e-9, A, alpha)  # above x_eq: the other sector

@@ -57,6 +57,7 @@ def test_kernel_closure_contains_its_callee_modules():
 
 
 @needs_jit
+@pytest.mark.integration  # compiles the kernels twice in fresh processes
 def test_editing_a_callee_module_recompiles_and_reverting_restores(tmp_path):
     pkg = _copy_package(tmp_path)
     rk = pkg / "engine" / "rk.py"

@@ -116,3 +116,73 @@ def test_early_stopping_xi_kernel_is_the_fixed_step_iteration_bit_for_bit():
     loads = np.concatenate([10 ** rng.uniform(-15, 30, 3000), [0.0, 1e-300, 5e-324, 1e30, 0.5, 1.0]])
     for A in loads:
         assert scaling.xi_of_load_kernel(float(A)) == scaling._xi_of_load(float(A))
+
+
+@pytest.mark.parametrize("v0", [1e300, 1e-300, 1e170, 1e-170])
+def test_scales_at_extreme_valid_speeds_are_their_logarithms_values(v0, recwarn):
+    """Issue 29, N7: length_scale, time_scale and load_for gave 0.0, inf or NaN with only a warning."""
+    m, k = 0.5, 1.4e8
+    log_d = 0.4 * (np.log(1.25) + np.log(m) - np.log(k)) + 0.8 * np.log(v0)
+    assert ca.length_scale(m, k, v0) == pytest.approx(np.exp(log_d), rel=1e-12)
+    assert ca.time_scale(m, k, v0) == pytest.approx(np.exp(log_d - np.log(v0)), rel=1e-12)
+    arr = ca.length_scale(np.array([m, m]), k, np.array([v0, 1.0]))
+    assert arr[0] == ca.length_scale(m, k, v0)
+    assert len(recwarn) == 0
+
+
+@pytest.mark.parametrize("v0", [1e170, 1e-170])
+def test_load_for_at_extreme_speeds_inverts_influence_factor(v0, recwarn):
+    m, k = 0.5, 1.4e8
+    log_a = np.log(ca.scaled_load(0.2)) + 2 * np.log(v0) - np.log(ca.length_scale(m, k, v0))
+    a = ca.load_for(0.2, m, k, v0)
+    assert a == pytest.approx(np.exp(log_a), rel=1e-12)
+    assert ca.influence_factor(m, k, v0, a) == pytest.approx(0.2, rel=1e-9)
+    assert len(recwarn) == 0
+
+
+def test_contact_parameters_at_a_huge_speed_reports_a_finite_length_scale():
+    cp = ca.contact_parameters(0.5, 0.5, 1.4e8, 1e300, accel=9.81)
+    log_d = 0.4 * (np.log(1.25) + np.log(0.5) - np.log(1.4e8)) + 0.8 * np.log(1e300)
+    assert cp.delta_star == pytest.approx(np.exp(log_d), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: ca.length_scale(1e300, 1e-300, 1e300),
+        lambda: ca.time_scale(1e-300, 1e300, 1e-300),
+        lambda: ca.load_for(0.2, 0.5, 1.4e8, 1e300),
+    ],
+)
+def test_a_scale_beyond_the_doubles_is_an_error_naming_the_inputs(call):
+    with pytest.raises(ValueError, match="beyond the range of double precision"):
+        call()
+
+
+def _xi_by_brentq(m, k, v, a):
+    """Eq. 10 independently: x_m of (x^{5/2} - 1)/2 = A x by Brent's method, A from SI by hand."""
+    from scipy.optimize import brentq
+
+    A = a * (5 * m * v * v / (4 * k)) ** 0.4 / (v * v)
+    x_m = brentq(
+        lambda x: 0.5 * (x**2.5 - 1.0) - A * x,
+        1.0,
+        (1.0 + 2.0 * A) ** (2.0 / 3.0) + 1.0,
+        xtol=1e-15,
+        rtol=1e-15,
+    )
+    return A * x_m / (0.5 + A * x_m)
+
+
+@pytest.mark.parametrize(
+    "m, k, v, a", [(0.5, 1.4e8, 0.5, 19.61), (5.0, 5.4e9, 0.01, 9.81), (1e-3, 1e5, 3.0, 1e3)]
+)
+def test_the_scalar_fast_path_answers_and_equals_an_independent_xi(m, k, v, a):
+    """Issue 29, planted bug: a wrong exponent in the fast path was hidden by its guard (the array path
+    answered instead); the fast path must answer plain floats itself, and with the right number."""
+    from contactalpha.engine.scaling import _influence_factor_plain
+
+    fast = _influence_factor_plain(m, k, v, a)
+    assert fast is not None
+    assert fast == pytest.approx(_xi_by_brentq(m, k, v, a), rel=1e-12)
+    assert ca.influence_factor(m, k, v, a) == fast

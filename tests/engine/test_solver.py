@@ -236,8 +236,9 @@ def test_the_paper_surface_costs_about_1_6_impacts_per_point():
     assert s.impacts.max() <= 2
 
 
-def test_slow_marker_is_registered_and_left_out_of_the_default_run(tmp_path):
-    # docs/workflow.md: "Slow studies are marked `slow` and stay out of the default run (`pytest -m slow`)".
+def test_slow_and_integration_markers_are_registered_and_left_out_of_the_default_run(tmp_path):
+    # docs/workflow.md: "Slow studies are marked `slow` and stay out of the default run (`pytest -m slow`)";
+    # the heavy tests are marked `integration`, which .ci/run runs after the default run.
     import subprocess
     import sys
     from pathlib import Path
@@ -245,14 +246,20 @@ def test_slow_marker_is_registered_and_left_out_of_the_default_run(tmp_path):
     root = Path(__file__).resolve().parents[2]
     probe = tmp_path / "test_probe.py"
     probe.write_text(
-        "import pytest\n\n@pytest.mark.slow\ndef test_a():\n    pass\n\ndef test_b():\n    pass\n"
+        "import pytest\n\n@pytest.mark.slow\ndef test_a():\n    pass\n\ndef test_b():\n    pass\n\n"
+        "@pytest.mark.integration\ndef test_c():\n    pass\n"
     )
     cmd = [sys.executable, "-m", "pytest", "-c", str(root / "pyproject.toml"), "--rootdir", str(tmp_path)]
     run = subprocess.run(
         [*cmd, "--strict-markers", "--collect-only", "-q", str(probe)], capture_output=True, text=True
     )
-    assert "test_b" in run.stdout and "test_a" not in run.stdout and "1 deselected" in run.stdout, run.stdout
-    run = subprocess.run(
-        [*cmd, "-m", "slow", "--collect-only", "-q", str(probe)], capture_output=True, text=True
-    )
-    assert "test_a" in run.stdout and "test_b" not in run.stdout, run.stdout
+    assert "test_b" in run.stdout and "test_a" not in run.stdout and "test_c" not in run.stdout, run.stdout
+    assert "2 deselected" in run.stdout, run.stdout
+    for marker, chosen in (("slow", "test_a"), ("integration", "test_c")):
+        run = subprocess.run(
+            [*cmd, "--strict-markers", "-m", marker, "--collect-only", "-q", str(probe)],
+            capture_output=True,
+            text=True,
+        )
+        others = {"test_a", "test_b", "test_c"} - {chosen}
+        assert chosen in run.stdout and not any(t in run.stdout for t in others), run.stdout

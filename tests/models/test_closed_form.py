@@ -272,3 +272,90 @@ def test_the_polish_lowers_the_true_delivered_error_from_the_linearised_fit(coar
     assert pol.extra["stage"] == "delivered eps (polished)"
     assert cost["pol"] < cost["lin"]
     assert pol.cost == pytest.approx(cost["pol"], rel=1e-12)
+
+
+# Issue 29, planted bug: S_LOG_EXP -0.6 -> -0.606 moved alpha by up to 0.36 % with every held-out
+# score under its limit, and +1 % in a_x_eq's 1.25 was caught by a 0.00509 vs 0.005 margin only.
+# The closed form's formula, pinned: its values with these constants (the shipped ones when pinned),
+# at points on every branch (xi = 0, the ridge, the loaded plateau, xi -> 1).
+PIN_CONSTANTS = (
+    -0.6732706303500418,
+    1.029122829210627,
+    0.15458597522160714,
+    0.309509854366603,
+    1.9151119271344694,
+    2.444292510429238,
+    -0.18081402395118504,
+    -0.3233543974356905,
+    -0.4211457804071342,
+    -0.15909433138149448,
+    1.4293526379239525,
+    0.2453596386263412,
+    0.017263577196553706,
+    0.77341276877947,
+    0.24641525277320064,
+    -0.8253774974315442,
+    1.645153685915205,
+    -1.988574922275223,
+    0.350790563517143,
+    0.11594542851386942,
+    1.6542125160607741,
+    -0.521865926273882,
+    0.16583049061492058,
+    0.3698001289144811,
+    -0.173511500668641,
+)
+PIN_EPS = [0.01, 0.05, 0.2, 0.5, 0.8, 0.97]
+PIN_XI = [0.0, 0.0001, 0.01, 0.2, 0.6, 0.95]
+PIN_ALPHA = (
+    (100.0, 99.60936429709287, 8229.959547843693, 109.18516238827839, 10.445193652639679, 1.5384075423560182),
+    (
+        19.999999681532362,
+        19.983359850577553,
+        86.19465082900098,
+        95.17349222106903,
+        10.21275904610354,
+        1.5128105936043827,
+    ),
+    (
+        4.919166715790785,
+        4.917423136173107,
+        5.002847584789633,
+        18.416133026836107,
+        7.534547109978545,
+        1.2682110469689243,
+    ),
+    (
+        1.432750533271375,
+        1.4324581397288274,
+        1.4422529861369748,
+        1.5367207837801389,
+        1.710317109437661,
+        0.5223015040575947,
+    ),
+    (
+        0.3731462033650536,
+        0.3731018193981229,
+        0.3736889410603828,
+        0.362256007339619,
+        0.32062842491922094,
+        0.1314901981652063,
+    ),
+    (
+        0.046387449100585496,
+        0.04638464822397389,
+        0.04635632732637578,
+        0.044777723245530046,
+        0.03706317181101216,
+        0.01583096813118735,
+    ),
+)
+
+
+def test_the_closed_form_formula_is_pinned_at_fixed_points():
+    e, x = np.meshgrid(PIN_EPS, PIN_XI, indexing="ij")
+    got = cf.alpha_closed_form(e, x, np.array(PIN_CONSTANTS))
+    np.testing.assert_allclose(got, np.array(PIN_ALPHA), rtol=1e-13, atol=0)
+    # The jitted scalar form is the same formula.
+    scalar = cf.jit_alpha_closed_form(dict(zip(cf.CONSTANT_NAMES, PIN_CONSTANTS, strict=True)))
+    assert scalar(0.2, 0.2) == pytest.approx(PIN_ALPHA[2][3], rel=1e-13)

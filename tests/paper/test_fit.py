@@ -240,3 +240,23 @@ def test_report_is_the_same_bits_in_one_or_two_worker_processes(ci_surface):
     assert [f.extra["xi"] for f in fits_two["slices"]] == [f.extra["xi"] for f in fits_one["slices"]]
     with pytest.raises(ValueError, match=r"workers = 0 is outside the valid range"):
         fit_report.refit_report(ci_surface, workers=0)
+
+
+def test_summary_statistics_with_uneven_weights():
+    """Issue 29, planted bug: dropping the weights of the area-weighted RMS passed every test."""
+    from types import SimpleNamespace
+
+    from contactalpha.paper.fit.compute import _summary
+
+    err = np.array([1.0, -3.0, np.nan, 2.0])
+    points = SimpleNamespace(
+        weight=np.array([1.0, 3.0, 5.0, 0.5]),
+        eps=np.array([0.1, 0.2, 0.3, 0.4]),
+        xi=np.array([0.0, 0.5, 0.6, 0.9]),
+    )
+    got = _summary("alpha", err, points)
+    # By hand: the NaN point is left out; weights 1, 3, 0.5 on errors 1, 3, 2.
+    assert got["alpha_max"] == 3.0 and got["alpha_worst"] == [0.2, 0.5]
+    assert got["alpha_rms"] == pytest.approx(np.sqrt((1 + 9 + 4) / 3), rel=1e-15)
+    assert got["alpha_rms_area"] == pytest.approx(np.sqrt((1 * 1 + 3 * 9 + 0.5 * 4) / 4.5), rel=1e-15)
+    assert got["alpha_rms_area"] != pytest.approx(got["alpha_rms"], rel=1e-3)

@@ -28,13 +28,27 @@ def test_surface_records_its_starting_guess_and_table(tmp_path):
     assert (ds.attrs["guess"], ds.attrs["guess_table"]) == (record["guess"], record["guess_table"])
 
 
-def test_solver_warns_when_it_falls_back_to_the_formula_guess(monkeypatch):
+def test_solver_refuses_to_fall_back_silently_when_the_table_is_unusable(monkeypatch):
+    """Issue 29, N8: with the table missing the solver fell back to the formula guess (a warning)."""
     import contactalpha.engine.table as table
 
     def unusable(path=None):
         raise FileNotFoundError("exact-alpha table gone")
 
     monkeypatch.setattr(table, "table_arrays", unusable)
-    with pytest.warns(UserWarning, match="no usable table .*gone.*formula starting guess"):
-        s = contactalpha.solve_alpha(0.5, 0.2)
+    with pytest.raises(
+        FileNotFoundError, match="guess='table' needs the shipped table: exact-alpha table gone"
+    ):
+        contactalpha.solve_alpha(0.5, 0.2)
+    s = contactalpha.solve_alpha(0.5, 0.2, guess="formula")
     assert s.status == "ok"
+
+
+def test_surface_without_a_usable_table_is_solved_from_the_formula_and_says_so(tmp_path, monkeypatch):
+    import contactalpha.paper.surface.compute as compute
+
+    monkeypatch.setattr(compute, "DEFAULT_FILE", tmp_path / "gone.npz")
+    monkeypatch.setattr(compute.guess_record, "__defaults__", (tmp_path / "gone.npz",))
+    ds = compute_surface([0.5], [0.1])
+    assert ds.attrs["guess"] == "formula" and "not found" in ds.attrs["guess_table"]
+    assert float(ds.alpha.values.item()) == pytest.approx(contactalpha.solve_alpha(0.5, 0.1).alpha, rel=1e-9)

@@ -1,8 +1,11 @@
 """The critical approach speed from the exact separation boundary, and its compact fit."""
 
+import re
+
 import numpy as np
 import pytest
 
+import contactalpha as ca
 from contactalpha.baselines.reference import impact_scipy
 from contactalpha.engine.scaling import influence_factor, influence_from_scaled_load
 from contactalpha.engine.solver import solve_alpha
@@ -81,3 +84,49 @@ def test_elastic_contact_always_separates_and_bad_input_raises():
         args = {"eps": 0.5, "mass": 0.5, "stiffness": 1.4e8, "accel": 9.81} | bad
         with pytest.raises(ValueError, match=next(iter(bad))):
             th.critical_speed(**args)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"max_steps": None}, "max_steps = None is not a number"),
+        ({"max_steps": 0}, "max_steps = 0.0 is outside the valid range"),
+        ({"max_steps": -5}, "max_steps = -5.0 is outside the valid range"),
+        ({"max_steps": 10.5}, "max_steps = 10.5 is not one whole number"),
+        ({"rtol": 0}, "rtol = 0.0 is outside the valid range"),
+        ({"rtol": -1e-12}, "rtol = -1e-12 is outside the valid range"),
+        ({"rtol": 1.0}, "rtol = 1.0 is outside the valid range"),
+        ({"atol": float("nan")}, "atol = nan is outside the valid range"),
+    ],
+)
+def test_critical_speed_checks_its_integrator_settings(kwargs, message):
+    """Issue 29, N5: None raised numba's TypingError, 0/-5/10.5 gave NaN, rtol 0 or 1 was taken."""
+    with pytest.raises(ValueError, match=re.escape(message)):
+        ca.critical_speed(0.5, 0.5, 1.4e8, 9.81, **kwargs)
+
+
+@pytest.mark.parametrize("eps", [1e-5, 1e-6])
+def test_critical_speed_refuses_restitutions_below_its_domain_at_once(eps, recwarn):
+    """eps = 1e-6 gave NaN with a divide-by-zero warning, 1e-5 took 81 s: both are below 1e-4."""
+    with pytest.raises(
+        ValueError, match=re.escape(f"eps = {eps!r} is outside the valid range [0.0001, 1.0]")
+    ):
+        ca.critical_speed(eps, 0.5, 1.4e8, 9.81)
+    assert len(recwarn) == 0
+
+
+@pytest.mark.parametrize("eps", [0.3, 0.9])
+def test_critical_speed_separates_the_end_states_by_a_route_without_speed_for_load(eps):
+    """Issue 29, planted bug: speed_for_load x (1 + 1e-4) passed, every critical-speed path shares it.
+
+    Here xi comes from influence_factor at speeds 2e-5 either side of v_crit, alpha from the solver,
+    and the end state from SciPy's DOP853: it separates just above v_crit and not just below.
+    """
+    m, k, a = 0.5, 1.4e8, 9.81
+    v = ca.critical_speed(eps, m, k, a)
+    states = {}
+    for side, factor in (("above", 1 + 2e-5), ("below", 1 - 2e-5)):
+        xi = influence_factor(m, k, v * factor, a)
+        alpha = solve_alpha(eps, xi).alpha
+        states[side] = impact_scipy(alpha, xi, rtol=1e-13, atol=1e-16).state
+    assert states == {"above": "separation", "below": "nonseparation"}

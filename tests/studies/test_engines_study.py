@@ -11,6 +11,9 @@ import numpy as np
 import pytest
 import yaml
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = {"mass": 0.5, "radius": 0.08, "stiffness": 1.4e8, "approach_speed": 0.5, "gravity": 9.81}
 SETTINGS = {

@@ -19,6 +19,9 @@ from contactalpha.scene.advisor import cheapest, is_adequate
 from contactalpha.scene.threshold import critical_speed
 from contactalpha.studies.adequacy import maps, report
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 TARGETS = [

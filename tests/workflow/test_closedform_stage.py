@@ -19,6 +19,9 @@ from contactalpha.engine.codes import END_STATES
 from contactalpha.engine.driver import impact
 from contactalpha.models import alpha as model_alpha
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 MODELS = ["closed_form", "shen_published", "shen_refit"]

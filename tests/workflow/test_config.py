@@ -1,6 +1,7 @@
 """Config errors are found before any job, with a message naming the key (issue 15, item 5)."""
 
 import copy
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -156,3 +157,70 @@ def test_check_config_command_names_the_line_or_the_key_of_a_configfile(tmp_path
     assert f"{bad}: models.fig9.reference = 'exactt' is not a registered model" in capsys.readouterr().err
     assert main(["check-config", str(TEST_CONFIG), str(ROOT / "config.yaml"), "--schema", str(SCHEMA)]) == 0
     assert capsys.readouterr().out == f"{TEST_CONFIG}: ok\n{ROOT / 'config.yaml'}: ok\n"
+
+
+@pytest.mark.parametrize(
+    "path, value, message",
+    [
+        (
+            "ball.first_collision.classical",
+            ["hunt_crossley", "flors"],
+            "ball.first_collision.classical[1] = 'flors' is not a registered model",
+        ),
+        (
+            "ball.first_collision.reference",
+            ["exactt", "exact_slove"],
+            "ball.first_collision.reference = ['exactt', 'exact_slove']: none is a registered model",
+        ),
+        (
+            "ball.new_model",
+            ["shen_publishd"],
+            "ball.new_model = ['shen_publishd']: none is a registered model",
+        ),
+        (
+            "closedform.models",
+            ["closed_form", "nope"],
+            "closedform.models[1] = 'nope' is not a registered model",
+        ),
+    ],
+)
+def test_every_key_that_names_a_model_is_checked_before_a_job_runs(tmp_path, capsys, path, value, message):
+    """Issue 29, N2: these names passed `snakemake -n` and check-config, then failed inside a job."""
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    *parents, last = path.split(".")
+    node = config
+    for part in parents:
+        node = node[part]
+    node[last] = value
+    with pytest.raises(ValueError, match=re.escape(message)):
+        checked(config)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(config))
+    assert main(["check-config", str(bad), "--schema", str(SCHEMA)]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_preference_list_with_one_registered_model_passes():
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config["ball"]["new_model"] = ["not_yet_registered", "shen_published"]
+    config["ball"]["first_collision"]["reference"] = ["nope", "exact"]
+    checked(config)
+
+
+def test_snakemake_n_names_an_unregistered_classical_model(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("ball:\n  first_collision:\n    classical: [hunt_crossley, flors]\n")
+    code, out = snakemake_dry_run(tmp_path, "--configfile", str(bad))
+    assert code != 0 and "ball.first_collision.classical[1] = 'flors' is not a registered model" in out
+
+
+def test_check_config_refuses_an_empty_file_as_snakemake_does(tmp_path, capsys):
+    """Issue 29, N12: an empty --configfile is refused by Snakemake; check-config said ok."""
+    empty = tmp_path / "empty.yaml"
+    for text in ("", "# only a comment\n", "null\n"):
+        empty.write_text(text)
+        assert main(["check-config", str(empty), "--schema", str(SCHEMA)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and f"{empty}" in err and "empty" in err
+    code, out = snakemake_dry_run(tmp_path, "--configfile", str(empty))
+    assert code != 0

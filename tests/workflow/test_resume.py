@@ -20,6 +20,9 @@ import yaml
 from contactalpha.io import TMP_TAG, load_surface
 from contactalpha.paper.surface.compute import VARIABLES, compute_surface, grid_from_config
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 TARGET = "results/surface.h5"

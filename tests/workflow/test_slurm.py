@@ -21,6 +21,9 @@ import pytest
 
 import contactalpha
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 PROFILE = ROOT / "workflow" / "profiles" / "slurm"

@@ -18,6 +18,9 @@ from contactalpha.engine.codes import END_STATES
 from contactalpha.io import TMP_TAG, load_dataset
 from contactalpha.paper.surface.compute import grid_from_config
 
+# Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).
+pytestmark = pytest.mark.integration
+
 ROOT = Path(__file__).resolve().parents[2]
 TEST_CONFIG = ROOT / "workflow" / "test-config.yaml"
 SURFACE_FIGURES = ["fig4_alpha_surface", "fig5_alpha_section", "end_states"]
@@ -222,3 +225,23 @@ def test_ship_copies_the_refit_and_a_checked_table_to_the_configured_files(run):
         assert shipped["sha256"] == hashlib.sha256(data).hexdigest()
         assert shipped["destination"] == f"results/{destination}"
     assert _package_data() == package_before
+
+
+def test_a_value_changed_in_the_surface_stops_the_jobs_that_read_it(run, tmp_path):
+    """Issue 29, N4: a value changed inside results/surface.h5 went unnoticed (the downstream jobs
+    reran on it and the run exited 0); its checksum now stops the first job that reads it."""
+    import shutil
+
+    import h5py
+
+    work = tmp_path / "work"
+    shutil.copytree(run["work"], work, symlinks=True)
+    surface = work / "results" / "surface.h5"
+    with h5py.File(surface, "r+") as f:
+        f["alpha"][1, 1] = f["alpha"][1, 1] * 1.001
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(work)]
+    cmd += ["--configfile", str(TEST_CONFIG), "--cores", "2"]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    out = done.stdout + done.stderr
+    assert done.returncode != 0, out[-3000:]
+    assert "results/surface.h5: its values do not match the checksum" in out, out[-3000:]

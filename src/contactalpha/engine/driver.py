@@ -11,7 +11,9 @@ from contactalpha.validation import (
     FloatOrArray,
     RealLike,
     check_alpha,
+    check_count,
     check_max_steps,
+    check_scalar,
     check_tolerances,
     check_xi,
     plain_in,
@@ -39,7 +41,7 @@ from .codes import (
 from .firstcall import FirstCall
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
 # over the paper's domain, which the alpha root-finder needs for 1e-10.
@@ -231,7 +233,7 @@ def impact(
     alpha, xi = np.broadcast_arrays(alpha, xi)
     shape = alpha.shape
     A = scaled_load(xi)
-    alpha, A = np.ascontiguousarray(alpha).ravel(), np.ascontiguousarray(A).ravel()
+    alpha, A = flat_owned(alpha), flat_owned(A)
     table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)
 
@@ -245,6 +247,10 @@ def restitution(alpha: RealLike, xi: RealLike, **kwargs: Any) -> FloatOrArray:
     return impact(alpha, xi, **kwargs).eps
 
 
+# Largest ``max_rows`` of a trajectory (24 GB of rows): a guard against a mistyped size.
+MAX_ROWS_LIMIT = 10**9
+
+
 def trajectory(
     alpha: float,
     xi: float,
@@ -256,17 +262,20 @@ def trajectory(
 ) -> tuple[np.ndarray, "ImpactResult"]:
     """Accepted steps ``(t, x, v)`` of one impact, scaled, plus its ``ImpactResult``.
 
-    ``max_step`` caps the time step (scaled time) for smooth plots and
-    quadratures; ``max_rows`` caps the rows recorded.
+    ``max_step`` caps the time step (scaled time, > 0; ``inf`` for none) for smooth plots and
+    quadratures; ``max_rows`` (a whole number >= 1) caps the rows recorded.
 
     Returns
     -------
     path : ndarray, shape (n, 3)
     result : ImpactResult
     """
-    alpha = float(check_alpha(alpha))
-    A = float(scaled_load(xi))
+    alpha = check_scalar("alpha", alpha, 0.0, np.inf, hi_open=True)
+    A = float(scaled_load(check_scalar("xi", xi, 0.0, 1.0, hi_open=True)))
     rtol, atol = check_tolerances(rtol, atol)
-    rec = np.empty((int(max_rows), N_REC))
+    if not (type(max_step) in (float, np.float64) and max_step == np.inf):
+        max_step = check_scalar("max_step", max_step, 0.0, np.inf, lo_open=True, hi_open=True)
+    max_rows = check_count("max_rows", max_rows, 1, MAX_ROWS_LIMIT)
+    rec = np.empty((max_rows, N_REC))
     out, n = impact_kernel(alpha, A, rtol, atol, MAX_STEPS, rec, float(max_step))
     return rec[:n].copy(), _as_result(out[None, :], ())

@@ -16,6 +16,8 @@ from .solver import no_kinematic_inverse, solve_alpha
 
 # The two directions of a conversion, keyed by the coefficient asked for.
 CONVERSIONS = ("kinematic", "energetic")
+# The options of ``solve_alpha`` a conversion passes on (the definition is set by ``to``).
+SOLVER_OPTIONS = ("tol", "rtol", "atol", "max_steps")
 
 
 def convert_restitution(
@@ -33,7 +35,7 @@ def convert_restitution(
     to : {"kinematic", "energetic"}
         The coefficient wanted.
     **solver_options
-        Passed to ``solve_alpha`` (``tol``, ``rtol``, ``atol``, ``max_steps``).
+        Passed to ``solve_alpha``: ``tol``, ``rtol``, ``atol``, ``max_steps`` (any other raises).
 
     Returns
     -------
@@ -44,13 +46,26 @@ def convert_restitution(
     Raises
     ------
     ValueError
-        For e_N = 0 (every eps up to the separation boundary's gives it) and for values or
-        loads outside their ranges.
+        For e_N = 0 (every eps up to the separation boundary's gives it), for values or
+        loads outside their ranges, and for a solver option not in ``SOLVER_OPTIONS``.
     """
     if to not in CONVERSIONS:
         raise ValueError(f"to = {to!r} is not one of {', '.join(map(repr, CONVERSIONS))}")
+    unknown = sorted(set(solver_options) - set(SOLVER_OPTIONS))
+    if unknown:
+        raise ValueError(
+            f"solver option(s) {', '.join(unknown)} not taken (the definition is set by to = {to!r}); "
+            f"valid: {', '.join(SOLVER_OPTIONS)}"
+        )
     if to == "kinematic":
-        return solve_alpha(value, xi, **solver_options).e_n_reached
-    if np.any(np.asarray(value) == 0.0):
-        raise no_kinematic_inverse()
-    return solve_alpha(value, xi, restitution="kinematic", **solver_options).eps_reached
+        s = solve_alpha(value, xi, **solver_options)
+        other = s.e_n_reached
+    else:
+        if np.any(np.asarray(value) == 0.0):
+            raise no_kinematic_inverse()
+        s = solve_alpha(value, xi, restitution="kinematic", **solver_options)
+        other = s.eps_reached
+    # A failed solve's last impact is not the impact asked for: NaN, never its coefficient.
+    if np.ndim(other) == 0:
+        return float(other) if s.ok else float("nan")
+    return np.where(s.ok, other, np.nan)

@@ -24,45 +24,95 @@ from contactalpha.validation import (
 )
 
 from .firstcall import FirstCall
+from .threads import flat_owned
 
 # The public API's names of the scene's quantities (the front door's), and their old names here.
 OLD_NAMES = {"m_e": "mass", "k": "stiffness", "v0": "approach_speed"}
 
+# ln(5/4), the constant of delta_star's logarithm.
+LOG_5_4 = math.log(1.25)
+# Beyond this logarithm exp overflows (ln of the largest double is 709.78): the value is inf.
+LOG_HUGE = 709.0
 
-@renamed_keywords(**OLD_NAMES)
-def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
-    """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s."""
-    m_e, k, v0 = mass, stiffness, approach_speed
-    if (
+
+def _scales(m_e, k, v0):
+    """``(delta_star, t_star)`` of one contact: the direct products, or their logarithms' values.
+
+    The direct forms are the ones used before (bit for bit); where they under- or overflow at
+    extreme valid speeds (or lose digits in a subnormal), ``exp`` of the logarithm takes over,
+    and returns 0.0 or inf only where the scale itself is beyond the doubles.
+    """
+    # A direct value counts where it agrees with its logarithm (no under- or overflow on the way).
+    log_d = 0.4 * (LOG_5_4 + math.log(m_e) - math.log(k)) + 0.8 * math.log(v0)
+    d = (1.25 * m_e * (v0 * v0) / k) ** 0.4
+    if not (0.0 < d < math.inf and abs(math.log(d) - log_d) <= 1e-9 * max(1.0, abs(log_d))):
+        d = math.exp(log_d) if log_d < LOG_HUGE else math.inf
+    log_t = log_d - math.log(v0)
+    t = d / v0
+    if not (0.0 < t < math.inf and abs(math.log(t) - log_t) <= 1e-9 * max(1.0, abs(log_t))):
+        t = math.exp(log_t) if log_t < LOG_HUGE else math.inf
+    return d, t
+
+
+# The same arithmetic compiled, for arrays: numpy's own SIMD power can differ from libm's pow in the
+# last bit, and the scalar path (Python floats, libm) must give the array path's numbers.
+_scales_jit = njit(cache=True, error_model="numpy")(_scales)
+
+
+@njit(cache=True, error_model="numpy")
+def _scales_rows(m_e, k, v0, d, t):
+    for i in range(m_e.size):
+        d[i], t[i] = _scales_jit(m_e[i], k[i], v0[i])
+
+
+def _scales_checked(m_e, k, v0):
+    """``(delta_star, t_star)`` as floats (plain input) or arrays; raise where one is beyond the doubles."""
+    plain = (
         type(m_e) in PLAIN_FLOATS
         and type(k) in PLAIN_FLOATS
         and type(v0) in PLAIN_FLOATS
         and 0.0 < m_e < math.inf
         and 0.0 < k < math.inf
         and 0.0 < v0 < math.inf
-    ):
-        # Scalar fast path, no array checks: numpy squares v0 as v0 * v0 and powers with the same libm.
-        return (1.25 * m_e * (v0 * v0) / k) ** 0.4
-    m_e, k, v0 = (check_positive(n, val) for n, val in zip(OLD_NAMES.values(), (m_e, k, v0), strict=True))
-    arrays = [np.ascontiguousarray(x, dtype=float).ravel() for x in np.broadcast_arrays(m_e, k, v0)]
-    out = np.empty(arrays[0].size)
-    _length_rows(*arrays, out)
-    out = out.reshape(np.broadcast_shapes(*(np.shape(x) for x in (m_e, k, v0))))
-    return out[()] if out.ndim == 0 else out
+    )
+    if plain:
+        d, t = _scales(m_e, k, v0)
+    else:
+        m_e, k, v0 = (check_positive(n, val) for n, val in zip(OLD_NAMES.values(), (m_e, k, v0), strict=True))
+        m_e, k, v0 = np.broadcast_arrays(m_e, k, v0)
+        d, t = np.empty(m_e.shape), np.empty(m_e.shape)
+        flat = [flat_owned(a) for a in (m_e, k, v0)]
+        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+    bad = ~(
+        (np.asarray(d) > 0.0) & (np.asarray(d) < np.inf) & (np.asarray(t) > 0.0) & (np.asarray(t) < np.inf)
+    )
+    if np.any(bad):
+        m1, k1, v1 = (
+            float(np.atleast_1d(np.broadcast_to(x, np.shape(d)))[np.atleast_1d(bad)][0]) for x in (m_e, k, v0)
+        )
+        raise ValueError(
+            f"mass = {m1!r} kg, stiffness = {k1!r} N/m^1.5, approach_speed = {v1!r} m/s give a length or "
+            "time scale "
+            "beyond the range of double precision (delta_star = (5 m_e v0^2 / (4 k))^(2/5), "
+            "t_star = delta_star / v0); valid: a scene whose scales lie between 1e-300 and 1e300"
+        )
+    return d, t
 
 
-@njit(cache=True, error_model="numpy")
-def _length_rows(m_e, k, v0, out):
-    # libm's pow element by element, as the scalar path: numpy's SIMD pow (AVX-512) may differ from
-    # libm in the last bit, and an array's delta_star would then not be its scalars' delta_star.
-    for i in range(out.size):
-        out[i] = (1.25 * m_e[i] * (v0[i] * v0[i]) / k[i]) ** 0.4
+@renamed_keywords(**OLD_NAMES)
+def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
+    """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s.
+
+    Formed from logarithms where the direct product under- or overflows; raises ``ValueError``
+    naming the inputs where the scale itself is beyond the doubles.
+    """
+    return _scales_checked(mass, stiffness, approach_speed)[0]
 
 
 @renamed_keywords(**OLD_NAMES)
 def time_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
-    """``t_star = delta_star / approach_speed`` in seconds."""
-    return length_scale(mass, stiffness, approach_speed) / np.asarray(approach_speed, dtype=float)
+    """``t_star = delta_star / approach_speed`` in seconds (from logarithms where it would not fit)."""
+    return _scales_checked(mass, stiffness, approach_speed)[1]
 
 
 def scaled_load(xi: RealLike) -> FloatOrArray:
@@ -127,29 +177,18 @@ xi_of_load_kernel = njit(cache=True, error_model="numpy")(_xi_of_load_float)
 xi_of_load_scalar = FirstCall(xi_of_load_kernel)
 
 
-def _plain_xi(m_e, k, v0, a):
-    """Eq. 10 of positive finite floats by the direct product, or NaN where the full path must decide."""
-    v2 = v0 * v0  # numpy squares the same way; a float ** would raise on overflow
-    if not 0.0 < v2 < math.inf:
-        return math.nan
-    A = a * (1.25 * m_e * v2 / k) ** 0.4 / v2
-    log_A = math.log(a) + 0.4 * (math.log(1.25) + math.log(m_e) - math.log(k)) - 1.2 * math.log(v0)
-    if not (0.0 < A < A_ROUNDS_TO_ONE and abs(math.log(A) - log_A) <= 1e-9 * max(1.0, abs(log_A))):
-        return math.nan  # under- or overflow, or a load at the top: the full path's logarithms decide
-    xi = xi_of_load_kernel(A)
-    return xi if xi < 1.0 else math.nan
-
-
-plain_xi_kernel = njit(cache=True, error_model="numpy")(_plain_xi)
-plain_xi_scalar = FirstCall(plain_xi_kernel)
-
-
 @njit(cache=True, error_model="numpy")
-def _plain_xi_rows(m_e, k, v0, a, out):
-    # The scalar fast path's arithmetic (libm's pow and log) over arrays: numpy's SIMD pow may
-    # differ from libm in the last bit, so an array's xi would not be its scalars' xi.
-    for i in range(out.size):
-        out[i] = plain_xi_kernel(m_e[i], k[i], v0[i], a[i])
+def _xi_of_load_rows(A, out):
+    for i in range(A.size):
+        out[i] = xi_of_load_kernel(A[i])
+
+
+def _xi_of_load_many(A):
+    """``_xi_of_load`` of an array with libm's pow, as the scalar path (numpy's SIMD pow may differ)."""
+    A = np.asarray(A, dtype=float)
+    out = np.empty(A.shape)
+    _xi_of_load_rows(flat_owned(A), out.reshape(-1))
+    return out
 
 
 def _influence_factor_plain(m_e, k, v0, a):
@@ -165,8 +204,15 @@ def _influence_factor_plain(m_e, k, v0, a):
         and 0.0 < a < math.inf
     ):
         return None
-    xi = plain_xi_scalar(float(m_e), float(k), float(v0), float(a))
-    return None if xi != xi else xi
+    v2 = v0 * v0  # numpy squares the same way; a float ** would raise on overflow
+    if not 0.0 < v2 < math.inf:
+        return None
+    A = a * (1.25 * m_e * v2 / k) ** 0.4 / v2
+    log_A = math.log(a) + 0.4 * (math.log(1.25) + math.log(m_e) - math.log(k)) - 1.2 * math.log(v0)
+    if not (0.0 < A < A_ROUNDS_TO_ONE and abs(math.log(A) - log_A) <= 1e-9 * max(1.0, abs(log_A))):
+        return None  # under- or overflow, or a load at the top: the full path's logarithms decide
+    xi = xi_of_load_scalar(A)
+    return xi if xi < 1.0 else None
 
 
 def _first_rounding_to_one(value, xi):
@@ -229,21 +275,19 @@ def influence_factor(
         check_positive(n, val)
         for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
     )
-    # Where the scalar path would answer, the same arithmetic element by element (same bits).
-    arrays = [np.ascontiguousarray(x, dtype=float).ravel() for x in np.broadcast_arrays(m_e, k, v0, a)]
-    plain = np.empty(arrays[0].size)
-    _plain_xi_rows(*arrays, plain)
-    plain = plain.reshape(np.broadcast_shapes(*(np.shape(x) for x in (m_e, k, v0, a))))
     with np.errstate(all="ignore"):
-        A = a * length_scale(m_e, k, v0) / v0**2
+        m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
+        d, t = np.empty(m_b.shape), np.empty(m_b.shape)
+        flat = [flat_owned(x) for x in (m_b, k_b, v_b)]
+        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+        A = a * d / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
         log_A = np.log(a) + 0.4 * (np.log(1.25) + np.log(m_e) - np.log(k)) - 1.2 * np.log(v0)
         # The direct product where it neither under- nor overflowed (bit-identical to before).
         direct = np.isfinite(A) & (np.abs(np.log(A) - log_A) <= 1e-9 * np.maximum(1.0, abs(log_A)))
         direct |= a == 0.0
         A = np.where(direct, A, np.exp(np.minimum(log_A, np.log(A_ROUNDS_TO_ONE))))
-    xi = _xi_of_load(np.minimum(A, A_ROUNDS_TO_ONE))
-    xi = np.where(plain == plain, plain, xi)
+    xi = _xi_of_load_many(np.minimum(A, A_ROUNDS_TO_ONE))
     if np.any(xi >= 1.0):
         a1, v1, m1, k1 = (_first_rounding_to_one(v, xi) for v in (a, v0, m_e, k))
         raise _xi_rounds_to_one(
@@ -255,10 +299,29 @@ def influence_factor(
 
 @renamed_keywords(**OLD_NAMES)
 def load_for(xi: RealLike, mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
-    """Relative acceleration ``accel`` (m/s^2) that gives influence factor ``xi``."""
+    """Relative acceleration ``accel`` (m/s^2) that gives influence factor ``xi``.
+
+    ``a = A(xi) v0^2 / delta_star``, from logarithms where the product under- or overflows;
+    raises ``ValueError`` naming the inputs where ``a`` itself is beyond the doubles.
+    """
     A = scaled_load(xi)
-    v0a = check_positive("approach_speed", approach_speed)
-    return _scalar_or_array(A * v0a**2 / length_scale(mass, stiffness, approach_speed))
+    m_e, k, v0 = mass, stiffness, approach_speed
+    v0a = check_positive("approach_speed", v0)
+    d = length_scale(m_e, k, v0)
+    with np.errstate(all="ignore"):
+        a = A * v0a**2 / d
+        log_a = np.log(A) + 2.0 * np.log(v0a) - np.log(d)
+        good = (A == 0.0) | (
+            (a > 0.0) & (a < np.inf) & (np.abs(np.log(a) - log_a) <= 1e-9 * np.maximum(1.0, np.abs(log_a)))
+        )
+        a = np.where(good, a, np.exp(np.minimum(log_a, 710.0)))
+    if np.any((A > 0.0) & ~((a > 0.0) & (a < np.inf))):
+        raise ValueError(
+            f"xi = {xi!r}, mass = {m_e!r}, stiffness = {k!r}, approach_speed = {v0!r} need an "
+            "acceleration beyond the range of double precision; valid: a scene whose load lies "
+            "between 1e-300 and 1e300 m/s^2"
+        )
+    return _scalar_or_array(a)
 
 
 def _scalar_or_array(arr):

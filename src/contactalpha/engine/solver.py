@@ -45,6 +45,7 @@ from contactalpha.validation import (
     FloatOrArray,
     RealLike,
     check_eps,
+    check_flag,
     check_max_steps,
     check_range,
     check_tolerances,
@@ -91,7 +92,7 @@ from .exact import alpha_exact_scalar, max_compression_exact
 from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .table import EPS_MIN, XI_MAX, alpha_from_table, kinematic_alpha_from_table
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Default absolute tolerance on the restitution coefficient reached, and the loosest accepted.
 EPS_TOL = 1e-12
@@ -208,7 +209,9 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
             new *= 1.0 + 0.5 * ONSET_RTOL
         else:
             best = res
-            if abs(eps - eps_t) <= tol:
+            # Only an impact that ends in the target's own end state meets it: an impact without
+            # restitution (or, kinematic, without separation) reaches 0, within tol of a tiny target.
+            if abs(eps - eps_t) <= tol and not dead:
                 status = OK
                 break
             has_slope = eps > 0.0 and de2_here < 0.0 and alpha > 0.0 and not dead
@@ -259,8 +262,10 @@ def solve_kernel(eps_t, A, alpha0, tol, rtol, atol, max_steps, kinematic=False):
                 break
             new = ALPHA_MAX
         if new == alpha or (np.isfinite(hi) and hi - lo <= ALPHA_RESOLVED * hi):
-            # The bracket cannot shrink further: alpha is the root to double precision.
-            status = OK if not onset else status
+            # The bracket cannot shrink further: alpha is the root to double precision (unless the
+            # last impact ended in another end state than the target's).
+            if not onset and not _target_of(best, kinematic)[2]:
+                status = OK
             break
         alpha = new
     out[SOL_ALPHA] = alpha
@@ -370,22 +375,24 @@ _NO_TABLE = (
 def _guess_arrays(use_table, kinematic):
     """``(found, energetic arrays, kinematic arrays)`` for the starting guess.
 
-    Only the table of the definition being solved for is read; the other, and a table that
-    cannot be read, is replaced by empty stand-ins (then ``found`` is False).
+    Only the table of the definition being solved for is read; the other is replaced by empty
+    stand-ins.  A table that is missing or cannot be read raises (naming the file): the
+    formula guess is asked for with ``guess="formula"``, never taken silently.
     """
     tb, tk = _NO_TABLE
-    if use_table:
-        from .table import kinematic_table_arrays, table_arrays
+    if not use_table:
+        return False, tb, tk
+    from .table import kinematic_table_arrays, table_arrays
 
-        try:
-            if kinematic:
-                return True, tb, kinematic_table_arrays()
-            return True, table_arrays(), tk
-        except (FileNotFoundError, ValueError) as err:
-            import warnings
-
-            warnings.warn(f"solve_alpha: no usable table ({err}); formula starting guess", stacklevel=3)
-    return False, tb, tk
+    try:
+        if kinematic:
+            return True, tb, kinematic_table_arrays()
+        return True, table_arrays(), tk
+    except (FileNotFoundError, ValueError) as err:
+        raise type(err)(
+            f"solve_alpha: guess='table' needs the shipped table: {err}; "
+            "reinstall the package, or pass guess='formula'"
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -478,6 +485,7 @@ def solve_table(
 ):
     """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
     kinematic = check_restitution(restitution)
+    exact_at_zero = check_flag("exact_at_zero", exact_at_zero)
     eps, xi = _check_targets(eps, xi, kinematic, exact_at_zero)
     rtol, atol = check_tolerances(rtol, atol)
     max_steps = check_max_steps(max_steps)
@@ -486,9 +494,9 @@ def solve_table(
     use_table, tb, tk = _guess_arrays(guess == "table", kinematic)
     A = scaled_load(xi)
     table = solve_many(
-        np.ascontiguousarray(eps.ravel()),
-        np.ascontiguousarray(A.ravel()),
-        np.ascontiguousarray(xi.ravel()),
+        flat_owned(eps),
+        flat_owned(A),
+        flat_owned(xi),
         tol,
         rtol,
         atol,

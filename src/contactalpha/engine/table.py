@@ -27,6 +27,7 @@ Accuracy is verified against ``solve_alpha`` at random points off the nodes
 """
 
 import json
+import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,7 +39,7 @@ from contactalpha.validation import PLAIN_FLOATS, FloatOrArray, RealLike, as_rea
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
 from .firstcall import FirstCall
-from .threads import run_rows
+from .threads import flat_owned, run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
 TABLE_FORMAT_VERSION = 3
@@ -226,19 +227,84 @@ def kinematic_alpha_from_packed(e_n, xi, flat):
     return kinematic_alpha_from_table(e_n, xi, v(flat, k(0)), v(flat, k(1)), m(flat, k(2)), v(flat, k(3)))
 
 
+def _grid_counts(path, geom, slots, n_geom):
+    """Node counts of the uniform grids in ``geom`` (first, step, count per grid); raise if malformed."""
+    geom = np.asarray(geom)
+    if geom.shape != (n_geom,) or not np.all(np.isfinite(geom)):
+        raise ValueError(
+            f"exact-alpha table {path}: geometry array has shape {geom.shape} or non-finite entries; "
+            f"valid: {n_geom} finite numbers"
+        )
+    counts = []
+    for slot in slots:
+        step, count = geom[slot + G_STEP], geom[slot + G_COUNT]
+        if not (step > 0.0 and count >= 2 and count == int(count)):
+            raise ValueError(
+                f"exact-alpha table {path}: grid at geometry slot {slot} has step {step!r} and "
+                f"{count!r} nodes; valid: a step > 0 and a whole number of nodes >= 2"
+            )
+        counts.append(int(count))
+    return counts
+
+
+def check_table_shapes(path, names, arrays):
+    """Raise ``ValueError`` naming ``path`` unless every array has the shape its grids need.
+
+    The jitted evaluators index the arrays by the node counts in the geometry array and numba
+    does not check bounds: a file cut short would be read past its end.  A quintic spline on a
+    clamped uniform grid of ``n`` nodes has ``n + 4`` coefficients and ``n + 10`` knots.
+    """
+    knots, coefs = DEGREE + 5, DEGREE - 1
+    if tuple(names) == ARRAY_NAMES:
+        s_eta, s_p, n_eta, n_p = _grid_counts(path, arrays["geom"], (G_S_ETA, G_S_P, G_N_ETA, G_N_P), N_GEOM)
+        want = {
+            "b_t": (s_eta + knots,),
+            "b_c": (s_eta + coefs,),
+            "s_tx": (s_eta + knots,),
+            "s_ty": (s_p + knots,),
+            "s_c": (s_eta + coefs, s_p + coefs),
+            "n_tx": (n_eta + knots,),
+            "n_ty": (n_p + knots,),
+            "n_c": (n_eta + coefs, n_p + coefs),
+        }
+    elif tuple(names) == KINEMATIC_ARRAY_NAMES:
+        k_eta, k_q = _grid_counts(path, arrays["k_geom"], (G_K_ETA, G_K_Q), N_K_GEOM)
+        want = {"k_tx": (k_eta + knots,), "k_ty": (k_q + knots,), "k_c": (k_eta + coefs, k_q + coefs)}
+    else:
+        raise ValueError(
+            f"names = {names!r} is not a table layout; valid: ARRAY_NAMES, KINEMATIC_ARRAY_NAMES"
+        )
+    for name, shape in want.items():
+        got = arrays[name]
+        if got.shape != shape or got.dtype != np.float64 or not np.all(np.isfinite(got)):
+            raise ValueError(
+                f"exact-alpha table {path}: array {name} has shape {got.shape} ({got.dtype}); "
+                f"valid: finite float64 of shape {shape}, as its grid's node count says (cut short?)"
+            )
+
+
 def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
     """``(arrays, meta)`` of a table file written by ``table_build``; refuse a different format version."""
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"exact-alpha table {path} not found; build it with {build_hint}")
-    with np.load(path) as z:
-        meta = json.loads(str(z["meta"]))
-        if meta.get("format_version") != TABLE_FORMAT_VERSION:
-            raise ValueError(
-                f"exact-alpha table {path} has format version {meta.get('format_version')!r}, "
-                f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with {build_hint}"
-            )
-        return {k: np.ascontiguousarray(z[k]) for k in names}, meta
+    try:
+        with np.load(path) as z:
+            meta = json.loads(str(z["meta"]))
+            arrays = {k: np.ascontiguousarray(z[k]) for k in names}
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError) as err:
+        raise ValueError(
+            f"exact-alpha table {path} cannot be read ({type(err).__name__}: {err}): truncated or "
+            f"corrupted; reinstall the package or rebuild it with {build_hint}"
+        ) from None
+    if not isinstance(meta, dict) or meta.get("format_version") != TABLE_FORMAT_VERSION:
+        version = meta.get("format_version") if isinstance(meta, dict) else None
+        raise ValueError(
+            f"exact-alpha table {path} has format version {version!r}, "
+            f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with {build_hint}"
+        )
+    check_table_shapes(path, names, arrays)
+    return arrays, meta
 
 
 def load_table(path=DEFAULT_FILE):
@@ -335,6 +401,8 @@ def alpha_tabulated(
     restitution : {"energetic", "kinematic"}
         Which coefficient ``eps`` is.
     """
+    if not isinstance(restitution, str):
+        raise ValueError(f"restitution = {restitution!r:.80} is not one of 'energetic', 'kinematic'")
     if path is None and type(eps) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
         fast = _SCALAR.get(restitution) or scalar_lookup(restitution)
         value = fast[0](eps, xi, fast[1])  # NaN outside the domain: then the checks below word it
@@ -344,8 +412,7 @@ def alpha_tabulated(
     tables = arrays(default if path is None else path)
     name = "e_N" if restitution == "kinematic" else "eps"
     e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
-    e_flat = np.ascontiguousarray(e).ravel()
-    x_flat = np.ascontiguousarray(x).ravel()
+    e_flat, x_flat = flat_owned(e), flat_owned(x)
     # One jitted pass finds bad input; check_range then words the error.
     if _first_outside(e_flat, EPS_MIN, 1.0) >= 0:
         check_range(name, e_flat, EPS_MIN, 1.0)

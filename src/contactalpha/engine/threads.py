@@ -17,6 +17,7 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
+import numpy as np
 
 # Blocks per thread: rows differ in cost by orders of magnitude (a creeping impact takes
 # ~100 times the steps of a separating one), so each thread takes several blocks in turn
@@ -79,3 +80,13 @@ def run_rows(kernel, n, *args, threads=None):
         for future in futures:
             future.cancel()
         raise
+
+
+def flat_owned(a):
+    """``a`` as a new contiguous 1-D float64 array that owns its data, for a jitted kernel.
+
+    A view from ``np.broadcast_arrays`` carries numpy's warn-on-write flag, and numba's unboxing
+    of it prints a FutureWarning ("future versions will not create a writeable array from
+    broadcast_array"); a copy costs far less than the kernel's work per entry.
+    """
+    return np.array(a, dtype=np.float64, order="C").reshape(-1)

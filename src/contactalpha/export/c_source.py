@@ -142,8 +142,16 @@ def c_export_text(energetic=DEFAULT_FILE, kinematic=KINEMATIC_FILE):
 
 
 def export_c(directory, energetic=DEFAULT_FILE, kinematic=KINEMATIC_FILE):
-    """Write ``contactalpha.h`` and ``contactalpha.c`` into ``directory`` (atomically); return their paths."""
+    """Write ``contactalpha.h`` and ``contactalpha.c`` into ``directory`` (atomically); return their paths.
+
+    Raises ``ValueError`` for an empty path and for a path that exists but is not a folder;
+    ``OSError`` (naming the path) when the folder cannot be made or written.
+    """
+    if not str(directory).strip():
+        raise ValueError("directory = '' is empty; give the folder to write the C files into")
     directory = Path(directory)
+    if directory.exists() and not directory.is_dir():
+        raise ValueError(f"directory = {str(directory)!r} exists and is not a folder")
     return [
         write_text_atomic(directory / name, text)
         for name, text in c_export_text(energetic, kinematic).items()

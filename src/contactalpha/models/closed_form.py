@@ -61,7 +61,6 @@ for 0 < eps < 1, 0 <= xi < 1.  The constants were fitted on 0.01 <= eps <= 0.99,
 vectorised ``closed_form`` (the registry's model) runs it in a jitted loop.
 """
 
-import json
 from functools import lru_cache
 from importlib.resources import files
 
@@ -70,7 +69,9 @@ from numba import njit
 
 from contactalpha.engine.boundary import LIMIT_EPS_POWER, LIMIT_ONE_MINUS_EPS_POWER, LOG_LIMIT_AT_ONE
 from contactalpha.engine.scaling import scaled_load_unchecked
+from contactalpha.engine.threads import flat_owned
 from contactalpha.engine.unloaded import alpha_unloaded_scalar
+from contactalpha.io import read_json
 
 # Constants shipped with the package (written by ``snakemake -c1 closedform_ship``).
 CONSTANTS_FILE = "closed_form.json"
@@ -220,7 +221,7 @@ def alpha_closed_form(eps, xi, constants=None):
     if c.shape != (len(CONSTANT_NAMES),):
         raise ValueError(f"closed-form constants have shape {c.shape}; expected ({len(CONSTANT_NAMES)},)")
     e, x = np.broadcast_arrays(np.asarray(eps, dtype=float), np.asarray(xi, dtype=float))
-    out = alpha_closed_form_many(np.ascontiguousarray(e).ravel(), np.ascontiguousarray(x).ravel(), c)
+    out = alpha_closed_form_many(flat_owned(e), flat_owned(x), c)
     out = out.reshape(e.shape)
     return out[()] if out.ndim == 0 else out
 
@@ -239,10 +240,11 @@ def load_constants():
     path = files("contactalpha") / "data" / CONSTANTS_FILE
     if not path.is_file():
         raise FileNotFoundError(f"{path} is missing: run `snakemake -c1 closedform_ship` to write it")
-    d = json.loads(path.read_text(encoding="utf-8"))
-    if d.get("format_version") != FORMAT_VERSION:
+    d = read_json(path, "closed-form constants")
+    if not isinstance(d, dict) or d.get("format_version") != FORMAT_VERSION:
         raise ValueError(
-            f"{path} has format_version {d.get('format_version')!r}; this package reads {FORMAT_VERSION}"
+            f"{path} has format_version {d.get('format_version') if isinstance(d, dict) else None!r}; "
+            f"this package reads {FORMAT_VERSION}"
         )
     constants_vector(d["constants"])
     return d

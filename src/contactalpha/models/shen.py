@@ -26,7 +26,6 @@ With ``D_c``, ``D_r`` the damping work of compression and restitution (unit
 With these, Eq. 38 holds exactly (``eq38``), since ``0.47 = 0.4 / 0.851``.
 """
 
-import json
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib.resources import files
@@ -35,6 +34,8 @@ import numpy as np
 from numba import njit
 
 from contactalpha.engine.scaling import scaled_load
+from contactalpha.engine.threads import flat_owned
+from contactalpha.io import read_json
 from contactalpha.validation import check_eps, check_xi
 
 # Eq. 32/34: the published factor between s1 (Eq. 31) and sqrt(s2 / 2) (Eq. 33).
@@ -347,8 +348,8 @@ def eq40_gradient(eps, xi, c=PUBLISHED, reading=BEST_READING, names=None):
     value = np.empty(eps.size)
     full = np.zeros((eps.size, len(PUBLISHED)))
     _eq40_gradient_kernel(
-        np.ascontiguousarray(eps),
-        np.ascontiguousarray(xi),
+        flat_owned(eps),
+        flat_owned(xi),
         constants,
         list(READINGS).index(reading),
         value,
@@ -557,7 +558,10 @@ def load_refit():
         raise FileNotFoundError(
             f"{path} is missing: run `snakemake -c2 ship_fit` to refit and ship the constants"
         )
-    return json.loads(path.read_text(encoding="utf-8"))
+    d = read_json(path, "refit constants")
+    if not isinstance(d, dict) or not isinstance(d.get("constants"), dict):
+        raise ValueError(f"refit constants {path} hold no 'constants' mapping; ship them again (ship_fit)")
+    return d
 
 
 def shen_published(eps, xi):

@@ -48,7 +48,7 @@ from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.scaling import influence_factor
 from contactalpha.engine.solver import RESTITUTIONS, solve_alpha
 from contactalpha.laws import DEFAULT_LAW, get_law
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import check_positive, check_range, check_scalar
 
 from .law_scene import law_advise
 from .parameters import scene_accel
@@ -372,13 +372,13 @@ def advise(
     """
     if restitution not in RESTITUTIONS:
         raise ValueError(f"restitution = {restitution!r} is outside the valid choices {RESTITUTIONS}")
-    e = float(check_range("eps", eps, 0.0, 1.0, lo_open=True))
+    e = check_scalar("eps", eps, 0.0, 1.0, lo_open=True)
     m, k, v = (
-        float(check_positive(n, x))
+        check_scalar(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
     a = float(scene_accel(m, accel=accel, force=force))
-    tol = float(check_range("tol", tol, 0.0, 1.0, lo_open=True))
+    tol = check_scalar("tol", tol, 0.0, 1.0, lo_open=True)
     if law is not None and get_law(law).name != DEFAULT_LAW:
         return law_advise(law, e, restitution, m, k, v, a, tol)
     cost = model_costs(costs=costs)

@@ -67,7 +67,7 @@ from contactalpha.engine.codes import (
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import influence_factor, length_scale, time_scale
-from contactalpha.validation import check_range, check_tolerances
+from contactalpha.validation import check_range, check_scalar, check_tolerances
 
 # Standard gravity, m/s^2; the paper does not state its value.
 GRAVITY = 9.81
@@ -131,12 +131,20 @@ class Scene:
     t_end: float = 0.3
 
     def __post_init__(self):
-        for name, lo in (("mass", 0.0), ("radius", 0.0), ("stiffness", 0.0), ("approach_speed", 0.0)):
-            check_range(name, getattr(self, name), lo, np.inf, lo_open=True, hi_open=True)
-        check_range("eps", self.eps, 0.0, 1.0, lo_open=True)
-        check_range("force", self.force, 0.0, np.inf, hi_open=True)
-        check_range("gravity", self.gravity, 0.0, np.inf, hi_open=True)
-        check_range("t_end", self.t_end, 0.0, np.inf, lo_open=True, hi_open=True)
+        # Each field one real number (a bool, text or a list is refused), kept as a float.
+        ranges = {
+            "mass": (0.0, np.inf, True, True),
+            "radius": (0.0, np.inf, True, True),
+            "stiffness": (0.0, np.inf, True, True),
+            "approach_speed": (0.0, np.inf, True, True),
+            "force": (0.0, np.inf, False, True),
+            "eps": (0.0, 1.0, True, False),
+            "gravity": (0.0, np.inf, False, True),
+            "t_end": (0.0, np.inf, True, True),
+        }
+        for name, (lo, hi, lo_open, hi_open) in ranges.items():
+            value = check_scalar(name, getattr(self, name), lo, hi, lo_open=lo_open, hi_open=hi_open)
+            object.__setattr__(self, name, value)
         if self.accel <= 0.0:
             raise ValueError(
                 f"g + F/m = {self.accel!r} is outside the valid range (0, inf): the ball would not return"

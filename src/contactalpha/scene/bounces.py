@@ -29,14 +29,21 @@ from contactalpha.engine.codes import (
     STATUS,
 )
 from contactalpha.engine.driver import ATOL, RTOL
+from contactalpha.engine.table import XI_MAX
 from contactalpha.laws import DEFAULT_LAW, get_law
-from contactalpha.validation import check_tolerances
+from contactalpha.models import ALL_MODELS, MODELS
+from contactalpha.validation import check_count, check_tolerances
 
 from . import ball
 from .law_scene import law_predict_bounces
 
 # Scaled time step cap of the prediction's contacts: none (nothing is recorded or plotted).
 NO_STEP_CAP = np.inf
+# A tabulated model and the solver form of the same alpha, used for a contact whose xi is beyond
+# the table's XI_MAX (slow impacts under a large load), as the front door (contact_parameters) does.
+SOLVER_FORM = {"exact": "exact_solve"}
+# Largest ``max_contacts``: far beyond any sequence that comes to rest.
+MAX_CONTACTS_LIMIT = 10**9
 
 
 @dataclass(frozen=True)
@@ -99,11 +106,13 @@ def predict_bounces(
     scene : scene.ball.Scene
         Its ``t_end`` is ignored: the sequence runs until a contact does not separate.
     model : str
-        Name in ``models.MODELS``; alpha is the model at each contact's ``(eps, xi_i)``.
+        Name in ``models.MODELS``; alpha is the model at each contact's ``(eps, xi_i)``.  A
+        contact of the tabulated ``"exact"`` beyond the table's ``xi`` (``table.XI_MAX``) takes
+        the solver's alpha (``"exact_solve"``, the same alpha to ~1e-7), as ``contact_parameters``.
     rtol, atol : float
         Tolerances of each contact's impact kernel (scaled units).
     max_contacts : int
-        Guard against a runaway sequence; reaching it sets ``status``.
+        Guard against a runaway sequence, a whole number >= 1; reaching it sets ``status``.
     law : str or ContactLaw, optional
         The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
         takes a model of that law (``models.ALL_MODELS``) and returns a dict of arrays
@@ -115,16 +124,28 @@ def predict_bounces(
         ``time_to_rest`` counts from the first touchdown to the end of the last contact
         (``inf`` if it creeps to rest), as ``ball.simulate``'s ``end_time``.
     """
+    if not isinstance(scene, ball.Scene):
+        raise ValueError(f"scene = {scene!r:.80} is not a Scene; valid: a contactalpha.Scene(...)")
     if law is not None and get_law(law).name != DEFAULT_LAW:
+        if not isinstance(model, str) or model not in ALL_MODELS:
+            raise ValueError(
+                f"model = {model!r:.80} is not a registered model; valid: {', '.join(sorted(ALL_MODELS))}"
+            )
         return law_predict_bounces(scene, model, law, max_contacts)
+    if not isinstance(model, str) or model not in MODELS:
+        raise ValueError(
+            f"model = {model!r:.80} is not a registered model; valid: {', '.join(sorted(MODELS))}"
+        )
     rtol, atol = check_tolerances(rtol, atol)
+    max_contacts = check_count("max_contacts", max_contacts, 1, MAX_CONTACTS_LIMIT)
     rows: dict[str, list] = {k: [] for k in ("v", "xi", "alpha", "state", "v_out", "contact", "flight")}
     speed, t, status = float(scene.approach_speed), 0.0, STATUS[OK]
     while True:
         if len(rows["v"]) >= max_contacts:
             status = f"more than {max_contacts} contacts"
             break
-        alpha = ball.contact_alpha(scene, speed, model, "A")
+        name = model if scene.influence(speed) <= XI_MAX else SOLVER_FORM.get(model, model)
+        alpha = ball.contact_alpha(scene, speed, name, "A")
         _, out, _, _, ts = ball.run_contact(scene, speed, alpha, "A", rtol, atol, NO_STEP_CAP)
         code, stat = int(out[OUT_STATE]), int(out[OUT_STATUS])
         rows["v"].append(speed)

@@ -28,7 +28,7 @@ from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
-from contactalpha.validation import PLAIN_FLOATS, check_positive, check_range
+from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from .engine_conventions import UNIT_NOTES
 from .law_scene import law_contact_parameters
@@ -93,7 +93,7 @@ class ContactParameters:
 def _positive(name, value):
     if type(value) in PLAIN_FLOATS and 0.0 < value < math.inf:
         return value
-    return float(check_positive(name, value))
+    return check_scalar(name, value, 0.0, math.inf, lo_open=True, hi_open=True)
 
 
 def scene_accel(mass: float, accel: float | None = None, force: float | None = None) -> float:
@@ -105,7 +105,7 @@ def scene_accel(mass: float, accel: float | None = None, force: float | None = N
     name, value = ("accel", accel) if force is None else ("force", force)
     assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
-        value = float(check_range(name, value, 0.0, np.inf, hi_open=True))
+        value = check_scalar(name, value, 0.0, np.inf, hi_open=True)
     return value if force is None else value / mass
 
 
@@ -117,10 +117,10 @@ def _target(eps, e_n):
         )
     if e_n is None:
         if not (type(eps) in PLAIN_FLOATS and 0.0 <= eps <= 1.0):
-            eps = float(check_range("eps", eps, 0.0, 1.0))
+            eps = check_scalar("eps", eps, 0.0, 1.0)
         return eps, "energetic"
     if not (type(e_n) in PLAIN_FLOATS and 0.0 <= e_n <= 1.0):
-        e_n = float(check_range("e_N", e_n, 0.0, 1.0))
+        e_n = check_scalar("e_N", e_n, 0.0, 1.0)
     if e_n == 0.0:
         raise no_kinematic_inverse()
     return e_n, "kinematic"

@@ -53,7 +53,15 @@ from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
 from contactalpha.engine.scaling import length_scale
 from contactalpha.laws import DEFAULT_LAW, get_law
-from contactalpha.validation import FloatOrArray, RealLike, check_positive, check_range
+from contactalpha.validation import (
+    FloatOrArray,
+    RealLike,
+    check_max_steps,
+    check_positive,
+    check_range,
+    check_scalar,
+    check_tolerances,
+)
 
 from .law_scene import law_critical_speed
 
@@ -96,6 +104,10 @@ LOG_LOAD_XTOL = 1e-12
 BRACKET_WIDTH = 0.05
 # Widenings of the bracket before giving up (NO_BRACKET).
 BRACKET_TRIES = 40
+# Smallest restitution ``critical_speed`` takes: below it the boundary sits at loads A_b < 1e-6
+# (A_b ~ eps^1.5), outside the range the fit and the refinement were checked on, and the damping
+# there is so heavy that one search takes minutes (eps = 1e-5: 81 s) or divides by zero (1e-6).
+CRITICAL_EPS_MIN = 1e-4
 
 
 def end_gap(alpha, A, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
@@ -257,12 +269,14 @@ def critical_speed(
     Parameters
     ----------
     eps : float or array_like
-        Restitution (Stronge), 0 < eps <= 1; at eps = 1 every impact separates (v_crit = 0).
+        Restitution (Stronge), ``CRITICAL_EPS_MIN`` (1e-4) <= eps <= 1; at eps = 1 every impact
+        separates (v_crit = 0).
     mass, stiffness, accel : float
         Mass (kg, > 0), Hertz stiffness (N/m^1.5, > 0) and the constant acceleration
         towards the contact (m/s^2, > 0; gravity plus force over mass).
     rtol, atol, max_steps
-        Impact integrator settings of the boundary search.
+        Impact integrator settings of the boundary search, as in ``impact`` (rtol in
+        [1e-15, 0.1], atol in (0, 1], max_steps a whole number in [1, 1e15]).
     law : str or ContactLaw, optional
         The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
         bisects its own boundary (``scene.law_scene.law_critical_speed``; stiffness in its units).
@@ -280,9 +294,11 @@ def critical_speed(
 
 def critical_speed_status(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
     """``critical_speed`` and a status (``"ok"`` or why it is NaN) per point."""
-    e = check_range("eps", eps, 0.0, 1.0, lo_open=True)
+    e = check_range("eps", eps, CRITICAL_EPS_MIN, 1.0)
     for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
-        check_positive(name, value)
+        check_scalar(name, value, 0.0, np.inf, lo_open=True, hi_open=True)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_steps = check_max_steps(max_steps)
     flat = np.atleast_1d(e).ravel()
     v = np.zeros(flat.shape)
     status = np.full(flat.shape, STATUS[OK], dtype=object)

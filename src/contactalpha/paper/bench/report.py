@@ -317,6 +317,18 @@ def failure_details(failures):
     return " ".join(out)
 
 
+def thread_cores_note(row):
+    """What a 2-thread timing row says about its cores: busy cores, and whether they were free."""
+    load = ", ".join(f"{x:.1f}" for x in row.get("load_average", [])) or "?"
+    note = f"the 2-thread run kept {row['cores_busy']:.2f} cores busy, load average {load}"
+    if not row["cores_free"]:
+        note += (
+            "; it did not get its second core (other work held it), so this speed-up is the "
+            "machine's, not the library's: rerun on an idle machine"
+        )
+    return note
+
+
 def summary_markdown(wp, references, counts, scaling, grids, failures=None):
     """The performance page's block: machine, headline ratios, references, failure counts, scaling."""
     info = scaling["machine"]
@@ -377,6 +389,7 @@ def summary_markdown(wp, references, counts, scaling, grids, failures=None):
         lines += ["", failure_details(failures)]
     g = scaling["grid_fit"]
     th = {r["threads"]: r["seconds"] for r in scaling["threads"]}
+    two = next(r for r in scaling["threads"] if r["threads"] == 2)
     fits = scaling["alpha_fits"]
     ridge = scaling["ridge"]
     lines += [
@@ -384,7 +397,7 @@ def summary_markdown(wp, references, counts, scaling, grids, failures=None):
         f"**Scaling.** Grid time grows as n^{g['exponent']:.2f} from {scaling['grid'][0]['n']} to "
         f"{scaling['grid'][-1]['n']} points ({scaling['grid'][-1]['seconds']:.1f} s for the largest). "
         f"{scaling['threads'][0]['n']} points take {th[1]:.2f} s on 1 thread and {th[2]:.2f} s on 2 "
-        f"(speed-up {th[1] / th[2]:.2f}). Cost of one impact against α, "
+        f"(speed-up {th[1] / th[2]:.2f}; {thread_cores_note(two)}). Cost of one impact against α, "
         "fitted exponent p in nfev ∝ α^p for α ≥ "
         + f"{scaling['alpha_fit_min']:g}: "
         + "; ".join(f"{k} p = {v['exponent']:.2f}" for k, v in fits.items())

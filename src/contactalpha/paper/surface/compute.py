@@ -245,14 +245,14 @@ def chunk_columns(xi, chunk, chunks):
     return np.asarray(xi)[chunk::chunks]
 
 
-def _solve_blocks(eps, xi, solver, progress):
+def _solve_blocks(eps, xi, solver, progress, guess="table"):
     """Solve the grid column block by column block; returns the (n_eps, n_xi, N_SOLVE_OUT) table."""
     table = np.empty((eps.size, xi.size, N_SOLVE_OUT))
     cols = max(1, BLOCK_POINTS // eps.size) if progress else xi.size
     start = time.perf_counter()
     for j in range(0, xi.size, cols):
         e, x = np.meshgrid(eps, xi[j : j + cols], indexing="ij")
-        flat, _ = solve_table(e, x, **solver)
+        flat, _ = solve_table(e, x, guess=guess, **solver)
         table[:, j : j + cols] = flat.reshape(e.shape + (N_SOLVE_OUT,))
         if progress:
             progress(eps.size * min(j + cols, xi.size), eps.size * xi.size, time.perf_counter() - start)
@@ -291,14 +291,15 @@ def compute_surface(eps, xi, *, tol=EPS_TOL, rtol=RTOL, atol=ATOL, max_steps=MAX
         progress = _tqdm_progress()
     started = time.time()
     clock = time.perf_counter()
-    table = _solve_blocks(eps, xi, solver, progress)
+    guess = guess_record()
+    table = _solve_blocks(eps, xi, solver, progress, guess["guess"])
     seconds = time.perf_counter() - clock
     ds = _to_dataset(eps, xi, table)
     ds.attrs.update(
         solver=SOLVER_NAME,
         **solver,
         contactalpha_version=__version__,
-        **guess_record(),
+        **guess,
         git_commit=git_commit(),
         compute_seconds=seconds,
         started=started,
@@ -338,7 +339,7 @@ def guess_record(path=DEFAULT_FILE):
 
     The guess changes the Newton path and so the last bits of alpha: ``guess`` is "table" with
     ``guess_table`` naming the file and its SHA-256, or "formula" with why the table is unusable
-    (the solver then warns and falls back to the exact unloaded alpha).
+    (the surface is then solved from the exact unloaded alpha, ``guess="formula"``).
     """
     try:
         table_arrays(path)
