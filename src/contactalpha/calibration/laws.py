@@ -158,7 +158,7 @@ def _constant_e(values, mass, accel, v):
     return hc_contact(float(alpha_exact(values["e"])), mass, values["stiffness"], accel, v, loaded=False)
 
 
-LAWS = {}
+LAWS: dict[str, Law] = {}
 
 
 def register(law):

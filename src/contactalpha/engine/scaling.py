@@ -278,8 +278,7 @@ def influence_factor(
     with np.errstate(all="ignore"):
         m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_b.shape), np.empty(m_b.shape)
-        flat = [flat_owned(x) for x in (m_b, k_b, v_b)]
-        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+        _scales_rows(flat_owned(m_b), flat_owned(k_b), flat_owned(v_b), d.reshape(-1), t.reshape(-1))
         A = a * d / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
         log_A = np.log(a) + 0.4 * (np.log(1.25) + np.log(m_e) - np.log(k)) - 1.2 * np.log(v0)

@@ -23,6 +23,7 @@ model of what it computes.
 """
 
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
@@ -159,7 +160,7 @@ RUN_ADAPTERS = {
     "exudyn_model2": exudyn_contact.ADAPTER,
 }
 # Run -> (target eps, exact alpha, approach speed) -> (alpha applied, engine input, engine parameters).
-RUN_INPUTS = {
+RUN_INPUTS: dict[str, Callable] = {
     "opensim_exact": lambda eps, alpha, v: _opensim_input(alpha, v),
     "opensim_hunt_crossley": lambda eps, alpha, v: _opensim_input(float(hunt_crossley(eps)), v),
     "exudyn_exact": lambda eps, alpha, v: _exudyn_input(float(exudyn_restitution_input(alpha, 2)), 2),
