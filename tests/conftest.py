@@ -36,7 +36,7 @@ def _require_engine(module):
 
 
 # Fixtures of the real engines: a test that uses one is an integration test (pytest -m integration).
-ENGINE_FIXTURES = ("opensim", "exudyn")
+ENGINE_FIXTURES = ("opensim", "exudyn", "mujoco", "pydrake", "pybullet")
 
 
 @pytest.hookimpl(tryfirst=True)

@@ -76,3 +76,17 @@ def test_c_export_cmake_example_matches_the_python_front_door(tmp_path):
         assert (xi, alpha, damping) == pytest.approx((cp.xi, cp.alpha, cp.damping), rel=1e-12)
         # Independent of the tables: one impact of the engine with that alpha gives e_N = 0.5.
         assert ca.impact(alpha, xi).e_n == pytest.approx(0.5, abs=1e-6)
+
+
+def test_mujoco_drop_example_delivers_the_target_inside_mujoco(mujoco, capsys):
+    runpy.run_path(str(EXAMPLES / "mujoco_drop.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    assert _printed(out, "approach speed") == pytest.approx(0.5, rel=1e-4)
+    # MuJoCo's own drop at a 1e-5 s step, with the law's solref: the target within 1e-3.
+    delivered = float(re.search(r"MuJoCo delivers\s+e_N = ([0-9.]+)", out).group(1))
+    assert delivered == pytest.approx(0.5, abs=1e-3)
+    # The solref is per unit mass: stiffness k/m and damping 2 zeta sqrt(k/m).
+    stiffness, damping = (float(x) for x in out.split("solref")[1].split()[:2])
+    zeta = _printed(out, "damping ratio")
+    assert -stiffness == pytest.approx(2.0e4 / 0.5, rel=1e-12)
+    assert -damping == pytest.approx(2 * zeta * math.sqrt(2.0e4 / 0.5), rel=1e-8)
