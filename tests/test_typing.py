@@ -13,6 +13,8 @@ def test_every_public_function_is_annotated():
     missing = []
     for name in contactalpha.__all__:
         obj = getattr(contactalpha, name)
+        if not callable(obj):  # a registry (LAWS): data, typed where it is defined
+            continue
         if dataclasses.is_dataclass(obj):
             missing += [
                 f"{name}.{f.name}"

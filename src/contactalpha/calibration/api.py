@@ -176,22 +176,22 @@ def _as_data(source, kind, t, tolerance):
 
 
 def calibrate(
-    data,
+    data: "str | Path | data_mod.DropData | np.ndarray",
     *,
-    mass,
-    radius=None,
-    kind=None,
-    t=None,
-    laws=None,
-    gravity=GRAVITY,
-    force=0.0,
-    stiffness=None,
-    moduli=None,
-    poisson=(0.3, 0.3),
-    level=LEVEL,
-    intervals=True,
-    interval_tolerance=data_mod.INTERVAL_TOLERANCE,
-):
+    mass: float,
+    radius: float | None = None,
+    kind: str | None = None,
+    t: "np.ndarray | None" = None,
+    laws: "str | list[str] | None" = None,
+    gravity: float = GRAVITY,
+    force: float = 0.0,
+    stiffness: float | None = None,
+    moduli: "tuple[float, float] | None" = None,
+    poisson: tuple[float, float] = (0.3, 0.3),
+    level: float = LEVEL,
+    intervals: bool = True,
+    interval_tolerance: float = data_mod.INTERVAL_TOLERANCE,
+) -> "Calibration":
     """Fit restitution laws to a drop test and select one.
 
     Parameters

@@ -297,7 +297,7 @@ def _with_impedance():
     return ", ".join(law.name for law in LAWS if law.impedance_range is not None)
 
 
-def get_law(law=DEFAULT_LAW, **shape):
+def get_law(law: "str | ContactLaw" = DEFAULT_LAW, **shape: float) -> ContactLaw:
     """The registered law named ``law`` (a ``ContactLaw`` passes through), with ``impedance=`` if given.
 
     Raises
