@@ -6,6 +6,7 @@ and its options before or after the subcommand's name; ``-h`` shows examples.
 
 import argparse
 import math
+import os
 import re
 import sys
 
@@ -209,6 +210,11 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         return COMMANDS[args.command](args, args.subparser)
+    except BrokenPipeError:
+        # The reader went away (`contactalpha params ... | head`): not an error of ours. Point
+        # stdout at devnull so that Python's flush at exit does not raise again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except (ValueError, RuntimeError, OSError) as exc:
         # Bad input, a failed solve, a file that cannot be written: one line, never a traceback.
         message = " ".join(str(exc).split()) or type(exc).__name__

@@ -82,3 +82,15 @@ def test_an_integrator_option_after_the_command_is_taken_as_before_it():
     misplaced = run(["hertz", "--modulus", "2e11", "--poisson", "0.3", "--radius", "0.01", "--rtol", "1e-10"])
     assert misplaced.returncode == 2 and misplaced.stderr.count("\n") == 1
     assert "--rtol" in misplaced.stderr and "before the command" in misplaced.stderr
+
+
+def test_a_reader_that_goes_away_is_not_an_error():
+    # `contactalpha params ... | head -1`: the pipe closes while the command still prints.
+    cmd = [sys.executable, "-m", "contactalpha", "params", "--e-n", "0.5", "--mass", "0.5"]
+    cmd += ["--stiffness", "1.4e8", "--speed", "0.5", "--accel", "129.81", "--radius", "0.08"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = proc.stdout.readline()
+    proc.stdout.close()  # as head does after its lines
+    err = proc.stderr.read()
+    assert proc.wait() == 0 and first.startswith("xi")
+    assert err == ""
