@@ -234,7 +234,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_linear_force,
         code=forces.HUNT_CROSSLEY_LINEAR,
-        fast=LawTable("law_table_hunt_crossley_linear.npz"),
+        fast=LawTable("law_table_hunt_crossley_linear.npz", cuts=("separation", "creep_onset")),
     ),
     ContactLaw(
         name="kelvin_voigt",
@@ -287,7 +287,9 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
         code=forces.HERTZ_TSUJI,
-        fast=LawTable("law_table_hertz_tsuji.npz"),
+        fast=LawTable(
+            "law_table_hertz_tsuji.npz", cuts=("separation", "first_of_floor_creep", "both_floor_creep")
+        ),
     ),
 ]
 

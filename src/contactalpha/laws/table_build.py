@@ -1,9 +1,8 @@
 """One-off build of a nonlinear law's exact-damping tables (``table.py`` holds the runtime lookup).
 
-The tables have the layout and coordinates of the Hunt-Crossley n = 3/2 tables
-(``engine/table.py``): ``L = ln(p e / (1 - e))`` on the load coordinate ``eta`` and, for Stronge's
-eps, two regions cut along the law's separation boundary ``u = b(eta)`` (``u = ln eps``); for
-Newton's e_N one region on ``q = ln e_N``.  So the engine's jitted evaluators read them unchanged.
+``table.py`` describes the tables: ``L = ln(p e / (1 - e))`` on the load coordinate ``eta`` and,
+for Stronge's eps, regions cut along curves where eps(p) has kinks (found here by bisection on the
+end state of the law's impact, ``CUTS``); for Newton's e_N one region on ``q = ln e_N``.
 The node values are the law's exact inverse (``solve.py``, the family integrator); the node at
 ``e = 1`` (``p = 0``) takes ``L``'s limit by Richardson extrapolation from ``e = 1 - h, 1 - 2 h``.
 
@@ -13,12 +12,12 @@ Build the shipped files with ``python -m contactalpha.laws.table_build`` (all ta
 
 import argparse
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, replace
 
 import numpy as np
 
 from contactalpha.engine.bspline import clamp_to_uniform
-from contactalpha.engine.codes import OK, SEPARATION
+from contactalpha.engine.codes import CREEP, NO_RESTITUTION, OK, SEPARATION
 from contactalpha.engine.table import (
     DEGREE,
     EPS_MIN,
@@ -26,12 +25,7 @@ from contactalpha.engine.table import (
     G_FIRST,
     G_K_ETA,
     G_K_Q,
-    G_N_ETA,
-    G_N_P,
-    G_S_ETA,
-    G_S_P,
     G_STEP,
-    N_GEOM,
     N_K_GEOM,
     U_MIN,
     XI_MAX,
@@ -41,24 +35,16 @@ from contactalpha.engine.table import (
 from contactalpha.engine.table_build import XI_BOUNDARY_MIN, soft_floor, xi_of_eta
 
 from .backends import FAMILY
-from .integrate import R_EN, R_EPS2, R_STATE, R_STATUS
+from .integrate import R_EN, R_EPS2, R_FLOORS, R_STATE, R_STATUS
 
 # Distance from e = 1 of the two solves that extrapolate L to e = 1.
 RICHARDSON_H = 1e-5
 # Bisection steps placing the separation boundary in ln p.
 BOUNDARY_BISECTIONS = 60
+# Largest miss of a bisected root, in restitution.
+ROOT_CHECK = 1e-12
 # Largest damping searched for the separation boundary.
 P_SEARCH_MAX = 1e8
-
-
-@dataclass(frozen=True)
-class LawTableSettings:
-    """Grid of ``build_law_tables``; the defaults build the shipped files."""
-
-    n_eta: int = 139
-    n_p: int = 51
-    refine_n: int = 2
-    n_q: int = 51
 
 
 def _spline2d(x, y, L):
@@ -82,16 +68,48 @@ def _rows(law, p, xi):
 
 
 def _solve(law, target, xi, kinematic):
-    """Exact damping at flat ``target``, ``xi``; a RuntimeError names the first failure."""
+    """Exact damping at ``target``, ``xi`` (broadcast, flattened); a RuntimeError names a failure.
+
+    Where the family's solver fails (its Illinois steps can land where the integrator hits its
+    step limit, next to the no-restitution boundary: eps -> 0 there), ``_bisect`` finds the root.
+    """
     target, xi = np.broadcast_arrays(np.asarray(target, dtype=float), np.asarray(xi, dtype=float))
     target = np.ascontiguousarray(target).ravel()
     xi = np.ascontiguousarray(xi).ravel()
     A = np.atleast_1d(law.scaled_load(xi)).astype(float)
     p, status = FAMILY.damping(law, target, kinematic, A, xi)
-    if np.any(status != OK):
-        i = int(np.argmax(status != OK))
-        raise RuntimeError(f"{law.name} table build: solve failed at e={target[i]!r}, xi={xi[i]!r}")
+    bad = status != OK
+    if bad.any():
+        p[bad] = _bisect(law, target[bad], xi[bad], kinematic)
     return p
+
+
+def _restitution(law, p, xi, kinematic):
+    rows = _rows(law, p, xi)
+    e = rows[:, R_EN] if kinematic else np.sqrt(np.maximum(rows[:, R_EPS2], 0.0))
+    return np.where(rows[:, R_STATUS] == OK, e, np.nan)
+
+
+def _bisect(law, target, xi, kinematic):
+    """Bisection in ``p`` that reads a failed impact as ``e < target``; the root is then checked."""
+    lo = np.zeros_like(target)
+    hi = np.ones_like(target)
+    for _ in range(40):
+        over = _restitution(law, hi, xi, kinematic) > target
+        if not over.any():
+            break
+        lo = np.where(over, hi, lo)
+        hi = np.where(over, 4.0 * hi, hi)
+    for _ in range(BOUNDARY_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        over = _restitution(law, mid, xi, kinematic) > target
+        lo = np.where(over, mid, lo)
+        hi = np.where(over, hi, mid)
+    miss = np.abs(_restitution(law, lo, xi, kinematic) - target)
+    if not np.all(miss <= ROOT_CHECK):
+        i = int(np.argmax(~(miss <= ROOT_CHECK)))
+        raise RuntimeError(f"{law.name} table build: no root at e={target[i]!r}, xi={xi[i]!r}")
+    return lo
 
 
 def node_values(law, e, xi, kinematic):
@@ -110,15 +128,51 @@ def node_values(law, e, xi, kinematic):
     return L
 
 
-def separation_boundary(law, xi):
-    """``ln eps`` on the law's separation boundary at each ``xi`` (-inf where it always separates)."""
+def _past_separation(rows):
+    """Past the separation boundary: the impact no longer separates."""
+    return rows[:, R_STATE] != SEPARATION
+
+
+def _past_last_floor(rows):
+    """Past the last floor: the impact neither separates nor reaches the force's floor."""
+    return (rows[:, R_STATE] != SEPARATION) & (rows[:, R_FLOORS] == 0)
+
+
+def _past_creep_onset(rows):
+    """Past the onset of creep: the impact creeps to the equilibrium (or never turns)."""
+    return (rows[:, R_STATE] == CREEP) | (rows[:, R_STATE] == NO_RESTITUTION)
+
+
+def _past_first(rows):
+    """Past the first of the last floor and the onset of creep (they cross for Tsuji's law)."""
+    return _past_last_floor(rows) | _past_creep_onset(rows)
+
+
+def _past_both(rows):
+    """Past both the last floor and the onset of creep."""
+    return _past_last_floor(rows) & _past_creep_onset(rows)
+
+
+# The curves a law's energetic table can be cut along (``LawTable.cuts``): a test on impact rows
+# that turns from False to True once as the damping grows at a fixed load.
+CUTS = {
+    "separation": _past_separation,
+    "last_floor": _past_last_floor,
+    "creep_onset": _past_creep_onset,
+    "first_of_floor_creep": _past_first,
+    "both_floor_creep": _past_both,
+}
+
+
+def cut_curve(law, xi, cut):
+    """``ln eps`` on the curve ``cut`` (``CUTS``) at each ``xi`` (-inf where it is never crossed)."""
+    past = CUTS[cut]
     xi = np.asarray(xi, dtype=float)
     lo = np.zeros_like(xi)
     hi = np.ones_like(xi)
     found = np.zeros(xi.shape, dtype=bool)
     while True:
-        rows = _rows(law, hi, xi)
-        found |= rows[:, R_STATE] != SEPARATION
+        found |= past(_rows(law, hi, xi))
         todo = ~found & (hi < P_SEARCH_MAX)
         if not todo.any():
             break
@@ -126,9 +180,9 @@ def separation_boundary(law, xi):
         hi = np.where(todo, 4.0 * hi, hi)
     for _ in range(BOUNDARY_BISECTIONS):
         mid = np.where(lo > 0.0, np.sqrt(lo * hi), 0.5 * hi)
-        sep = _rows(law, mid, xi)[:, R_STATE] == SEPARATION
-        lo = np.where(sep, mid, lo)
-        hi = np.where(sep, hi, mid)
+        over = past(_rows(law, mid, xi))
+        lo = np.where(over, lo, mid)
+        hi = np.where(over, mid, hi)
     rows = _rows(law, lo, xi)
     if np.any(rows[:, R_STATUS] != OK):
         raise RuntimeError(f"{law.name} table build: boundary impact failed")
@@ -146,38 +200,63 @@ def _geom(size, *grids):
 
 
 def build_energetic(law, settings, say):
-    """Arrays of the energetic table (``table.ENERGETIC_NAMES``) and the grid's meta."""
+    """Arrays of the energetic table by name (``table.energetic_names``), cut along ``law.fast.cuts``."""
     from scipy.interpolate import make_interp_spline
     from scipy.optimize import brentq
 
+    cuts = law.fast.cuts
     eta_max = float(eta_of_xi(XI_MAX))
     eta = np.linspace(0.0, eta_max, settings.n_eta)
+    deta = eta[1] - eta[0]
     xi = xi_of_eta(eta)
     xi[0] = 0.0
-    b = np.full(eta.size, -np.inf)
     search = xi >= XI_BOUNDARY_MIN
-    b[search] = separation_boundary(law, xi[search])
-    b_eff = soft_floor(b)
-    bs = make_interp_spline(eta, b_eff, k=DEGREE)
-    b_t, b_c = clamp_to_uniform(bs.t, bs.c, DEGREE, eta)
-    say(f"{law.name}: boundary, {int(search.sum())} rows")
-    p = np.linspace(0.0, 1.0, settings.n_p)
-    u_s = b_eff[:, None] * (1.0 - p[None, :] ** 2)
-    L_s = node_values(law, np.exp(u_s), xi[:, None], False)
-    say(f"{law.name}: region S, {L_s.size} nodes")
-    eta_n_min = brentq(lambda e: float(bs(e)) - U_MIN, 0.0, eta_max) if bs(eta_max) > U_MIN else 0.0
-    n_rows = max(DEGREE + 2, int(round(settings.refine_n * (eta_max - eta_n_min) / (eta[1] - eta[0]))) + 1)
-    eta_n = np.linspace(eta_n_min, eta_max, n_rows)
-    p_n = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
-    b_n = bs(eta_n)
-    u_n = b_n[:, None] - p_n[None, :] ** 2 * (b_n[:, None] - U_MIN)
-    L_n = node_values(law, np.exp(np.minimum(u_n, 0.0)), xi_of_eta(eta_n)[:, None], False)
-    say(f"{law.name}: region N, {L_n.size} nodes")
-    s_tx, s_ty, s_c = _spline2d(eta, p, L_s)
-    n_tx, n_ty, n_c = _spline2d(eta_n, p_n, L_n)
-    geom = _geom(N_GEOM, (G_S_ETA, eta), (G_S_P, p), (G_N_ETA, eta_n), (G_N_P, p_n))
-    arrays = (b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, geom)
-    return arrays, dict(n_eta_region_n=int(n_rows), n_p_region_n=int(p_n.size))
+    splines, coefs, knots = [], [], None
+    for cut in cuts:
+        b = np.full(eta.size, -np.inf)
+        b[search] = cut_curve(law, xi[search], cut)
+        bs = make_interp_spline(eta, soft_floor(b), k=DEGREE)
+        knots, c = clamp_to_uniform(bs.t, bs.c, DEGREE, eta)
+        splines.append(bs)
+        coefs.append(c)
+        say(f"{law.name}: cut {cut}, {int(search.sum())} rows")
+    if np.any(np.diff(np.array([soft_floor(s(eta)) for s in splines]), axis=0) > 1e-12):
+        raise RuntimeError(f"{law.name} table build: cuts {cuts} are not ordered top to bottom")
+    arrays = {"curves_t": knots, "curves_c": np.ascontiguousarray(np.array(coefs))}
+    geom = [float(len(cuts)), eta[0], deta, float(eta.size)]
+    for r in range(len(cuts) + 1):
+        if r == 0:
+            eta_r = eta
+            w = np.linspace(0.0, 1.0, settings.n_p)
+        else:
+            top = splines[r - 1]
+            start = 0.0
+            if top(0.0) < U_MIN:  # the region starts where its upper cut enters the domain
+                start = brentq(lambda e, top=top: float(top(e)) - U_MIN, 0.0, eta_max)
+            rows = max(DEGREE + 2, int(round(settings.refine_n * (eta_max - start) / deta)) + 1)
+            eta_r = np.linspace(start, eta_max, rows)
+            w = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
+        u = region_u(splines, r, eta_r[:, None], w[None, :])
+        L = node_values(
+            law, np.exp(np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
+        )
+        say(f"{law.name}: region {r}, {L.size} nodes")
+        tx, ty, c = _spline2d(eta_r, w, L)
+        arrays |= {f"r{r}_tx": tx, f"r{r}_ty": ty, f"r{r}_c": c}
+        geom += [eta_r[0], eta_r[1] - eta_r[0], float(eta_r.size), w[0], w[1] - w[0], float(w.size)]
+    arrays["geom"] = np.array(geom)
+    return arrays
+
+
+def region_u(splines, r, eta, w):
+    """``u = ln eps`` at column coordinate ``w`` of region ``r`` (``table.py``'s maps, inverted)."""
+    cuts = len(splines)
+    if r == 0:
+        return splines[0](eta) * (1.0 - w**2)
+    upper = splines[r - 1](eta)
+    if r == cuts:
+        return upper - w**2 * (upper - U_MIN)
+    return upper - np.sin(0.5 * np.pi * w) ** 2 * (upper - splines[r](eta))
 
 
 def build_kinematic(law, settings, say):
@@ -194,16 +273,15 @@ def build_kinematic(law, settings, say):
     return (tx, ty, c, _geom(N_K_GEOM, (G_K_ETA, eta), (G_K_Q, q)))
 
 
-def build_law_tables(law, settings=LawTableSettings(), progress=None):
+def build_law_tables(law, settings=None, progress=None):
     """Both tables of ``law`` as ``(arrays by name, meta)``, ready for ``table.save_law_tables``."""
-    from .table import ENERGETIC_NAMES, KINEMATIC_NAMES, TABLE_FORMAT
+    from .table import KINEMATIC_NAMES, TABLE_FORMAT
 
     say = progress or (lambda msg: None)
+    settings = law.fast.settings if settings is None else settings
     t0 = time.perf_counter()
-    energetic, extra = build_energetic(law, settings, say)
-    kinematic = build_kinematic(law, settings, say)
-    arrays = dict(zip(ENERGETIC_NAMES, energetic, strict=True))
-    arrays.update(zip(KINEMATIC_NAMES, kinematic, strict=True))
+    arrays = build_energetic(law, settings, say)
+    arrays.update(zip(KINEMATIC_NAMES, build_kinematic(law, settings, say), strict=True))
     meta = dict(
         format=TABLE_FORMAT,
         law=law.name,
@@ -213,8 +291,8 @@ def build_law_tables(law, settings=LawTableSettings(), progress=None):
         degree=DEGREE,
         richardson_h=RICHARDSON_H,
         build_seconds=round(time.perf_counter() - t0, 1),
+        cuts=list(law.fast.cuts),
         **asdict(settings),
-        **extra,
     )
     return arrays, meta
 
@@ -222,19 +300,19 @@ def build_law_tables(law, settings=LawTableSettings(), progress=None):
 def main(argv=None):
     """Build and write the tables of the named laws (default: every law whose ``fast`` is a table)."""
     from .law import LAWS, get_law
-    from .table import LawTable, save_law_tables
+    from .table import LawTable, LawTableSettings, save_law_tables
 
     tabulated = [law.name for law in LAWS if isinstance(law.fast, LawTable)]
     ap = argparse.ArgumentParser(description="Build the exact-damping tables of the nonlinear laws.")
     ap.add_argument("laws", nargs="*", default=tabulated, help=f"default: {' '.join(tabulated)}")
-    for name, value in asdict(LawTableSettings()).items():
-        ap.add_argument(f"--{name.replace('_', '-')}", type=int, default=value)
+    for name in asdict(LawTableSettings()):
+        ap.add_argument(f"--{name.replace('_', '-')}", type=int, help="default: the law's LawTable.settings")
     ap.add_argument("--out", help="output file (one law only); default the law's shipped file")
     args = ap.parse_args(argv)
-    settings = LawTableSettings(**{k: getattr(args, k) for k in asdict(LawTableSettings())})
+    given = {k: getattr(args, k) for k in asdict(LawTableSettings()) if getattr(args, k) is not None}
     for name in args.laws:
         law = get_law(name)
-        arrays, meta = build_law_tables(law, settings, progress=print)
+        arrays, meta = build_law_tables(law, replace(law.fast.settings, **given), progress=print)
         path = save_law_tables(arrays, meta, args.out or law.fast.path)
         print(f"{law.name}: wrote {path} in {meta['build_seconds']} s")
 
