@@ -71,7 +71,8 @@ def _solve(law, target, xi, kinematic):
     """Exact damping at ``target``, ``xi`` (broadcast, flattened); a RuntimeError names a failure.
 
     Where the family's solver fails (its Illinois steps can land where the integrator hits its
-    step limit, next to the no-restitution boundary: eps -> 0 there), ``_bisect`` finds the root.
+    step limit, next to the no-restitution boundary: eps -> 0 there), ``_bisect`` finds the root;
+    NaN where it finds none below the domain (``target < EPS_MIN``).
     """
     target, xi = np.broadcast_arrays(np.asarray(target, dtype=float), np.asarray(xi, dtype=float))
     target = np.ascontiguousarray(target).ravel()
@@ -106,10 +107,23 @@ def _bisect(law, target, xi, kinematic):
         lo = np.where(over, mid, lo)
         hi = np.where(over, hi, mid)
     miss = np.abs(_restitution(law, lo, xi, kinematic) - target)
-    if not np.all(miss <= ROOT_CHECK):
-        i = int(np.argmax(~(miss <= ROOT_CHECK)))
+    found = miss <= ROOT_CHECK
+    if not np.all(found | (target < EPS_MIN)):
+        i = int(np.argmax(~found & (target >= EPS_MIN)))
         raise RuntimeError(f"{law.name} table build: no root at e={target[i]!r}, xi={xi[i]!r}")
-    return lo
+    # Below the domain (nodes that only support the spline) a missing root is NaN: ``_fill_rows``.
+    return np.where(found, lo, np.nan)
+
+
+def _fill_rows(L, w):
+    """Fill NaN nodes (below the domain, ``_bisect``) of each row by a cubic through its 4 nearest nodes."""
+    for row in L:
+        bad = np.isnan(row)
+        if bad.any():
+            good = np.flatnonzero(~bad)
+            near = good[np.argsort(np.abs(good[:, None] - np.flatnonzero(bad)[None, :]).min(axis=1))[:4]]
+            row[bad] = np.polyval(np.polyfit(w[near], row[near], 3), w[bad])
+    return L
 
 
 def node_values(law, e, xi, kinematic):
@@ -202,7 +216,6 @@ def _geom(size, *grids):
 def build_energetic(law, settings, say):
     """Arrays of the energetic table by name (``table.energetic_names``), cut along ``law.fast.cuts``."""
     from scipy.interpolate import make_interp_spline
-    from scipy.optimize import brentq
 
     cuts = law.fast.cuts
     eta_max = float(eta_of_xi(XI_MAX))
@@ -229,18 +242,21 @@ def build_energetic(law, settings, say):
             eta_r = eta
             w = np.linspace(0.0, 1.0, settings.n_p)
         else:
-            top = splines[r - 1]
-            start = 0.0
-            if top(0.0) < U_MIN:  # the region starts where its upper cut enters the domain
-                start = brentq(lambda e, top=top: float(top(e)) - U_MIN, 0.0, eta_max)
-            rows = max(DEGREE + 2, int(round(settings.refine_n * (eta_max - start) / deta)) + 1)
-            eta_r = np.linspace(start, eta_max, rows)
+            # The region spans the rows where its upper cut is inside the domain, and one more each side.
+            inside = np.flatnonzero(splines[r - 1](eta) > U_MIN)
+            if inside.size == 0:
+                raise RuntimeError(f"{law.name} table build: cut {cuts[r - 1]} never enters the domain")
+            lo, hi = eta[max(inside[0] - 1, 0)], eta[min(inside[-1] + 1, eta.size - 1)]
+            rows = max(DEGREE + 2, int(round(settings.refine_n * (hi - lo) / deta)) + 1)
+            eta_r = np.linspace(lo, hi, rows)
             w = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
         u = region_u(splines, r, eta_r[:, None], w[None, :])
         L = node_values(
             law, np.exp(np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
         )
-        say(f"{law.name}: region {r}, {L.size} nodes")
+        filled = int(np.isnan(L).sum())
+        L = _fill_rows(L, w)
+        say(f"{law.name}: region {r}, {L.size} nodes ({filled} below the domain extrapolated)")
         tx, ty, c = _spline2d(eta_r, w, L)
         arrays |= {f"r{r}_tx": tx, f"r{r}_ty": ty, f"r{r}_c": c}
         geom += [eta_r[0], eta_r[1] - eta_r[0], float(eta_r.size), w[0], w[1] - w[0], float(w.size)]
