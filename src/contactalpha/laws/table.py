@@ -203,7 +203,7 @@ class LawTableSettings:
     n_eta: int = 139
     n_p: int = 51
     refine_n: int = 4
-    n_q: int = 51
+    n_q: int = 101
 
 
 _PACKED: dict = {}
