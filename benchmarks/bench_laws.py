@@ -97,7 +97,7 @@ def main(argv=None):
             )
     print("\nfirst calls (compile or cache load), s:")
     for name, sec in compile_s.items():
-        print(f"  {name:38s} {sec:8.2f}")
+        print(f"  {name:46s} {sec:8.2f}")
     print(f"\n{'law':22s} {'evaluator':40s} {'points/s':>12s} {'/ baseline':>11s} {'max error':>10s}")
     for law, what, r, err in rows:
         print(f"{law:22s} {what:40s} {r:12.3g} {r / base:11.3g} {err:10.2g}")
