@@ -125,3 +125,12 @@ def test_changed_arrays_or_shapes_are_refused(copied):
         check_arrays(cut, meta, path)
     with pytest.raises(ValueError, match="format"):
         check_arrays(arrays, dict(meta, format="law-table-1"), path)
+
+
+@pytest.mark.parametrize("how", ["truncated", "garbage"])
+def test_a_corrupted_table_file_names_itself(copied, how):
+    law, path = copied
+    raw = path.read_bytes()
+    path.write_bytes(raw[: len(raw) // 2] if how == "truncated" else b"\x00\xff" * 64)
+    with pytest.raises(ValueError, match=rf"law table {path} cannot be read"):
+        law.fast_damping(0.5, 0.2)

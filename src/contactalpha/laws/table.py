@@ -21,6 +21,7 @@ the one the file records: a changed or truncated file is refused, never evaluate
 
 import hashlib
 import json
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -159,6 +160,9 @@ def check_arrays(arrays, meta, path):
             raise ValueError(
                 f"law table {path}: array {name} has shape {arrays[name].shape}, expected {shape}"
             )
+    for name, a in arrays.items():
+        if a.dtype != np.float64 or not np.all(np.isfinite(a)):
+            raise ValueError(f"law table {path}: array {name} is not finite float64; {hint}")
     got = checksum(arrays)
     if got != meta.get("sha256"):
         raise ValueError(f"law table {path}: checksum {got[:12]}... differs from the recorded one; {hint}")
@@ -180,13 +184,19 @@ def load_law_tables(path):
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"law table {path} not found; build it with `{BUILD_COMMAND}`")
-    with np.load(path) as z:
-        meta = json.loads(str(z["meta"]))
-        names = (*energetic_names(len(meta.get("cuts", ()))), *KINEMATIC_NAMES)
-        missing = [n for n in names if n not in z.files]
-        if missing:
-            raise ValueError(f"law table {path} lacks arrays {missing}; rebuild it with `{BUILD_COMMAND}`")
-        arrays = {k: np.ascontiguousarray(z[k]) for k in names}
+    try:
+        with np.load(path) as z:
+            meta = json.loads(str(z["meta"]))
+            names = (*energetic_names(len(meta.get("cuts", ()))), *KINEMATIC_NAMES)
+            missing = [n for n in names if n not in z.files]
+            if missing:
+                raise KeyError(f"arrays {missing} missing")
+            arrays = {k: np.ascontiguousarray(z[k]) for k in names}
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
+        raise ValueError(
+            f"law table {path} cannot be read ({type(err).__name__}: {err}): truncated or not a law "
+            f"table; rebuild it with `{BUILD_COMMAND}`"
+        ) from err
     check_arrays(arrays, meta, path)
     return arrays, meta
 
