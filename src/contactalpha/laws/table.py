@@ -210,7 +210,7 @@ class LawTableSettings:
     and ``n_q`` columns in ln e_N.
     """
 
-    n_eta: int = 139
+    n_eta: int = 199
     n_p: int = 51
     refine_n: int = 4
     n_q: int = 101
