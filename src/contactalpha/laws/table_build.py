@@ -43,6 +43,8 @@ RICHARDSON_H = 1e-5
 BOUNDARY_BISECTIONS = 60
 # Largest miss of a bisected root, in restitution.
 ROOT_CHECK = 1e-12
+# Relative steps back from a cut where the impact on it fails.
+BOUNDARY_BACKOFF = (1e-12, 1e-10, 1e-8)
 # Largest damping searched for the separation boundary.
 P_SEARCH_MAX = 1e8
 
@@ -198,9 +200,18 @@ def cut_curve(law, xi, cut):
         lo = np.where(over, lo, mid)
         hi = np.where(over, mid, hi)
     rows = _rows(law, lo, xi)
+    # Next to the critical damping the integrator can hit its step limit: step back from the cut.
+    for back in BOUNDARY_BACKOFF:
+        failed = rows[:, R_STATUS] != OK
+        if not failed.any():
+            break
+        rows[failed] = _rows(law, lo[failed] * (1.0 - back), xi[failed])
     if np.any(rows[:, R_STATUS] != OK):
-        raise RuntimeError(f"{law.name} table build: boundary impact failed")
-    b = 0.5 * np.log(np.maximum(rows[:, R_EPS2], 0.0))
+        raise RuntimeError(
+            f"{law.name} table build: boundary impact failed at xi = {xi[rows[:, R_STATUS] != OK]}"
+        )
+    with np.errstate(divide="ignore"):  # eps = 0 on a cut into no restitution: -inf, floored later
+        b = 0.5 * np.log(np.maximum(rows[:, R_EPS2], 0.0))
     return np.where(found, b, -np.inf)
 
 
