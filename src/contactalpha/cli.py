@@ -173,6 +173,11 @@ def build_parser():
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
+    f.add_argument(
+        "--law",
+        help="contact law (contactalpha.laws.LAWS; default hunt_crossley, n = 3/2); "
+        "--stiffness is then in that law's units (N/m for n = 1, per unit mass for mujoco_soft)",
+    )
     h = _sub(sub, "hertz", "Hertz stiffness k (N/m^1.5) of two bodies from moduli, Poisson ratios, radii")
     h.add_argument("--modulus", type=_number, required=True, help="Young's modulus of body 1, Pa")
     h.add_argument("--poisson", type=_number, required=True, help="Poisson ratio of body 1, in (-1, 0.5]")
@@ -280,13 +285,17 @@ def _params(args, parser):
 
     from contactalpha.io import json_text
     from contactalpha.scene.engine_conventions import UNIT_NOTES
+    from contactalpha.scene.law_scene import LawParameters, format_law_parameters
     from contactalpha.scene.parameters import contact_parameters, format_parameters
 
     value, restitution = _restitution(args, parser)
+    if args.engine is not None and args.law is not None:
+        raise ValueError("give --engine or --law, not both: an engine's block uses its own law")
     if args.engine is not None:
         return _print_engine(args, value, restitution)
     target = {"eps": value} if restitution == "energetic" else {"e_N": value}
     cp = contact_parameters(
+        law=args.law,
         mass=args.mass,
         stiffness=args.stiffness,
         approach_speed=args.speed,
@@ -298,7 +307,12 @@ def _params(args, parser):
     data = asdict(cp) | {
         "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
     }
-    print(json_text(data, indent=1) if args.json else format_parameters(cp))
+    if args.json:
+        print(json_text(data, indent=1))
+    elif isinstance(cp, LawParameters):
+        print(format_law_parameters(cp))
+    else:
+        print(format_parameters(cp))
     return 0
 
 

@@ -40,10 +40,13 @@ def test_inverses_deliver_their_target(law, restitution):
 
 
 def test_laws_without_a_fast_evaluator_say_so():
+    from dataclasses import replace
+
+    bare = replace(get_law("hertz_tsuji"), fast=None)
     with pytest.raises(
         ValueError, match="law 'hertz_tsuji' has no fast evaluator yet; law.impact and law.damping_for"
     ):
-        get_law("hertz_tsuji").fast_damping(0.5, 0.1)
+        bare.fast_damping(0.5, 0.1)
     with pytest.raises(ValueError, match="law 'hunt_crossley' has no fast forward map"):
         get_law("hunt_crossley").fast_restitution(0.5, 0.1)
 

@@ -92,3 +92,18 @@ def test_cli_params(capsys):
     assert f"{cp.engines['opensim']['dissipation']:.15g}" in out
     assert main(["params", "--eps", "2", *scene]) == 2
     assert "eps = 2.0 is outside" in capsys.readouterr().err
+
+
+def test_cli_params_with_a_law(capsys):
+    scene = ["--mass", "2", "--stiffness", "2.51e6", "--speed", "0.5", "--accel", "9.81"]
+    assert main(["params", "--e-n", "0.6", "--law", "hunt_crossley_linear", *scene]) == 0
+    out = capsys.readouterr().out
+    cp = contact_parameters(
+        e_N=0.6, mass=2, stiffness=2.51e6, approach_speed=0.5, accel=9.81, law="hunt_crossley_linear"
+    )
+    assert f"alpha           {cp.alpha:.15g}" in out and "law             hunt_crossley_linear" in out
+    assert cp.e_n == pytest.approx(0.6, abs=1e-9)
+    assert main(["params", "--e-n", "0.6", "--law", "hooke", *scene]) == 2
+    assert "unknown contact law 'hooke'; valid: hunt_crossley," in capsys.readouterr().err
+    assert main(["params", "--e-n", "0.6", "--law", "kelvin_voigt", "--engine", "mujoco", *scene]) == 2
+    assert "give --engine or --law, not both" in capsys.readouterr().err

@@ -38,8 +38,8 @@ from contactalpha.engine.tableau import B as RK_B
 from .forces import scaled_force
 
 # Slots of the row the kernel returns.
-R_EPS2, R_EN, R_STATE, R_STATUS, R_XM, R_XE, R_VE, R_TE, R_STEPS = range(9)
-N_ROW = 9
+R_EPS2, R_EN, R_STATE, R_STATUS, R_XM, R_XE, R_VE, R_TE, R_STEPS, R_FLOORS = range(10)
+N_ROW = 10
 # Default tolerances of the reference integration.
 RTOL = 1e-12
 ATOL = 1e-14
@@ -235,7 +235,8 @@ def _flight(code, x0, v0, p, A, s):
 def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
     """One impact of the law with kernel code ``code`` at damping ``p``, scaled load ``A``, shape ``s``.
 
-    Returns a row: eps^2, e_N, end state code, status code, x_m, x_e, v_e, t_e, steps.
+    Returns a row: eps^2, e_N, end state code, status code, x_m, x_e, v_e, t_e, steps, and the
+    number of times the force reached its floor (the tables' build splits its plane by it).
     """
     out = np.full(N_ROW, np.nan)
     K = np.empty((N_STAGES + 1, 2))
@@ -251,6 +252,7 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
     x_e = np.nan
     v_e = np.nan
     floor = False  # True when the last event put the motion on the floor (f = 0, falling)
+    floors = 0
     while state < 0:
         if steps >= max_steps:
             status = STEP_LIMIT
@@ -348,6 +350,7 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
             x = bx
             v = bv
             floor = True
+            floors += 1
     if status != OK or state < 0:
         out[R_STATUS] = status if status != OK else EVENT_FAILED
         out[R_STATE] = 0
@@ -363,6 +366,7 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
     out[R_VE] = v_e
     out[R_TE] = t
     out[R_STEPS] = steps
+    out[R_FLOORS] = floors
     return out
 
 

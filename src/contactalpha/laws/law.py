@@ -22,6 +22,7 @@ from . import forces
 from .backends import ENGINE, FAMILY
 from .domain import RESTITUTIONS, check_restitution
 from .fast import CLOSED_FORM, ENGINE_TABLE
+from .table import LawTable, LawTableSettings
 
 # The load factors every law covers: the paper's 0 <= xi <= 0.99.
 XI_MAX = 0.99
@@ -58,7 +59,8 @@ class ContactLaw:
     force : jitted scaled force argument ``f(x, v, p, A, d)`` (``forces.py``).
     code : its position in the kernels' force table (``forces.scaled_force``).
     backend : where its reference numbers come from (``backends.py``).
-    fast : its fast evaluator (``fast.py``): the closed form, the engine's table, or None.
+    fast : its fast evaluator: the closed form or the engine's table (``fast.py``), the law's
+        shipped table (``table.py``), or None.
     """
 
     name: str
@@ -232,7 +234,7 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hunt_crossley_linear_force,
         code=forces.HUNT_CROSSLEY_LINEAR,
-        fast=None,
+        fast=LawTable("law_table_hunt_crossley_linear.npz", cuts=("separation", "creep_onset")),
     ),
     ContactLaw(
         name="kelvin_voigt",
@@ -285,7 +287,12 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
         code=forces.HERTZ_TSUJI,
-        fast=None,
+        fast=LawTable(
+            "law_table_hertz_tsuji.npz",
+            cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+            # 199 rows gave 3.2e-7 below the creep cut near xi = 0.8 (139: 6.9e-8); see docs/laws.md.
+            settings=LawTableSettings(n_eta=139),
+        ),
     ),
 ]
 

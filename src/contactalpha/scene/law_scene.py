@@ -82,6 +82,27 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
     )
 
 
+def format_law_parameters(cp):
+    """``LawParameters`` as aligned text lines (the command line's output)."""
+    law = get_law(cp.law)
+    lines = [
+        f"law             {law.name}: {law.formula}",
+        f"xi              {cp.xi:.15g}",
+        f"{law.damping:15s} {cp.alpha:.15g}   ({cp.alpha_source})",
+        f"damping         {cp.damping:.15g}   ({law.damping_physical})",
+        f"end state       {cp.end_state}",
+        f"eps             {cp.eps:.15g}",
+        f"e_N             {cp.e_n:.15g}",
+        f"accel           {cp.accel:.15g} m/s^2",
+        f"delta_star      {cp.delta_star:.15g} m",
+    ]
+    for engine, values in cp.engines.items():
+        for name, value in values.items():
+            text = " ".join(f"{v:.15g}" for v in value) if isinstance(value, tuple) else f"{value:.15g}"
+            lines.append(f"{engine + '.' + name:32s} {text}")
+    return "\n".join(lines)
+
+
 @dataclass(frozen=True)
 class LawVerdict:
     """One registered model of a law in one scene: its damping, what it delivers, whether adequate."""
