@@ -55,6 +55,9 @@ KINEMATIC_NAMES = ("k_tx", "k_ty", "k_c", "k_geom")
 # then per region (first, spacing, count) of its eta grid and of its w grid.
 GEOM_HEAD = 4
 REGION_SLOTS = 6
+# Largest miss of a table's damping, checked through the law's forward map (``LawTable.forward``),
+# before the forward map is inverted instead.
+CHECK_TOL = 1e-8
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN = 4096
 
@@ -227,12 +230,28 @@ class LawTable:
     (``table_build.CUTS``: where eps(p) has kinks); ``settings`` is the grid of the shipped file.
     ``damping`` returns the law's ``p`` for 0.01 <= target <= 1 and 0 <= xi <= 0.99, and NaN with
     status NOT_CONVERGED outside (never an extrapolated number).
+    ``impedance`` is the law's impedance the file was built at (0 for laws without one): a law
+    with another impedance is served by ``forward``, as is the forward map (``forward`` None:
+    neither is offered).  With a ``forward``, each damping is checked through it and, where it
+    misses its target by more than ``CHECK_TOL``, found by inverting it; NaN (NOT_CONVERGED) where
+    that misses too.
     """
 
     file: str
     cuts: tuple = ("separation",)
     settings: LawTableSettings = LawTableSettings()
+    impedance: float = 0.0
+    forward: object = None
     name: str = "law table"
+
+    @property
+    def exact_inverse(self):
+        """The evaluator whose inverse is exact (``forward``, root finding on it), or None."""
+        return self.forward
+
+    def covers(self, law):
+        """True when the table holds ``law``'s inverse (``law.impedance`` is the table's)."""
+        return law.impedance == self.impedance
 
     @property
     def path(self):
@@ -248,18 +267,44 @@ class LawTable:
                 raise ValueError(
                     f"law table {self.path} is cut along {meta['cuts']}, expected {list(self.cuts)}"
                 )
+            if meta.get("impedance", 0.0) != self.impedance:
+                raise ValueError(
+                    f"law table {self.path} was built at impedance {meta.get('impedance', 0.0)}, "
+                    f"expected {self.impedance}; rebuild it with `{BUILD_COMMAND} {meta.get('law', '')}`"
+                )
             for kind, names in ((False, energetic_names(len(self.cuts))), (True, KINEMATIC_NAMES)):
                 _PACKED[(str(self.path), kind)] = pack_table([arrays[n] for n in names])
         return _PACKED[key]
 
     def restitution(self, law, p, A, xi, kinematic):
-        """Not offered: the table holds the inverse."""
-        raise ValueError(f"law {law.name!r} has no fast forward map; law.impact(p, xi) computes it")
+        """Restitution of flat ``p``, ``A`` by ``forward`` (None: not offered; the table is an inverse)."""
+        if self.forward is None:
+            raise ValueError(f"law {law.name!r} has no fast forward map; law.impact(p, xi) computes it")
+        return self.forward.restitution(law, p, A, xi, kinematic)
 
     def damping(self, law, target, kinematic, A, xi):
-        """(p, status code) from the table at flat ``target``, ``xi``."""
+        """(p, status code) from the table at flat ``target``, ``xi`` (by ``forward`` off its impedance)."""
+        if not self.covers(law):
+            if self.forward is None:
+                raise ValueError(
+                    f"law {law.name!r} at impedance {law.impedance} has no fast inverse; its table holds "
+                    f"impedance {self.impedance}; law.damping_for computes it exactly"
+                )
+            return self.forward.damping(law, target, kinematic, A, xi)
         flat = self.packed(kinematic)
         out = np.empty(target.size)
         threads = None if target.size >= PARALLEL_MIN else 1
         run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)
-        return out, np.where(np.isfinite(out), OK, NOT_CONVERGED)
+        status = np.where(np.isfinite(out), OK, NOT_CONVERGED)
+        if self.forward is not None:
+            # Checked through the forward map; where eps(p) does not fall monotonically (the linear
+            # laws under small loads) the table can miss, and there the forward map is inverted.
+            miss = np.abs(self.forward.restitution(law, out, A, xi, kinematic) - target) > CHECK_TOL
+            miss &= status == OK
+            if miss.any():
+                p, st = self.forward.damping(law, target[miss], kinematic, A[miss], xi[miss])
+                # eps(p) jumps there (floor flights and re-contacts come and go): a root may be missed.
+                far = np.abs(self.forward.restitution(law, p, A[miss], xi[miss], kinematic) - target[miss])
+                st = np.where((st == OK) & ~(far <= CHECK_TOL), NOT_CONVERGED, st)
+                out[miss], status[miss] = np.where(st == OK, p, np.nan), st
+        return out, status
