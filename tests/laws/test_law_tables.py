@@ -64,9 +64,24 @@ def test_piecewise_linear_table_inverse_delivers_its_target_through_the_closed_f
     # The closed form (laws/closed_form.py) is the forward map these tables were not built from.
     target, xi = _domain(2000, 27)
     p = law.fast_damping(target, xi, restitution)
-    assert np.all(np.isfinite(p)) and np.all(p >= 0.0)
-    got = law.fast_restitution(p, xi, restitution)
-    np.testing.assert_allclose(got, target, rtol=0, atol=TARGET_TOL)
+    ok = np.isfinite(p)
+    assert np.all(p[ok] >= 0.0) and ok.mean() >= 0.995
+    got = law.fast_restitution(p[ok], xi[ok], restitution)
+    np.testing.assert_allclose(got, target[ok], rtol=0, atol=TARGET_TOL)
+    # NaN only where root finding on the closed form misses too (eps(zeta) jumps there).
+    exact = law.fast_damping(target[~ok], xi[~ok], restitution, exact=True)
+    assert np.all(np.abs(law.fast_restitution(exact, xi[~ok], restitution) - target[~ok]) > TARGET_TOL)
+
+
+@pytest.mark.parametrize("law", PIECEWISE, ids=lambda law: law.name)
+def test_where_no_damping_delivers_eps_the_inverse_is_nan(law):
+    # Small loads, eps near 0.016: eps(zeta) jumps as floor flights come and go, and the target
+    # falls in a jump: the closed form's root finder ends on it, missing by ~1e-3 (the integrator
+    # agrees), and the table's inverse says NaN rather than that number.
+    target, xi = 0.01584, 0.002294
+    assert np.isnan(law.fast_damping(target, xi))
+    exact = law.fast_damping(target, xi, exact=True)
+    assert abs(law.restitution(exact, xi) - target) > 1e-6
 
 
 def test_mujoco_at_another_impedance_inverts_by_the_closed_form():
@@ -109,12 +124,15 @@ def _scipy_check(law, restitution, n, seed):
     # load); the zero-load column is checked against the exact relations below.
     target, xi = _domain(n, seed, corners=False)
     p = law.fast_damping(target, xi, restitution)
+    # NaN only for the linear laws, where no damping delivers the target (tested above).
+    ok = np.isfinite(p)
+    assert ok.all() or (law.piecewise_linear and ok.mean() >= 0.99)
     A = law.scaled_load(xi)
     got = [
         reference_impact(law.name, pi, Ai, law.impedance)[0 if restitution == "energetic" else 1]
-        for pi, Ai in zip(p, A, strict=True)
+        for pi, Ai in zip(p[ok], A[ok], strict=True)
     ]
-    np.testing.assert_allclose(got, target, rtol=0, atol=TARGET_TOL)
+    np.testing.assert_allclose(got, target[ok], rtol=0, atol=TARGET_TOL)
 
 
 @pytest.mark.parametrize("law", TABULATED, ids=lambda law: law.name)
