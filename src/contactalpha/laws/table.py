@@ -57,7 +57,7 @@ GEOM_HEAD = 4
 REGION_SLOTS = 6
 # Largest miss of a table's damping, checked through the law's forward map (``LawTable.forward``),
 # before the forward map is inverted instead.
-CHECK_TOL = 1e-8
+CHECK_TOL = 1e-9
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN = 4096
 
