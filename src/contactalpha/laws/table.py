@@ -58,6 +58,9 @@ REGION_SLOTS = 6
 # Largest miss of a table's damping, checked through the law's forward map (``LawTable.forward``),
 # before the forward map is inverted instead.
 CHECK_TOL = 1e-9
+# Relative and absolute first step, and steps, of the secant that polishes a table's miss.
+SECANT_STEP = 1e-6
+SECANT_ITER = 3
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN = 4096
 
@@ -297,14 +300,42 @@ class LawTable:
         run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)
         status = np.where(np.isfinite(out), OK, NOT_CONVERGED)
         if self.forward is not None:
-            # Checked through the forward map; where eps(p) does not fall monotonically (the linear
-            # laws under small loads) the table can miss, and there the forward map is inverted.
-            miss = np.abs(self.forward.restitution(law, out, A, xi, kinematic) - target) > CHECK_TOL
-            miss &= status == OK
-            if miss.any():
-                p, st = self.forward.damping(law, target[miss], kinematic, A[miss], xi[miss])
-                # eps(p) jumps there (floor flights and re-contacts come and go): a root may be missed.
-                far = np.abs(self.forward.restitution(law, p, A[miss], xi[miss], kinematic) - target[miss])
-                st = np.where((st == OK) & ~(far <= CHECK_TOL), NOT_CONVERGED, st)
-                out[miss], status[miss] = np.where(st == OK, p, np.nan), st
+            self._polish(law, out, status, target, kinematic, A, xi)
         return out, status
+
+    def _polish(self, law, out, status, target, kinematic, A, xi):
+        """Check the table's ``out`` through ``forward``; where it misses, secant steps, then root finding.
+
+        The secant starts at the table's damping; where it still misses (eps(p) jumps for the
+        linear laws under small loads, as floor flights come and go) ``forward`` is inverted, and
+        where that misses too the damping is NaN (NOT_CONVERGED).
+        """
+
+        def miss_of(p, rows):
+            return self.forward.restitution(law, p, A[rows], xi[rows], kinematic) - target[rows]
+
+        rows = np.flatnonzero(status == OK)
+        f = miss_of(out[rows], rows)
+        bad = ~(np.abs(f) <= CHECK_TOL)
+        rows, p, f = rows[bad], out[rows][bad], f[bad]
+        q = p * (1.0 + SECANT_STEP) + SECANT_STEP
+        for _ in range(SECANT_ITER):
+            if rows.size == 0:
+                return
+            g = miss_of(q, rows)
+            done = np.abs(g) <= CHECK_TOL
+            out[rows[done]] = q[done]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                nxt = np.maximum(q - g * (q - p) / (g - f), 0.0)
+            keep = ~done & np.isfinite(nxt)
+            lost = ~done & ~keep
+            rows, p, f, q = np.concatenate([rows[keep], rows[lost]]), q[keep], g[keep], nxt[keep]
+            p = np.concatenate([p, out[rows[p.size :]]])
+            f = np.concatenate([f, np.zeros(rows.size - f.size)])
+            q = np.concatenate([q, out[rows[q.size :]]])
+        if rows.size == 0:
+            return
+        root, st = self.forward.damping(law, target[rows], kinematic, A[rows], xi[rows])
+        far = np.abs(miss_of(root, rows))
+        st = np.where((st == OK) & ~(far <= CHECK_TOL), NOT_CONVERGED, st)
+        out[rows], status[rows] = np.where(st == OK, root, np.nan), st
