@@ -118,6 +118,9 @@ class ContactLaw:
         a = check_range("A", A, 0.0, np.inf, hi_open=True)
         n1 = self.exponent + 1.0
         b = (1.0 - self.impedance) * a
+        if self.exponent == 1.0:  # x^2 = 1 + 2 b x: the quadratic's positive root
+            w = a * (b + np.sqrt(b * b + 1.0))
+            return _plain(w / (0.5 + w))
         # x_m solves x^(n+1) = 1 + 2 b x: Newton from above (the function is convex there).
         x = 1.0 + 2.0 * b + 1.0
         for _ in range(100):
