@@ -166,13 +166,15 @@ def _polish(zeta, P, Q, c, lo, hi, g0, glo, ghi):
 def closed_form_impact(zeta, A, d):
     """One impact of ``x'' = A - max(0, d A + x + 2 zeta x')`` from (0, 1), in closed form.
 
-    Returns (eps^2, e_N, end state code, x_m, x_e, v_e); NaN where the phases do not end.
+    Returns (eps^2, e_N, end state code, x_m, x_e, v_e, floors), ``floors`` the flights from the
+    force's floor; NaN where the phases do not end.
     """
     x_eq = (1.0 - d) * A
     x = 0.0
     v = 1.0
     x_m = np.nan
     compressing = True
+    floors = 0
     for _ in range(MAX_PHASES):
         u = x - x_eq
         # Contact: the oscillator from (u, v).  Event coefficients (P, Q) of a u + b v:
@@ -182,7 +184,7 @@ def closed_form_impact(zeta, A, d):
         t_v = _first_zero(zeta, Pv, Qv)  # the next turn of v
         if compressing:
             if not np.isfinite(t_v):
-                return 0.0, 0.0, NO_RESTITUTION, x_eq, x_eq, 0.0
+                return 0.0, 0.0, NO_RESTITUTION, x_eq, x_eq, 0.0, floors
             zu, _ = _z(zeta, Pu, Qu, t_v)
             x = x_eq + zu
             v = 0.0
@@ -206,20 +208,21 @@ def closed_form_impact(zeta, A, d):
         if t_s <= t_f and np.isfinite(t_s):
             _, dz = _z(zeta, Pu, Qu, t_s)
             v_e = dz
-            return (0.5 * v_e * v_e + A * x_m) / (0.5 + A * x_m), -v_e, SEPARATION, x_m, 0.0, v_e
+            return (0.5 * v_e * v_e + A * x_m) / (0.5 + A * x_m), -v_e, SEPARATION, x_m, 0.0, v_e, floors
         if np.isfinite(t_f):
             # Flight from the floor.
+            floors += 1
             ft, x, v = _flight_step(zeta, A, d, x_eq + zu, dzu)
             if ft == SEPARATION:
-                return (0.5 * v * v + A * x_m) / (0.5 + A * x_m), -v, SEPARATION, x_m, 0.0, v
+                return (0.5 * v * v + A * x_m) / (0.5 + A * x_m), -v, SEPARATION, x_m, 0.0, v, floors
             if ft == NONSEPARATION:
-                return A * (x_m - x) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x, 0.0
+                return A * (x_m - x) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x, 0.0, floors
             continue  # re-contact: the oscillator again
         if np.isfinite(t_v):
             x_e = x_eq + zu
-            return A * (x_m - x_e) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x_e, 0.0
-        return A * (x_m - x_eq) / (0.5 + A * x_m), 0.0, CREEP, x_m, x_eq, 0.0
-    return np.nan, np.nan, 0, np.nan, np.nan, np.nan
+            return A * (x_m - x_e) / (0.5 + A * x_m), 0.0, NONSEPARATION, x_m, x_e, 0.0, floors
+        return A * (x_m - x_eq) / (0.5 + A * x_m), 0.0, CREEP, x_m, x_eq, 0.0, floors
+    return np.nan, np.nan, 0, np.nan, np.nan, np.nan, floors
 
 
 @njit(cache=True, error_model="numpy")
@@ -242,7 +245,7 @@ def _flight_step(zeta, A, d, x0, v0):
 @njit(cache=True, error_model="numpy")
 def closed_form_restitution(zeta, A, d, kinematic):
     """Restitution (e_N if ``kinematic`` else eps) of one impact; NaN if it did not end."""
-    eps2, e_n, _, _, _, _ = closed_form_impact(zeta, A, d)
+    eps2, e_n, _, _, _, _, _ = closed_form_impact(zeta, A, d)
     if kinematic:
         return e_n
     return np.sqrt(max(eps2, 0.0)) if eps2 == eps2 else np.nan
@@ -253,3 +256,14 @@ def closed_form_rows(zeta, A, d, kinematic, out, start, stop):
     """Restitution (e_N if ``kinematic`` else eps) of rows ``start .. stop - 1`` of flat ``zeta``, ``A``."""
     for i in range(start, stop):
         out[i] = closed_form_restitution(zeta[i], A[i], d, kinematic)
+
+
+@njit(cache=True, error_model="numpy")
+def closed_form_states(zeta, A, d, out):
+    """(eps^2, e_N, end state code, floors) of each impact at flat ``zeta``, ``A``, into ``out`` (n, 4)."""
+    for i in range(zeta.size):
+        eps2, e_n, state, _, _, _, floors = closed_form_impact(zeta[i], A[i], d)
+        out[i, 0] = eps2
+        out[i, 1] = e_n
+        out[i, 2] = state
+        out[i, 3] = floors

@@ -22,6 +22,11 @@ class ClosedForm:
 
     name: str = "closed form"
 
+    @property
+    def exact_inverse(self):
+        """The evaluator whose inverse is exact (root finding on the closed form): itself."""
+        return self
+
     def restitution(self, law, p, A, xi, kinematic):
         """Restitution of flat ``p``, ``A``."""
         out = np.empty(p.size)
@@ -40,6 +45,8 @@ class EngineTable:
     """The Hunt-Crossley engine's shipped tables of alpha(eps, xi) (``engine/table.py``): inverse only."""
 
     name: str = "engine table"
+    # No closed form to find roots on.
+    exact_inverse = None
 
     def restitution(self, law, p, A, xi, kinematic):
         """Not offered: the engine tabulates the inverse."""
@@ -99,12 +106,22 @@ def fast_restitution(law, p, xi, restitution="energetic"):
     return _shaped(fast.restitution(law, pf, A, xf, kinematic), shape)
 
 
-def fast_damping(law, target, xi, restitution="energetic"):
-    """Inverse by the law's fast evaluator: damping ``p`` for ``target`` at load factor ``xi`` (NaN: none)."""
+def fast_damping(law, target, xi, restitution="energetic", exact=False):
+    """Inverse by the law's fast evaluator: damping ``p`` for ``target`` at load factor ``xi`` (NaN: none).
+
+    ``exact`` asks for root finding on the fast forward map (the closed form: the solver's
+    tolerance) instead of a table (1e-7 in restitution); laws without one raise.
+    """
     from .maps import check_target
 
     kinematic = restitution == "kinematic"
     fast = _fast_of(law)
+    if exact:
+        if fast.exact_inverse is None:
+            raise ValueError(
+                f"law {law.name!r} has no closed form to invert exactly; law.damping_for computes it"
+            )
+        fast = fast.exact_inverse
     tf, xf, A, shape = _flat(law, target, xi, "target", lambda v: check_target(law, v, restitution))
     p, status = fast.damping(law, tf, kinematic, A, xf)
     return _shaped(np.where(status == 0, p, np.nan), shape)

@@ -28,6 +28,8 @@ from .table import LawTable, LawTableSettings
 XI_MAX = 0.99
 # The restitution targets every law covers.
 RESTITUTION_MIN = 0.01
+# MuJoCo's default constant impedance d (solimp = (d, d, ...)); its table is built at it.
+MUJOCO_IMPEDANCE = 0.9
 # End states of the family (engine/codes.py names them).
 ALL_END_STATES = ("separation", "nonseparation", "creep", "no_restitution")
 
@@ -116,6 +118,9 @@ class ContactLaw:
         a = check_range("A", A, 0.0, np.inf, hi_open=True)
         n1 = self.exponent + 1.0
         b = (1.0 - self.impedance) * a
+        if self.exponent == 1.0:  # x^2 = 1 + 2 b x: the quadratic's positive root
+            w = a * (b + np.sqrt(b * b + 1.0))
+            return _plain(w / (0.5 + w))
         # x_m solves x^(n+1) = 1 + 2 b x: Newton from above (the function is convex there).
         x = 1.0 + 2.0 * b + 1.0
         for _ in range(100):
@@ -179,11 +184,14 @@ class ContactLaw:
 
         return damping_for(self, target, xi, restitution, **settings)
 
-    def fast_damping(self, target, xi, restitution="energetic"):
-        """Fast evaluator of the inverse (``fast``; None: not yet, a ValueError says so)."""
+    def fast_damping(self, target, xi, restitution="energetic", exact=False):
+        """Fast evaluator of the inverse (``fast``; None: not yet, a ValueError says so).
+
+        ``exact``: root finding on the closed form instead of a table (piecewise-linear laws).
+        """
         from .fast import fast_damping
 
-        return fast_damping(self, target, xi, restitution)
+        return fast_damping(self, target, xi, restitution, exact)
 
     def fast_restitution(self, p, xi, restitution="energetic"):
         """Fast evaluator of the forward map (``fast``; None: not yet, a ValueError says so)."""
@@ -251,7 +259,11 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.kelvin_voigt_force,
         code=forces.KELVIN_VOIGT,
-        fast=CLOSED_FORM,
+        fast=LawTable(
+            "law_table_kelvin_voigt.npz",
+            cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+            forward=CLOSED_FORM,
+        ),
     ),
     ContactLaw(
         name="mujoco_soft",
@@ -268,8 +280,15 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.mujoco_soft_force,
         code=forces.MUJOCO_SOFT,
-        fast=CLOSED_FORM,
-        impedance=0.9,
+        fast=LawTable(
+            "law_table_mujoco_soft.npz",
+            # Below the first of floor and creep eps(zeta) need not fall monotonically at small loads
+            # (the creep cut lies above the floor's there): no cut below it.
+            cuts=("separation", "first_of_floor_creep"),
+            impedance=MUJOCO_IMPEDANCE,
+            forward=CLOSED_FORM,
+        ),
+        impedance=MUJOCO_IMPEDANCE,
         impedance_range=(0.0, 1.0),
     ),
     ContactLaw(

@@ -55,6 +55,12 @@ KINEMATIC_NAMES = ("k_tx", "k_ty", "k_c", "k_geom")
 # then per region (first, spacing, count) of its eta grid and of its w grid.
 GEOM_HEAD = 4
 REGION_SLOTS = 6
+# Largest miss of a table's damping, checked through the law's forward map (``LawTable.forward``),
+# before the forward map is inverted instead.
+CHECK_TOL = 1e-9
+# Relative and absolute first step, and steps, of the secant that polishes a table's miss.
+SECANT_STEP = 1e-6
+SECANT_ITER = 3
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN = 4096
 
@@ -227,12 +233,28 @@ class LawTable:
     (``table_build.CUTS``: where eps(p) has kinks); ``settings`` is the grid of the shipped file.
     ``damping`` returns the law's ``p`` for 0.01 <= target <= 1 and 0 <= xi <= 0.99, and NaN with
     status NOT_CONVERGED outside (never an extrapolated number).
+    ``impedance`` is the law's impedance the file was built at (0 for laws without one): a law
+    with another impedance is served by ``forward``, as is the forward map (``forward`` None:
+    neither is offered).  With a ``forward``, each damping is checked through it and, where it
+    misses its target by more than ``CHECK_TOL``, found by inverting it; NaN (NOT_CONVERGED) where
+    that misses too.
     """
 
     file: str
     cuts: tuple = ("separation",)
     settings: LawTableSettings = LawTableSettings()
+    impedance: float = 0.0
+    forward: object = None
     name: str = "law table"
+
+    @property
+    def exact_inverse(self):
+        """The evaluator whose inverse is exact (``forward``, root finding on it), or None."""
+        return self.forward
+
+    def covers(self, law):
+        """True when the table holds ``law``'s inverse (``law.impedance`` is the table's)."""
+        return law.impedance == self.impedance
 
     @property
     def path(self):
@@ -248,18 +270,72 @@ class LawTable:
                 raise ValueError(
                     f"law table {self.path} is cut along {meta['cuts']}, expected {list(self.cuts)}"
                 )
+            if meta.get("impedance", 0.0) != self.impedance:
+                raise ValueError(
+                    f"law table {self.path} was built at impedance {meta.get('impedance', 0.0)}, "
+                    f"expected {self.impedance}; rebuild it with `{BUILD_COMMAND} {meta.get('law', '')}`"
+                )
             for kind, names in ((False, energetic_names(len(self.cuts))), (True, KINEMATIC_NAMES)):
                 _PACKED[(str(self.path), kind)] = pack_table([arrays[n] for n in names])
         return _PACKED[key]
 
     def restitution(self, law, p, A, xi, kinematic):
-        """Not offered: the table holds the inverse."""
-        raise ValueError(f"law {law.name!r} has no fast forward map; law.impact(p, xi) computes it")
+        """Restitution of flat ``p``, ``A`` by ``forward`` (None: not offered; the table is an inverse)."""
+        if self.forward is None:
+            raise ValueError(f"law {law.name!r} has no fast forward map; law.impact(p, xi) computes it")
+        return self.forward.restitution(law, p, A, xi, kinematic)
 
     def damping(self, law, target, kinematic, A, xi):
-        """(p, status code) from the table at flat ``target``, ``xi``."""
+        """(p, status code) from the table at flat ``target``, ``xi`` (by ``forward`` off its impedance)."""
+        if not self.covers(law):
+            if self.forward is None:
+                raise ValueError(
+                    f"law {law.name!r} at impedance {law.impedance} has no fast inverse; its table holds "
+                    f"impedance {self.impedance}; law.damping_for computes it exactly"
+                )
+            return self.forward.damping(law, target, kinematic, A, xi)
         flat = self.packed(kinematic)
         out = np.empty(target.size)
         threads = None if target.size >= PARALLEL_MIN else 1
         run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)
-        return out, np.where(np.isfinite(out), OK, NOT_CONVERGED)
+        status = np.where(np.isfinite(out), OK, NOT_CONVERGED)
+        if self.forward is not None:
+            self._polish(law, out, status, target, kinematic, A, xi)
+        return out, status
+
+    def _polish(self, law, out, status, target, kinematic, A, xi):
+        """Check the table's ``out`` through ``forward``; where it misses, secant steps, then root finding.
+
+        The secant starts at the table's damping; where it still misses (eps(p) jumps for the
+        linear laws under small loads, as floor flights come and go) ``forward`` is inverted, and
+        where that misses too the damping is NaN (NOT_CONVERGED).
+        """
+
+        def miss_of(p, rows):
+            return self.forward.restitution(law, p, A[rows], xi[rows], kinematic) - target[rows]
+
+        rows = np.flatnonzero(status == OK)
+        f = miss_of(out[rows], rows)
+        bad = ~(np.abs(f) <= CHECK_TOL)
+        rows, p, f = rows[bad], out[rows][bad], f[bad]
+        q = p * (1.0 + SECANT_STEP) + SECANT_STEP
+        for _ in range(SECANT_ITER):
+            if rows.size == 0:
+                return
+            g = miss_of(q, rows)
+            done = np.abs(g) <= CHECK_TOL
+            out[rows[done]] = q[done]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                nxt = np.maximum(q - g * (q - p) / (g - f), 0.0)
+            keep = ~done & np.isfinite(nxt)
+            lost = ~done & ~keep
+            rows, p, f, q = np.concatenate([rows[keep], rows[lost]]), q[keep], g[keep], nxt[keep]
+            p = np.concatenate([p, out[rows[p.size :]]])
+            f = np.concatenate([f, np.zeros(rows.size - f.size)])
+            q = np.concatenate([q, out[rows[q.size :]]])
+        if rows.size == 0:
+            return
+        root, st = self.forward.damping(law, target[rows], kinematic, A[rows], xi[rows])
+        far = np.abs(miss_of(root, rows))
+        st = np.where((st == OK) & ~(far <= CHECK_TOL), NOT_CONVERGED, st)
+        out[rows], status[rows] = np.where(st == OK, root, np.nan), st

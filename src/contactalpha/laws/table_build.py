@@ -3,7 +3,8 @@
 ``table.py`` describes the tables: ``L = ln(p e / (1 - e))`` on the load coordinate ``eta`` and,
 for Stronge's eps, regions cut along curves where eps(p) has kinks (found here by bisection on the
 end state of the law's impact, ``CUTS``); for Newton's e_N one region on ``q = ln e_N``.
-The node values are the law's exact inverse (``solve.py``, the family integrator); the node at
+The node values are the law's exact inverse (``solve.py``: the family integrator, or for the
+piecewise-linear laws root finding on their closed form); the node at
 ``e = 1`` (``p = 0``) takes ``L``'s limit by Richardson extrapolation from ``e = 1 - h, 1 - 2 h``.
 
 Build the shipped files with ``python -m contactalpha.laws.table_build`` (all tabulated laws) or
@@ -17,7 +18,7 @@ from dataclasses import asdict, replace
 import numpy as np
 
 from contactalpha.engine.bspline import clamp_to_uniform
-from contactalpha.engine.codes import CREEP, NO_RESTITUTION, OK, SEPARATION
+from contactalpha.engine.codes import CREEP, NO_RESTITUTION, NOT_CONVERGED, OK, SEPARATION
 from contactalpha.engine.table import (
     DEGREE,
     EPS_MIN,
@@ -64,9 +65,28 @@ def _rows(law, p, xi):
     p, xi = np.broadcast_arrays(np.asarray(p, dtype=float), np.asarray(xi, dtype=float))
     pf, xf = np.ascontiguousarray(p).ravel(), np.ascontiguousarray(xi).ravel()
     A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    if law.piecewise_linear:
+        return _closed_form_rows(law, pf, A)
     from .integrate import ATOL, MAX_STEPS, RTOL, impact_rows
 
     return impact_rows(law.code, pf, A, law.impedance, law.equilibrium(A), RTOL, ATOL, MAX_STEPS)
+
+
+def _closed_form_rows(law, p, A):
+    """The integrator's rows (the columns the build reads) from the closed form (``closed_form.py``).
+
+    The integrator needs millions of steps at the large dampings the cuts of the linear laws reach
+    under small loads; the closed form does not.
+    """
+    from .closed_form import closed_form_states
+    from .integrate import N_ROW
+
+    got = np.empty((p.size, 4))
+    closed_form_states(p, A, law.impedance, got)
+    rows = np.full((p.size, N_ROW), np.nan)
+    rows[:, R_EPS2], rows[:, R_EN], rows[:, R_STATE], rows[:, R_FLOORS] = got.T
+    rows[:, R_STATUS] = np.where(np.isfinite(got[:, 0]), OK, NOT_CONVERGED)
+    return rows
 
 
 def _solve(law, target, xi, kinematic):
@@ -80,7 +100,9 @@ def _solve(law, target, xi, kinematic):
     target = np.ascontiguousarray(target).ravel()
     xi = np.ascontiguousarray(xi).ravel()
     A = np.atleast_1d(law.scaled_load(xi)).astype(float)
-    p, status = FAMILY.damping(law, target, kinematic, A, xi)
+    # The piecewise-linear laws: root finding on their closed form (``fast.exact_inverse``).
+    inverse = getattr(law.fast, "exact_inverse", None) or FAMILY
+    p, status = inverse.damping(law, target, kinematic, A, xi)
     bad = status != OK
     if bad.any():
         p[bad] = _bisect(law, target[bad], xi[bad], kinematic)
@@ -236,9 +258,15 @@ def build_energetic(law, settings, say):
     xi[0] = 0.0
     search = xi >= XI_BOUNDARY_MIN
     splines, coefs, knots = [], [], None
+    above = np.full(eta.size, np.inf)
     for cut in cuts:
         b = np.full(eta.size, -np.inf)
         b[search] = cut_curve(law, xi[search], cut)
+        # Below the domain eps(p) need not fall monotonically (the spring-dashpot under small loads:
+        # creep restitutes more than a floor flight just before it), and a cut can then lie above
+        # the one before: there it is put on that one, outside the table's reach.
+        b = np.where((b > above) & (above < U_MIN), above, b)
+        above = b
         bs = make_interp_spline(eta, soft_floor(b), k=DEGREE)
         knots, c = clamp_to_uniform(bs.t, bs.c, DEGREE, eta)
         splines.append(bs)
@@ -319,6 +347,7 @@ def build_law_tables(law, settings=None, progress=None):
         richardson_h=RICHARDSON_H,
         build_seconds=round(time.perf_counter() - t0, 1),
         cuts=list(law.fast.cuts),
+        impedance=law.impedance,
         **asdict(settings),
     )
     return arrays, meta

@@ -51,8 +51,8 @@ def _exact(law_name, restitution, impedance=None):
     law = get_law(law_name) if impedance is None else get_law(law_name, impedance=impedance)
 
     def fn(target, xi):
-        if law.fast is not None and law.piecewise_linear:
-            p = law.fast_damping(target, xi, restitution)
+        if law.piecewise_linear:  # root finding on the closed form, not its table
+            p = law.fast_damping(target, xi, restitution, exact=True)
         else:
             p = law.damping_for(target, xi, restitution).damping
         if np.any(np.isnan(p)):
