@@ -24,6 +24,9 @@ MAX_PHASES = 200
 NEWTON_ITER = 100
 # Relative Newton step below which the root is taken as found.
 NEWTON_DONE = 1e-10
+# Relative size of an event function at t = 0 below which the phase starts on its root (a
+# re-contact); its side is then the slope's.
+START_ON_ROOT = 1e-10
 
 
 @njit(cache=True, error_model="numpy")
@@ -88,7 +91,9 @@ def _derivative_coefficients(zeta, P, Q):
 def _root(zeta, P, Q, c, t_end):
     """First ``t`` in (0, t_end] with ``z(t) + c = 0`` crossing from the sign at 0 (``inf`` if none)."""
     g0 = P + c
-    if abs(g0) <= 1e-13 * (abs(P) + abs(c)):
+    # A re-contact starts on the floor's root, up to the rounding of P (a sum of terms that
+    # cancel: x + 2 zeta v with 2 zeta |v| ~ x); 1e-13 let rounding on the wrong side through.
+    if abs(g0) <= START_ON_ROOT * (abs(P) + abs(c)):
         g0 = Q - zeta * P  # starting on the root (a re-contact): its side is the slope's
     lo = 0.0
     dP, dQ = _derivative_coefficients(zeta, P, Q)
