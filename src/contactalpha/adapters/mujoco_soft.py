@@ -42,12 +42,21 @@ from contactalpha.adapters.stepped import (
     warn_if_coarse,
 )
 from contactalpha.laws import get_law
+from contactalpha.laws.law import MUJOCO_IMPEDANCE
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'MuJoCo is an optional engine: pip install -e ".[engines]" (PyPI package "mujoco")'
-# MuJoCo's default timestep, s, and default solimp[0] (the impedance at zero penetration).
+# MuJoCo's default timestep, s, and the law's default impedance (MuJoCo's default solimp[0]).
 TIMESTEP = 0.002
-IMPEDANCE = 0.9
+IMPEDANCE = MUJOCO_IMPEDANCE
+# solimp's width, midpoint and power: MuJoCo's defaults; with solimp[0] = solimp[1] = d they do
+# not matter (the impedance is d at every penetration).
+SOLIMP_TAIL = (0.001, 0.5, 2.0)
+
+
+def direct_mode(stiffness, damping, impedance):
+    """``solref = (-stiffness, -damping)`` (per unit mass) and ``solimp`` with the constant ``impedance``."""
+    return (-stiffness, -damping), (impedance, impedance, *SOLIMP_TAIL)
 
 
 def _mujoco():
@@ -77,8 +86,8 @@ class MuJoCoSettings:
 
 
 def _xml(scene, settings):
-    d = settings.impedance
-    imp = f'solimp="{d!r} {d!r} 0.001 0.5 2"'
+    _, solimp = direct_mode(1.0, 1.0, settings.impedance)
+    imp = f'solimp="{" ".join(map(repr, solimp))}"'
     return f"""<mujoco model="contactalpha_drop">
   <option timestep="{settings.timestep!r}" gravity="0 0 {-scene.gravity!r}"
           integrator="{settings.integrator}"/>
@@ -126,15 +135,15 @@ class MuJoCoAdapter:
         omega = np.sqrt(omega2)
         b = 2.0 * zeta * omega
         stiffness = np.broadcast_to(omega2, b.shape)
-        d = settings.impedance
         with np.errstate(divide="ignore"):
             tc = np.where(zeta > 0.0, 1.0 / (zeta * omega), np.inf)
         ok = tc >= 2.0 * settings.timestep
+        solref, solimp = direct_mode(_out(stiffness), _out(b), settings.impedance)
         return {
             "stiffness": _out(stiffness),
             "damping": _out(b),
-            "solref": (_out(-stiffness), _out(-b)),
-            "solimp": (d, d, 0.001, 0.5, 2.0),
+            "solref": solref,
+            "solimp": solimp,
             "timeconst": _out(np.where(ok, tc, np.nan)),
             "dampratio": _out(np.where(ok, zeta, np.nan)),
         }

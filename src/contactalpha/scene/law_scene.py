@@ -11,6 +11,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from contactalpha.adapters.mujoco_soft import direct_mode
 from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
 from contactalpha.laws import get_law
 from contactalpha.validation import check_positive, check_range
@@ -64,9 +65,10 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
     c = float(law.physical_damping(p, mass, stiffness, approach_speed))
     engines[law.name]["damping"] = c
     if law.impedance_range is not None:
-        # MuJoCo's direct mode: solref = (-stiffness, -damping) per unit mass, solimp = (d, d, ...).
-        engines[law.name]["solref"] = (-stiffness / mass, -c / mass)
-        engines[law.name]["solimp"] = (law.impedance, law.impedance, 0.001, 0.5, 2.0)
+        # MuJoCo's direct mode (its adapter's one home): per unit mass, constant impedance d.
+        solref, solimp = direct_mode(stiffness / mass, c / mass, law.impedance)
+        engines[law.name]["solref"] = solref
+        engines[law.name]["solimp"] = solimp
     return LawParameters(
         law=law.name,
         xi=xi,
