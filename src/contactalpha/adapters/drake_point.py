@@ -30,6 +30,7 @@ import numpy as np
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.measure import measure_with_rest_check
 from contactalpha.adapters.stepped import (
+    float_or_array,
     measure_steps,
     refine,
     summarise,
@@ -103,10 +104,10 @@ class DrakeAdapter:
         d = alpha / scene.approach_speed
         k = np.broadcast_to(scene.stiffness, d.shape)
         return {
-            "point_contact_stiffness": _out(2.0 * k),
-            "hunt_crossley_dissipation": _out(d),
-            "pair_stiffness": _out(k),
-            "pair_dissipation": _out(d),
+            "point_contact_stiffness": float_or_array(2.0 * k),
+            "hunt_crossley_dissipation": float_or_array(d),
+            "pair_stiffness": float_or_array(k),
+            "pair_dissipation": float_or_array(d),
         }
 
     def build_drop(self, scene, params, settings, *, stiffness_each=None, dissipation_each=None):
@@ -235,7 +236,6 @@ class DrakeAdapter:
 
     def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
-        settings = self.settings if settings is None else settings
         return law_damping(self.law, scene, target, restitution)
 
     def calibrate(self, scene, target, start=None, settings=None):
@@ -252,11 +252,6 @@ class DrakeAdapter:
         if settings.time_step > 0.0:
             warn_if_coarse(self.name, got, settings.tol)
         return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
-
-
-def _out(arr):
-    arr = np.asarray(arr, dtype=float)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 ADAPTER = DrakeAdapter()

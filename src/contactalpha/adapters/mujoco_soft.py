@@ -35,6 +35,7 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
+    float_or_array,
     measure_steps,
     refine,
     summarise,
@@ -138,14 +139,14 @@ class MuJoCoAdapter:
         with np.errstate(divide="ignore"):
             tc = np.where(zeta > 0.0, 1.0 / (zeta * omega), np.inf)
         ok = tc >= 2.0 * settings.timestep
-        solref, solimp = direct_mode(_out(stiffness), _out(b), settings.impedance)
+        solref, solimp = direct_mode(float_or_array(stiffness), float_or_array(b), settings.impedance)
         return {
-            "stiffness": _out(stiffness),
-            "damping": _out(b),
+            "stiffness": float_or_array(stiffness),
+            "damping": float_or_array(b),
             "solref": solref,
             "solimp": solimp,
-            "timeconst": _out(np.where(ok, tc, np.nan)),
-            "dampratio": _out(np.where(ok, zeta, np.nan)),
+            "timeconst": float_or_array(np.where(ok, tc, np.nan)),
+            "dampratio": float_or_array(np.where(ok, zeta, np.nan)),
         }
 
     def build_drop(self, scene, params, settings):
@@ -235,11 +236,6 @@ class MuJoCoAdapter:
         got = self.delivered(scene, zeta, settings)
         warn_if_coarse(self.name, got, settings.tol)
         return self.parameters(ref.damping, scene, settings) if math.isfinite(ref.damping) else {}, ref, got
-
-
-def _out(arr):
-    arr = np.asarray(arr, dtype=float)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 ADAPTER = MuJoCoAdapter()

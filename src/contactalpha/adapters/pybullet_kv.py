@@ -31,6 +31,7 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import (
+    float_or_array,
     measure_steps,
     refine,
     summarise,
@@ -96,10 +97,10 @@ class PyBulletAdapter:
         c = 2.0 * zeta * np.sqrt(scene.stiffness * scene.mass)
         k = np.broadcast_to(scene.stiffness, c.shape)
         return {
-            "contactStiffness": _out(2.0 * k),
-            "contactDamping": _out(0.5 * c),
-            "pair_stiffness": _out(k),
-            "pair_damping": _out(c),
+            "contactStiffness": float_or_array(2.0 * k),
+            "contactDamping": float_or_array(0.5 * c),
+            "pair_stiffness": float_or_array(k),
+            "pair_damping": float_or_array(c),
         }
 
     def build_drop(self, scene, params, settings, *, restitution=0.0):
@@ -210,7 +211,6 @@ class PyBulletAdapter:
 
     def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
-        settings = self.settings if settings is None else settings
         return law_damping(self.law, scene, target, restitution)
 
     def calibrate(self, scene, target, start=None, settings=None):
@@ -226,11 +226,6 @@ class PyBulletAdapter:
         got = self.delivered(scene, zeta, settings)
         warn_if_coarse(self.name, got, settings.tol)
         return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
-
-
-def _out(arr):
-    arr = np.asarray(arr, dtype=float)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 ADAPTER = PyBulletAdapter()

@@ -119,6 +119,12 @@ class Delivered:
     separated: bool
 
 
+def float_or_array(arr):
+    """A float for a 0-d result, else the float array (the adapters' parameters keep their input's shape)."""
+    arr = np.asarray(arr, dtype=float)
+    return float(arr) if arr.ndim == 0 else arr
+
+
 def summarise(e_n_per_phase, contact_steps, separated):
     """``Delivered`` from per-phase results (arrays over the phases)."""
     e = np.asarray(e_n_per_phase, dtype=float)
