@@ -20,6 +20,7 @@ RANKS = {
     "scene": 4,
     "adapters": 4,  # peers of scene: the front door iterates the adapters' registry
     "warmup": 5,
+    "xla": 5,  # the JAX front door (optional extra): tables, laws and the batched engines' blocks
     "paper": 6,
     "studies": 6,
     "calibration": 6,  # drop-test calibration: scene-level physics, plus a hint from studies

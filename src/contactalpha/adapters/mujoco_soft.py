@@ -60,6 +60,19 @@ def direct_mode(stiffness, damping, impedance):
     return (-stiffness, -damping), (impedance, impedance, *SOLIMP_TAIL)
 
 
+def timeconst_form(zeta, omega, timestep, xp=np):
+    """MuJoCo's ``solref = (timeconst, dampratio)`` of damping ratio ``zeta`` at ``omega = sqrt(stiffness)``.
+
+    ``(1/(zeta omega), zeta)`` where MuJoCo's refsafe keeps it (timeconst >= 2 ``timestep``), NaN
+    elsewhere: there only the direct mode delivers the law.  ``xp`` is the array module (NumPy, or
+    ``jax.numpy`` for the JAX front door).
+    """
+    safe = xp.where(zeta > 0.0, zeta, 1.0)
+    tc = xp.where(zeta > 0.0, 1.0 / (safe * omega), xp.inf)
+    ok = tc >= 2.0 * timestep
+    return xp.where(ok, tc, xp.nan), xp.where(ok, zeta, xp.nan)
+
+
 def _mujoco():
     try:
         import mujoco
@@ -136,17 +149,15 @@ class MuJoCoAdapter:
         omega = np.sqrt(omega2)
         b = 2.0 * zeta * omega
         stiffness = np.broadcast_to(omega2, b.shape)
-        with np.errstate(divide="ignore"):
-            tc = np.where(zeta > 0.0, 1.0 / (zeta * omega), np.inf)
-        ok = tc >= 2.0 * settings.timestep
+        tc, dr = timeconst_form(zeta, omega, settings.timestep)
         solref, solimp = direct_mode(float_or_array(stiffness), float_or_array(b), settings.impedance)
         return {
             "stiffness": float_or_array(stiffness),
             "damping": float_or_array(b),
             "solref": solref,
             "solimp": solimp,
-            "timeconst": float_or_array(np.where(ok, tc, np.nan)),
-            "dampratio": float_or_array(np.where(ok, zeta, np.nan)),
+            "timeconst": float_or_array(tc),
+            "dampratio": float_or_array(dr),
         }
 
     def build_drop(self, scene, params, settings):
