@@ -168,8 +168,10 @@ def _flight(zeta, A, x0, v0):
     t_r = jnp.where(pos, -2.0 * (v0 + 2.0 * zeta * A) / Ap, jnp.inf)
     t_r = jnp.where(t_r > 0.0, t_r, jnp.inf)
     disc = v0 * v0 - 2.0 * A * x0
-    real = disc >= 0.0
-    t_s = jnp.where(real, 2.0 * x0 / (-v0 + jnp.sqrt(jnp.where(real, disc, 0.0))), jnp.inf)
+    root = jnp.where(disc > 0.0, jnp.sqrt(jnp.where(disc > 0.0, disc, 1.0)), 0.0)
+    den = -v0 + root
+    real = (disc >= 0.0) & (den != 0.0)
+    t_s = jnp.where(real, 2.0 * x0 / jnp.where(real, den, 1.0), jnp.inf)
     t_c = jnp.where(pos, -v0 / Ap, jnp.inf)
     sep = (t_s <= t_r) & (t_s <= t_c)
     cap = ~sep & (t_c < t_r)
@@ -193,7 +195,10 @@ def _impact(zeta, A, d):
     energy = 0.5 + A * x_m
 
     def phase(st, _):
-        x, v, floors, done, eps2, e_n, state = st
+        x_now, v_now, floors, done, eps2, e_n, state = st
+        # An ended impact runs on from a harmless state (no 0/0 in the discarded derivatives).
+        x = jnp.where(done, x_eq + 1.0, x_now)
+        v = jnp.where(done, -1.0, v_now)
         u = x - x_eq
         Pu, Qu = u, v + zeta * u
         Pv, Qv = v, -(u + zeta * v)
@@ -219,8 +224,8 @@ def _impact(zeta, A, d):
         new_en = jnp.where(sep | fsep, -v_out, 0.0)
         new_state = jnp.where(sep | fsep, SEPARATION, jnp.where(capture | fcap, NONSEPARATION, CREEP))
         return (
-            jnp.where(live & floor & ~ends, xf, x),
-            jnp.where(live & floor & ~ends, vf, v),
+            jnp.where(live & floor & ~ends, xf, x_now),
+            jnp.where(live & floor & ~ends, vf, v_now),
             floors + (live & floor),
             done | ends,
             jnp.where(live & ends, new_eps2, eps2),
@@ -245,7 +250,9 @@ def impact(zeta, A, d):
     """
     zeta, A, d = jnp.broadcast_arrays(*(jnp.asarray(x, dtype=float) for x in (zeta, A, d)))
     eps2, e_n, state, floors, ended = jnp.vectorize(_impact)(zeta, A, d)
-    return jnp.sqrt(jnp.maximum(eps2, 0.0)) * jnp.where(jnp.isnan(eps2), jnp.nan, 1.0), e_n, state, floors, ended
+    pos = eps2 > 0.0
+    eps = jnp.where(pos, jnp.sqrt(jnp.where(pos, eps2, 1.0)), jnp.where(jnp.isnan(eps2), jnp.nan, 0.0))
+    return eps, e_n, state, floors, ended
 
 
 def restitution(zeta, A, d, kinematic):
