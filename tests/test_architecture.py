@@ -23,6 +23,7 @@ RANKS = {
     "paper": 6,
     "studies": 6,
     "calibration": 6,  # drop-test calibration: scene-level physics, plus a hint from studies
+    "mechanism": 6,  # contacts of the user's model files: the adapters' laws at the contact's m_eff
     "config": 7,
     "cli": 7,
     "__main__": 7,

@@ -44,6 +44,8 @@ class MechanismContact:
         the joint velocity (Coriolis and centrifugal), m/s^2.
     approach_speed : closing speed of the contact point at touchdown, m/s (> 0 closes).
     qpos, qvel : the configuration and joint velocity (the engine's coordinates).
+    forces : {body: (fx, fy, fz)} the named constant forces (N, world axes, at the bodies'
+        centres of mass).
     engine_row : what the engine builds for this contact beyond the physics (MuJoCo: ``diagA``,
         the contact row's approximation of ``J M^-1 J^T``, and ``R``, ``solref``, ``solimp`` of
         the model as it is).
@@ -64,6 +66,7 @@ class MechanismContact:
     approach_speed: float
     qpos: np.ndarray
     qvel: np.ndarray
+    forces: dict = field(default_factory=dict)
     engine_row: dict = field(default_factory=dict)
 
     @property

@@ -135,15 +135,16 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
         engine="drake", model=str(model_path), pair=tuple(pair), point=point, normal=normal, gap=gap,
         jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v,
-        qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv),
+        qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv), forces=dict(forces or {}),
     )  # fmt: skip
 
 
-def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY):
+def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None):
     """``(e_n, exit_speed, contact_time)`` of the continuous plant with point contact from touchdown.
 
     The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.
-    ``report``: the gap's sampling interval, s.
+    ``report``: the gap's sampling interval, s; ``forces``: {body: (fx, fy, fz)} constant, N, world
+    axes, at the bodies' centres of mass.
     """
     dk = _drake()
     p = _Plant(model_path, point_contact=True)
@@ -153,6 +154,16 @@ def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accur
     _set(p.plant, p.context, "qvel", qvel, p.plant.num_velocities())
     speed0 = -float(p.gap_row(g1, g2)[3] @ np.asarray(qvel, dtype=float))
     sim = dk.Simulator(p.diagram, p.root)
+    pushes = []
+    for name, force in (forces or {}).items():
+        body = p.plant.GetBodyByName(str(name))
+        push = dk.ExternallyAppliedSpatialForce()
+        push.body_index = body.index()
+        push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
+        push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
+        pushes.append(push)
+    if pushes:
+        p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
     dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
     sim.get_mutable_integrator().set_target_accuracy(accuracy)
     sim.Initialize()

@@ -152,8 +152,8 @@ def contact_row(model, data, g1, g2):
             "solimp": tuple(float(x) for x in c.solimp),
             "condim": int(c.dim),
             "friction": tuple(float(x) for x in c.friction),
-            "margin": float(max(saved[0])),
-            "gap": float(max(model.geom_gap[[g1, g2]])),
+            "geom_margin": float(max(saved[0])),
+            "geom_gap": float(max(model.geom_gap[[g1, g2]])),
         }
         return np.array(c.pos), sign * np.array(c.frame[:3]), gap, row
     finally:
@@ -185,7 +185,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
         engine="mujoco", model=str(model_path), pair=tuple(pair), point=point, normal=normal, gap=gap,
         jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v, qpos=np.array(data.qpos),
-        qvel=np.array(qv), engine_row={**row, "JMinvJT": 1.0 / m_eff},
+        qvel=np.array(qv), forces=dict(forces or {}), engine_row={**row, "JMinvJT": 1.0 / m_eff},
     )  # fmt: skip
 
 

@@ -93,11 +93,14 @@ def write_drake(model_path, output, pair, per_geometry):
     for name in pair:
         col = _collision(root, name)
         tag = f"{{{DRAKE_NS}}}proximity_properties"
-        for old in col.findall(tag):
-            col.remove(old)
-        props = ET.SubElement(col, tag)
-        for key, value in per_geometry.items():
-            ET.SubElement(props, f"{{{DRAKE_NS}}}{key}").text = repr(float(value))
+        props = col.find(tag)
+        if props is None:
+            props = ET.SubElement(col, tag)
+        for key, value in per_geometry.items():  # the geometry's other properties (friction) stay
+            elem = props.find(f"{{{DRAKE_NS}}}{key}")
+            if elem is None:
+                elem = ET.SubElement(props, f"{{{DRAKE_NS}}}{key}")
+            elem.text = repr(float(value))
     _absolute_uris(root, Path(model_path).parent, out.parent)
     ET.indent(root)
     write_text_atomic(out, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")

@@ -136,7 +136,7 @@ def _inertial(m, ixx, iyy, izz, pose="0 0 0 0 0 0"):
 
 def _sdf(name, ground, body):
     return f"""<?xml version="1.0"?>
-<sdf version="1.9">
+<sdf version="1.9" xmlns:drake="http://drake.mit.edu">
   <model name="{name}">
     <link name="ground">
       {ground}
@@ -148,21 +148,28 @@ def _sdf(name, ground, body):
 """
 
 
+# No friction, as condim 1 in the MJCF files: the normal law alone.
+FRICTIONLESS = ("<drake:proximity_properties><drake:mu_dynamic>0</drake:mu_dynamic>"
+                "<drake:mu_static>0</drake:mu_static></drake:proximity_properties>")
 FLOOR = ('<collision name="floor"><pose>0 0 -0.5 0 0 0</pose>'
-         "<geometry><box><size>4 4 1</size></box></geometry></collision>")
+         f"<geometry><box><size>4 4 1</size></box></geometry>{FRICTIONLESS}</collision>")
 
 
 def sdf():
+    """The four models in SDF; a joint's parent carries no collision geometry (Drake filters
+    collisions between bodies a joint connects)."""
     p = PEND
     wall = (f'<collision name="wall"><pose>{v(-p["r"] - 0.5, 0, 1 - p["L"], 0, 0, 0)}</pose>'
-            "<geometry><box><size>1 4 4</size></box></geometry></collision>")
+            f"<geometry><box><size>1 4 4</size></box></geometry>{FRICTIONLESS}</collision>")
     yield "pendulum", _sdf("pendulum_wall", wall, f"""    <link name="arm">
       <pose>0 0 1 0 0 0</pose>
       {_inertial(p['m'], p['Iyy'], p['Iyy'], p['Iyy'], v(0, 0, -p['L'], 0, 0, 0))}
       <collision name="tip"><pose>{v(0, 0, -p['L'], 0, 0, 0)}</pose>
-        <geometry><sphere><radius>{f(p['r'])}</radius></sphere></geometry></collision>
+        <geometry><sphere><radius>{f(p['r'])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
     </link>
-    <joint name="hinge" type="revolute"><parent>ground</parent><child>arm</child>
+    <link name="pivot"><pose>0 0 1 0 0 0</pose>{_inertial(1.0, 1e-3, 1e-3, 1e-3)}</link>
+    <joint name="pivot_weld" type="fixed"><parent>world</parent><child>pivot</child></joint>
+    <joint name="hinge" type="revolute"><parent>pivot</parent><child>arm</child>
       <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""")
     c = CAPS
     z0 = c["hl"] * math.cos(c["beta"]) + c["r"]
@@ -171,7 +178,7 @@ def sdf():
       {_inertial(c['m'], c['I1'], c['I1'], c['I3'])}
       <collision name="capsule">
         <geometry><capsule><radius>{f(c['r'])}</radius><length>{f(2 * c['hl'])}</length></capsule></geometry>
-      </collision>
+        {FRICTIONLESS}</collision>
     </link>""")
     g = LEG
     h = leg_height()
@@ -191,7 +198,7 @@ def sdf():
       <pose>{v(-g['l1'] * math.sin(g['q1']), 0, h - g['l1'] * math.cos(g['q1']), 0, g['q1'] + g['q2'], 0)}</pose>
       {_inertial(g['m2'], g['I2'], g['I2'], g['I2'], v(0, 0, -g['l2'] / 2, 0, 0, 0))}
       <collision name="foot"><pose>{v(0, 0, -g['l2'], 0, 0, 0)}</pose>
-        <geometry><sphere><radius>{f(g['r'])}</radius></sphere></geometry></collision>
+        <geometry><sphere><radius>{f(g['r'])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
     </link>
     <joint name="knee" type="revolute"><parent>thigh</parent><child>shank</child>
       <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""")
@@ -199,7 +206,7 @@ def sdf():
     yield "box", _sdf("box_corner", FLOOR, f"""    <link name="box">
       <pose>{v(0, 0, box_height(), *b['rpy'])}</pose>
       {_inertial(b['m'], *b['inertia'])}
-      <collision name="box"><geometry><box><size>{v(*(2 * x for x in b['half']))}</size></box></geometry></collision>
+      <collision name="box"><geometry><box><size>{v(*(2 * x for x in b['half']))}</size></box></geometry>{FRICTIONLESS}</collision>
     </link>""")
 
 
