@@ -13,8 +13,8 @@ import sys
 from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
-from contactalpha.mechanism import command as tune_command
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
+from contactalpha.mechanism import command as tune_command
 from contactalpha.version import __version__
 
 

@@ -70,3 +70,20 @@ def test_drake_tuned_sdf(pydrake, case, tmp_path):
                                forces=case.forces)  # fmt: skip
         assert e_n == pytest.approx(target, abs=TOL)
     assert _digest(model) == before
+
+
+def test_cli_tune_refine_and_mass_warning(mujoco, tmp_path, capsys):
+    """The model's own soft contact: the leg folds over it; the check warns, refine hits the target."""
+    from contactalpha.cli import main
+
+    case = CASES[2]
+    out = tmp_path / "leg_tuned.xml"
+    argv = ["tune", case.path(".xml"), "--pair", *case.pair, "--e-n", "0.6", "--qvel", "-0.8", "0", "0",
+            "-o", str(out), "--check", "--timestep", "1e-4"]  # fmt: skip
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert "effective mass moves by" in captured.err and len(captured.err.strip().splitlines()) == 1
+    assert main([*argv, "--refine"]) == 0
+    text = capsys.readouterr().out
+    delivered = float(text.split("own drop delivers e_N = ")[1].split()[0])
+    assert delivered == pytest.approx(0.6, abs=5e-4)

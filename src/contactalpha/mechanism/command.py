@@ -19,7 +19,9 @@ def add_parser(make, number):
     t.add_argument("--pair", nargs=2, required=True, metavar=("GEOM1", "GEOM2"), help="the two geometries")
     t.add_argument("--e-n", type=number, required=True, help="target Newton's restitution, in (0, 1)")
     t.add_argument("--speed", type=number, help="closing speed of the contact point at touchdown, m/s")
-    t.add_argument("--qvel", type=number, nargs="+", help="joint velocities at touchdown (instead of --speed)")
+    t.add_argument(
+        "--qvel", type=number, nargs="+", help="joint velocities at touchdown (instead of --speed)"
+    )
     t.add_argument("--qpos", type=number, nargs="+", help="configuration at touchdown (default the model's)")
     t.add_argument("--engine", choices=TUNER_NAMES, help="default: mujoco for .xml, drake for .sdf/.urdf")
     t.add_argument("--stiffness", type=number, help="contact stiffness along the normal, N/m "
@@ -28,8 +30,14 @@ def add_parser(make, number):
     t.add_argument("--force", nargs=4, action="append", metavar=("BODY", "FX", "FY", "FZ"),
                    help="a constant force on BODY's centre of mass, N, world axes (repeat)")  # fmt: skip
     t.add_argument("-o", "--output", help="file written (default MODEL_tuned.xml/.sdf/.py beside the model)")
-    t.add_argument("--check", action="store_true", help="drop the tuned model in the engine and report its e_N")
-    t.add_argument("--timestep", type=number, help="MuJoCo's step for --check, s (default the model's)")
+    t.add_argument(
+        "--check", action="store_true", help="drop the tuned model in the engine and report its e_N"
+    )
+    t.add_argument(
+        "--timestep", type=number, help="MuJoCo's step for --check/--refine, s (default the model's)"
+    )
+    t.add_argument("--refine", action="store_true",
+                   help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
     return t
 
 
@@ -57,7 +65,7 @@ def run(args, parser):
                 args.model, tuple(args.pair), args.e_n, speed=args.speed, qvel=args.qvel, qpos=args.qpos,
                 engine=args.engine, stiffness=args.stiffness, forces=_forces(args.force, parser),
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
-                check=args.check, timestep=args.timestep,
+                check=args.check, timestep=args.timestep, refine=args.refine,
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None

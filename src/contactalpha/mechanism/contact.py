@@ -142,4 +142,6 @@ def approach(jacobian, mass_matrix, qvel, speed):
 
 def pressing_accel(jacobian, mass_matrix, tau):
     """Free acceleration pressing the gap closed, ``-J M^-1 tau``, m/s^2, of a generalized force."""
-    return -float(np.asarray(jacobian, dtype=float) @ np.linalg.solve(mass_matrix, np.asarray(tau, dtype=float)))
+    return -float(
+        np.asarray(jacobian, dtype=float) @ np.linalg.solve(mass_matrix, np.asarray(tau, dtype=float))
+    )

@@ -24,7 +24,7 @@ import numpy as np
 from .contact import MechanismContact, approach, pressing_accel
 from .crossing import rebound_speed
 
-INSTALL_HINT = 'Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])'
+INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
 ACCURACY = 1e-9
 
@@ -49,7 +49,9 @@ class _Plant:
         try:
             dk.Parser(self.plant).AddModels(str(model_path))
         except RuntimeError as err:
-            raise ValueError(f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}") from None
+            raise ValueError(
+                f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}"
+            ) from None
         self.plant.Finalize()
         self.diagram = builder.Build()
         self.root = self.diagram.CreateDefaultContext()
@@ -62,7 +64,10 @@ class _Plant:
         names = {gid: inspector.GetName(gid) for gid in ids}
         hits = [gid for gid, n in names.items() if n == name or n.split("::")[-1] == name]
         if len(hits) != 1:
-            raise ValueError(f"geometry {name!r} matches {len(hits)} collision geometries; the model's: {sorted(names.values())}")
+            raise ValueError(
+                f"geometry {name!r} matches {len(hits)} collision geometries; "
+                f"the model's: {sorted(names.values())}"
+            )
         return hits[0]
 
     def body(self, gid):
@@ -74,7 +79,9 @@ class _Plant:
         try:
             r = qo.ComputeSignedDistancePairClosestPoints(g1, g2)
         except RuntimeError as err:
-            raise ValueError(f"Drake has no signed distance for this pair: {' '.join(str(err).split())[:200]}") from None
+            raise ValueError(
+                f"Drake has no signed distance for this pair: {' '.join(str(err).split())[:200]}"
+            ) from None
         pa = qo.GetPoseInWorld(g1) @ r.p_ACa
         pb = qo.GetPoseInWorld(g2) @ r.p_BCb
         point, normal = 0.5 * (pa + pb), -np.asarray(r.nhat_BA_W)
@@ -93,7 +100,9 @@ class _Plant:
         frame = body.body_frame()
         p_B = frame.CalcPoseInWorld(self.context).inverse() @ np.asarray(point)
         world = self.plant.world_frame()
-        return self.plant.CalcJacobianTranslationalVelocity(self.context, dk.JacobianWrtVariable.kV, frame, p_B, world, world)
+        return self.plant.CalcJacobianTranslationalVelocity(
+            self.context, dk.JacobianWrtVariable.kV, frame, p_B, world, world
+        )
 
     def gap_row(self, g1, g2):
         point, normal, gap = self.closest(g1, g2)
@@ -126,7 +135,9 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
         com = body.CalcCenterOfMassInBodyFrame(ctx)
         world = plant.world_frame()
         _drk = _drake()
-        Jc = plant.CalcJacobianTranslationalVelocity(ctx, _drk.JacobianWrtVariable.kV, body.body_frame(), com, world, world)
+        Jc = plant.CalcJacobianTranslationalVelocity(
+            ctx, _drk.JacobianWrtVariable.kV, body.body_frame(), com, world, world
+        )
         tau_f += Jc.T @ f
     _set(plant, ctx, "qvel", qv, plant.num_velocities())
     tau_v = -plant.CalcBiasTerm(ctx)

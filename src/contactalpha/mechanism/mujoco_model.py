@@ -28,7 +28,7 @@ import numpy as np
 from .contact import MechanismContact, approach, pressing_accel
 from .crossing import rebound_speed
 
-INSTALL_HINT = 'MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])'
+INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
 # Margin (m) added to the pair's geometries so that MuJoCo builds their contact row at first touch.
 ROW_MARGIN = 1e-3
 
@@ -50,7 +50,9 @@ def load_model(model):
             return mj.MjModel.from_xml_string(text)
         return mj.MjModel.from_xml_path(text)
     except ValueError as err:
-        raise ValueError(f"model = {text[:80]!r}: MuJoCo cannot load it: {' '.join(str(err).split())}") from None
+        raise ValueError(
+            f"model = {text[:80]!r}: MuJoCo cannot load it: {' '.join(str(err).split())}"
+        ) from None
 
 
 def geom_id(model, name):
@@ -59,7 +61,9 @@ def geom_id(model, name):
     gid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, str(name))
     if gid < 0:
         names = [mj.mj_id2name(model, mj.mjtObj.mjOBJ_GEOM, i) for i in range(model.ngeom)]
-        raise ValueError(f"geometry {name!r} is not in the model; its named geometries: {[n for n in names if n]}")
+        raise ValueError(
+            f"geometry {name!r} is not in the model; its named geometries: {[n for n in names if n]}"
+        )
     return gid
 
 
@@ -130,7 +134,9 @@ def contact_row(model, data, g1, g2):
     fromto = np.zeros(6)
     gap = float(mj.mj_geomDistance(model, data, g1, g2, 1.0, fromto))
     if gap >= 1.0:
-        raise ValueError("the pair is more than 1 m apart at this configuration: give the configuration of touch")
+        raise ValueError(
+            "the pair is more than 1 m apart at this configuration: give the configuration of touch"
+        )
     saved = model.geom_margin[[g1, g2]].copy(), model.pair_margin.copy()
     margin = max(gap, 0.0) + ROW_MARGIN
     model.geom_margin[[g1, g2]] = np.maximum(saved[0], margin)
@@ -214,7 +220,7 @@ class MechanismDrop:
         return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
 
 
-def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None):
+def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None):
     """Run MuJoCo from the touchdown state ``(qpos, qvel)`` until the pair separates.
 
     Parameters
@@ -225,13 +231,19 @@ def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=
     timestep : s (default the model's).
     duration : longest time run, s.
     forces : {body: (fx, fy, fz)} constant forces at the bodies' centres of mass, N, world axes.
+    pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
     """
     mj = _mujoco()
     m = load_model(model)
+    g1, g2 = (geom_id(m, name) for name in pair)
+    if pair_solref is not None:
+        rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
+        if not rows:
+            raise ValueError("pair_solref needs a <pair> of the two geometries in the model")
+        m.pair_solref[rows] = np.asarray(pair_solref, dtype=float)
     if timestep is not None:
         m.opt.timestep = float(timestep)
     d = mj.MjData(m)
-    g1, g2 = (geom_id(m, name) for name in pair)
     set_state(m, d, qpos, qvel)
     for body, force in (forces or {}).items():
         d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)

@@ -108,7 +108,9 @@ def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
         settings = replace(mujoco.settings, impedance=d)
         sol, xi = mujoco.law_damping(scene, target, "kinematic", settings)
         if not sol.ok:
-            raise ValueError(f"no damping gives e_N {target!r} at xi = {xi!r} (impedance {d!r}): {sol.status}")
+            raise ValueError(
+                f"no damping gives e_N {target!r} at xi = {xi!r} (impedance {d!r}): {sol.status}"
+            )
         return float(sol.damping), xi, mujoco.parameters(float(sol.damping), scene, settings)
 
     zeta, xi, seen = solved(d_e)
@@ -117,10 +119,18 @@ def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
     solref, solimp = direct_mode(k_s * scale, b_s * scale, impedance)
     zeta_free, _, free = solved(impedance)
     return MuJoCoTuning(
-        solref=solref, solimp=solimp, free_body={"solref": free["solref"], "solimp": free["solimp"], "zeta": zeta_free},
-        impedance=float(impedance), effective_impedance=d_e, zeta=zeta, xi=float(xi), stiffness=float(stiffness),
-        seen=(k_s, b_s),
+        solref=solref, solimp=solimp,
+        free_body={"solref": free["solref"], "solimp": free["solimp"], "zeta": zeta_free},
+        impedance=float(impedance), effective_impedance=d_e, zeta=zeta, xi=float(xi),
+        stiffness=float(stiffness), seen=(k_s, b_s),
     )  # fmt: skip
+
+
+def solref_for(tuning, zeta):
+    """The corrected solref of ``tuning``'s stiffness and contact with the law's damping ratio ``zeta``."""
+    k_s = tuning.seen[0]
+    scale = tuning.impedance / tuning.effective_impedance
+    return (-k_s * scale, -2.0 * float(zeta) * k_s**0.5 * scale)
 
 
 def current_stiffness(contact):

@@ -19,16 +19,21 @@ import numpy as np
 
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
+from contactalpha.adapters.stepped import refine as secant
 from contactalpha.validation import check_range
 
 from . import write
 from .drake_model import drake_drop, read_drake
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
-from .mujoco_row import current_stiffness, law_scene, mujoco_tuning
+from .mujoco_row import current_stiffness, law_scene, mujoco_tuning, solref_for
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
 MASS_CHANGE_WARN = 0.01
+# Gap samples per undamped contact time in a Drake check.
+DRAKE_SAMPLES = 1000
+# |delivered - target| at which refining on the engine's drop stops.
+REFINE_TOL = 2e-4
 
 
 class MassChangeWarning(UserWarning):
@@ -74,7 +79,10 @@ def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, 
         raise ValueError(f"reader = {reader!r} is outside the valid choices {names}")
     fits = [r for r in READERS if (reader is None or r.name == reader) and path.suffix.lower() in r.suffixes]
     if not fits:
-        raise ValueError(f"model = {str(model)!r}: no reader for {path.suffix!r} files (mujoco: MJCF/URDF, drake: SDF/URDF)")
+        raise ValueError(
+            f"model = {str(model)!r}: no reader for {path.suffix!r} files "
+            "(mujoco: MJCF/URDF, drake: SDF/URDF)"
+        )
     ready = [r for r in fits if importlib.util.find_spec(r.module) is not None]
     if not ready:
         raise ImportError(f"reading {path.suffix} models needs {' or '.join(r.module for r in fits)}")
@@ -107,9 +115,10 @@ def _mujoco_tune(contact, target, stiffness, impedance):
     t = mujoco_tuning(contact, target, k, impedance)
     row = contact.engine_row
     params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
-              "friction": row["friction"], "margin": (row["geom_margin"],), "gap": (row["geom_gap"],)}  # fmt: skip
+              "friction": row["friction"], "margin": (row["geom_margin"],),
+              "gap": (row["geom_gap"],)}  # fmt: skip
     notes = [
-        f"stiffness {k:.9g} N/m along the normal{' (the model's own)' if stiffness is None else ''}",
+        f"stiffness {k:.9g} N/m along the normal" + (" (the model's own)" if stiffness is None else ""),
         f"MuJoCo's row: diagA = {row['diagA']:.9g} where J M^-1 J^T = {1 / contact.effective_mass:.9g}; "
         f"solimp d = {t.impedance:.6g} acts as d_e = {t.effective_impedance:.9g}",
         f"law mujoco_soft at d_e: zeta = {t.zeta:.12g}, xi = {t.xi:.9g}",
@@ -117,7 +126,10 @@ def _mujoco_tune(contact, target, stiffness, impedance):
         f"({t.free_body['solref'][0]:.9g}, {t.free_body['solref'][1]:.9g})",
     ]
     if row["condim"] > 1:
-        notes.append(f"condim {row['condim']}: the correction is exact for the normal row (condim 1 or an elliptic cone)")
+        notes.append(
+            f"condim {row['condim']}: the correction is exact for the normal row "
+            "(condim 1 or an elliptic cone)"
+        )
     return params, notes, t
 
 
@@ -218,7 +230,7 @@ def default_output(model, engine=None):
 
 
 def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
-         impedance=IMPEDANCE, output=None, check=False, timestep=None):  # fmt: skip
+         impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
     Parameters
@@ -238,6 +250,9 @@ def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, sti
     check : drop the tuned model in the engine from touchdown (MuJoCo, Drake; needs ``output``
         for Drake) and report the delivered e_N and the effective mass's change.
     timestep : MuJoCo's step for the check, s (default the model's).
+    refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
+        (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
+        leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
 
     Returns
     -------
@@ -251,15 +266,42 @@ def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, sti
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
     params, notes, details = t.solve(contact, target, stiffness, impedance)
     if not contact.at_touch:
-        notes.append(f"the pair is {contact.gap:.3g} m apart at this configuration: values are at it, not at first touch")
+        notes.append(
+            f"the pair is {contact.gap:.3g} m apart at this configuration: "
+            "values are at it, not at first touch"
+        )
     written = t.write(contact, output, params, notes) if output is not None else None
     result = Tuning(contact, t.name, params, notes, written, details=details)
+    if refine:
+        if t.name != "mujoco" or output is None:
+            raise ValueError("refine works with engine 'mujoco' and an output file")
+        result = _refined(result, target, timestep)
     if check and t.drop:
-        result = _checked(result, timestep)
+        result = _checked(result, timestep, refined=refine)
     return result
 
 
-def _checked(result, timestep):
+def _refined(result, target, timestep):
+    c, tuning = result.contact, result.details
+
+    def delivered(zeta):
+        solref = solref_for(tuning, zeta)
+        return mujoco_drop(result.output, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces,
+                           pair_solref=solref).e_n  # fmt: skip
+
+    ref = secant(delivered, target, tuning.zeta, REFINE_TOL)
+    if not math.isfinite(ref.damping):
+        raise ValueError(
+            f"refining on MuJoCo's drop failed ({ref.status}); the law's answer is {tuning.zeta!r}"
+        )
+    params = {**result.parameters, "solref": solref_for(tuning, ref.damping)}
+    _write_mujoco(c, result.output, params)
+    notes = [*result.notes, f"refined on MuJoCo's drop from touchdown: zeta {tuning.zeta:.9g} -> "
+             f"{ref.damping:.9g} ({ref.status}; the law's value delivered {ref.e_n_start:.6g})"]  # fmt: skip
+    return Tuning(c, result.engine, params, notes, result.output, details=tuning)
+
+
+def _checked(result, timestep, refined=False):
     c = result.contact
     if result.engine == "mujoco":
         source = result.output if result.output is not None else _in_memory_mjcf(result)
@@ -268,7 +310,9 @@ def _checked(result, timestep):
     else:
         if result.output is None:
             raise ValueError("check with engine 'drake' needs output (the tuned model file)")
-        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces)
+        period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
+        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
+                             report=period / DRAKE_SAMPLES)  # fmt: skip
         drop, change = None, math.nan
     delivered = drop.e_n if drop is not None else e
     notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
@@ -277,7 +321,9 @@ def _checked(result, timestep):
         if change > MASS_CHANGE_WARN:
             warnings.warn(
                 f"the effective mass moves by {change:.3g} over the contact (above {MASS_CHANGE_WARN}): "
-                "the law is solved at touchdown's value", MassChangeWarning, stacklevel=3,
+                + ("refined on this drop, it holds for this touchdown state only" if refined
+                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"),
+                MassChangeWarning, stacklevel=3,
             )  # fmt: skip
     return Tuning(result.contact, result.engine, result.parameters, notes, result.output, delivered, change,
                   result.details, drop)  # fmt: skip

@@ -1,3 +1,4 @@
+# ruff: noqa: E501  (model text: one XML element a line)
 """Write the four mechanism test models, in MJCF (MuJoCo) and SDF (Drake), at first touch.
 
 Run from the repository root: ``python tests/data/models/make_models.py``.  The numbers here are
@@ -39,7 +40,9 @@ def quat(R):
 
 
 def box_corners(half):
-    return np.array([[sx * half[0], sy * half[1], sz * half[2]] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    return np.array(
+        [[sx * half[0], sy * half[1], sz * half[2]] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+    )
 
 
 def box_height():
@@ -65,73 +68,87 @@ OPTION = '<compiler angle="radian"/>\n  <option timestep="1e-05" gravity="0 0 -9
 
 def mjcf():
     p = PEND
-    yield "pendulum", f"""<mujoco model="pendulum_wall">
+    yield (
+        "pendulum",
+        f"""<mujoco model="pendulum_wall">
   {OPTION}
   <worldbody>
-    <geom name="wall" type="plane" size="1 1 0.1" pos="{v(-p['r'], 0, 1 - p['L'])}" zaxis="1 0 0" condim="1"/>
+    <geom name="wall" type="plane" size="1 1 0.1" pos="{v(-p["r"], 0, 1 - p["L"])}" zaxis="1 0 0" condim="1"/>
     <body name="arm" pos="0 0 1">
       <joint name="hinge" type="hinge" axis="0 1 0"/>
-      <inertial pos="{v(0, 0, -p['L'])}" mass="{f(p['m'])}" diaginertia="{v(p['Iyy'], p['Iyy'], p['Iyy'])}"/>
-      <geom name="tip" type="sphere" size="{f(p['r'])}" pos="{v(0, 0, -p['L'])}" condim="1"/>
+      <inertial pos="{v(0, 0, -p["L"])}" mass="{f(p["m"])}" diaginertia="{v(p["Iyy"], p["Iyy"], p["Iyy"])}"/>
+      <geom name="tip" type="sphere" size="{f(p["r"])}" pos="{v(0, 0, -p["L"])}" condim="1"/>
     </body>
   </worldbody>
 </mujoco>
-"""
+""",
+    )
     c = CAPS
     z0 = c["hl"] * math.cos(c["beta"]) + c["r"]
     q = quat(rpy_matrix(0.0, c["beta"], 0.0))
-    yield "capsule", f"""<mujoco model="capsule_end">
+    yield (
+        "capsule",
+        f"""<mujoco model="capsule_end">
   {OPTION}
   <worldbody>
     <geom name="floor" type="plane" size="1 1 0.1" condim="1"/>
     <body name="capsule" pos="{v(0, 0, z0)}" quat="{v(*q)}">
       <freejoint name="free"/>
-      <inertial pos="0 0 0" mass="{f(c['m'])}" diaginertia="{v(c['I1'], c['I1'], c['I3'])}"/>
-      <geom name="capsule" type="capsule" size="{v(c['r'], c['hl'])}" condim="1"/>
+      <inertial pos="0 0 0" mass="{f(c["m"])}" diaginertia="{v(c["I1"], c["I1"], c["I3"])}"/>
+      <geom name="capsule" type="capsule" size="{v(c["r"], c["hl"])}" condim="1"/>
     </body>
   </worldbody>
 </mujoco>
-"""
+""",
+    )
     g = LEG
-    yield "leg", f"""<mujoco model="two_link_leg">
+    yield (
+        "leg",
+        f"""<mujoco model="two_link_leg">
   {OPTION}
   <worldbody>
     <geom name="floor" type="plane" size="1 1 0.1" condim="1"/>
     <body name="hip" pos="{v(0, 0, leg_height())}">
       <joint name="slide" type="slide" axis="0 0 1"/>
-      <inertial pos="0 0 0" mass="{f(g['M0'])}" diaginertia="{v(g['I0'], g['I0'], g['I0'])}"/>
-      <body name="thigh" euler="{v(0, g['q1'], 0)}">
+      <inertial pos="0 0 0" mass="{f(g["M0"])}" diaginertia="{v(g["I0"], g["I0"], g["I0"])}"/>
+      <body name="thigh" euler="{v(0, g["q1"], 0)}">
         <joint name="hip" type="hinge" axis="0 1 0" ref="0"/>
-        <inertial pos="{v(0, 0, -g['l1'] / 2)}" mass="{f(g['m1'])}" diaginertia="{v(g['I1'], g['I1'], g['I1'])}"/>
-        <body name="shank" pos="{v(0, 0, -g['l1'])}" euler="{v(0, g['q2'], 0)}">
+        <inertial pos="{v(0, 0, -g["l1"] / 2)}" mass="{f(g["m1"])}" diaginertia="{v(g["I1"], g["I1"], g["I1"])}"/>
+        <body name="shank" pos="{v(0, 0, -g["l1"])}" euler="{v(0, g["q2"], 0)}">
           <joint name="knee" type="hinge" axis="0 1 0"/>
-          <inertial pos="{v(0, 0, -g['l2'] / 2)}" mass="{f(g['m2'])}" diaginertia="{v(g['I2'], g['I2'], g['I2'])}"/>
-          <geom name="foot" type="sphere" size="{f(g['r'])}" pos="{v(0, 0, -g['l2'])}" condim="1"/>
+          <inertial pos="{v(0, 0, -g["l2"] / 2)}" mass="{f(g["m2"])}" diaginertia="{v(g["I2"], g["I2"], g["I2"])}"/>
+          <geom name="foot" type="sphere" size="{f(g["r"])}" pos="{v(0, 0, -g["l2"])}" condim="1"/>
         </body>
       </body>
     </body>
   </worldbody>
 </mujoco>
-"""
+""",
+    )
     b = BOX
     q = quat(rpy_matrix(*b["rpy"]))
-    yield "box", f"""<mujoco model="box_corner">
+    yield (
+        "box",
+        f"""<mujoco model="box_corner">
   {OPTION}
   <worldbody>
     <geom name="floor" type="plane" size="1 1 0.1" condim="1"/>
     <body name="box" pos="{v(0, 0, box_height())}" quat="{v(*q)}">
       <freejoint name="free"/>
-      <inertial pos="0 0 0" mass="{f(b['m'])}" diaginertia="{v(*b['inertia'])}"/>
-      <geom name="box" type="box" size="{v(*b['half'])}" condim="1"/>
+      <inertial pos="0 0 0" mass="{f(b["m"])}" diaginertia="{v(*b["inertia"])}"/>
+      <geom name="box" type="box" size="{v(*b["half"])}" condim="1"/>
     </body>
   </worldbody>
 </mujoco>
-"""
+""",
+    )
 
 
 def _inertial(m, ixx, iyy, izz, pose="0 0 0 0 0 0"):
-    return (f"<inertial><pose>{pose}</pose><mass>{f(m)}</mass><inertia><ixx>{f(ixx)}</ixx><iyy>{f(iyy)}</iyy>"
-            f"<izz>{f(izz)}</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>")
+    return (
+        f"<inertial><pose>{pose}</pose><mass>{f(m)}</mass><inertia><ixx>{f(ixx)}</ixx><iyy>{f(iyy)}</iyy>"
+        f"<izz>{f(izz)}</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>"
+    )
 
 
 def _sdf(name, ground, body):
@@ -149,65 +166,99 @@ def _sdf(name, ground, body):
 
 
 # No friction, as condim 1 in the MJCF files: the normal law alone.
-FRICTIONLESS = ("<drake:proximity_properties><drake:mu_dynamic>0</drake:mu_dynamic>"
-                "<drake:mu_static>0</drake:mu_static></drake:proximity_properties>")
-FLOOR = ('<collision name="floor"><pose>0 0 -0.5 0 0 0</pose>'
-         f"<geometry><box><size>4 4 1</size></box></geometry>{FRICTIONLESS}</collision>")
+FRICTIONLESS = (
+    "<drake:proximity_properties><drake:mu_dynamic>0</drake:mu_dynamic>"
+    "<drake:mu_static>0</drake:mu_static></drake:proximity_properties>"
+)
+FLOOR = (
+    '<collision name="floor"><pose>0 0 -0.5 0 0 0</pose>'
+    f"<geometry><box><size>4 4 1</size></box></geometry>{FRICTIONLESS}</collision>"
+)
 
 
 def sdf():
     """The four models in SDF; a joint's parent carries no collision geometry (Drake filters
     collisions between bodies a joint connects)."""
     p = PEND
-    wall = (f'<collision name="wall"><pose>{v(-p["r"] - 0.5, 0, 1 - p["L"], 0, 0, 0)}</pose>'
-            f"<geometry><box><size>1 4 4</size></box></geometry>{FRICTIONLESS}</collision>")
-    yield "pendulum", _sdf("pendulum_wall", wall, f"""    <link name="arm">
+    wall = (
+        f'<collision name="wall"><pose>{v(-p["r"] - 0.5, 0, 1 - p["L"], 0, 0, 0)}</pose>'
+        f"<geometry><box><size>1 4 4</size></box></geometry>{FRICTIONLESS}</collision>"
+    )
+    yield (
+        "pendulum",
+        _sdf(
+            "pendulum_wall",
+            wall,
+            f"""    <link name="arm">
       <pose>0 0 1 0 0 0</pose>
-      {_inertial(p['m'], p['Iyy'], p['Iyy'], p['Iyy'], v(0, 0, -p['L'], 0, 0, 0))}
-      <collision name="tip"><pose>{v(0, 0, -p['L'], 0, 0, 0)}</pose>
-        <geometry><sphere><radius>{f(p['r'])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
+      {_inertial(p["m"], p["Iyy"], p["Iyy"], p["Iyy"], v(0, 0, -p["L"], 0, 0, 0))}
+      <collision name="tip"><pose>{v(0, 0, -p["L"], 0, 0, 0)}</pose>
+        <geometry><sphere><radius>{f(p["r"])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
     </link>
     <link name="pivot"><pose>0 0 1 0 0 0</pose>{_inertial(1.0, 1e-3, 1e-3, 1e-3)}</link>
     <joint name="pivot_weld" type="fixed"><parent>world</parent><child>pivot</child></joint>
     <joint name="hinge" type="revolute"><parent>pivot</parent><child>arm</child>
-      <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""")
+      <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""",
+        ),
+    )
     c = CAPS
     z0 = c["hl"] * math.cos(c["beta"]) + c["r"]
-    yield "capsule", _sdf("capsule_end", FLOOR, f"""    <link name="capsule">
-      <pose>{v(0, 0, z0, 0, c['beta'], 0)}</pose>
-      {_inertial(c['m'], c['I1'], c['I1'], c['I3'])}
+    yield (
+        "capsule",
+        _sdf(
+            "capsule_end",
+            FLOOR,
+            f"""    <link name="capsule">
+      <pose>{v(0, 0, z0, 0, c["beta"], 0)}</pose>
+      {_inertial(c["m"], c["I1"], c["I1"], c["I3"])}
       <collision name="capsule">
-        <geometry><capsule><radius>{f(c['r'])}</radius><length>{f(2 * c['hl'])}</length></capsule></geometry>
+        <geometry><capsule><radius>{f(c["r"])}</radius><length>{f(2 * c["hl"])}</length></capsule></geometry>
         {FRICTIONLESS}</collision>
-    </link>""")
+    </link>""",
+        ),
+    )
     g = LEG
     h = leg_height()
-    yield "leg", _sdf("two_link_leg", FLOOR, f"""    <link name="hip">
+    yield (
+        "leg",
+        _sdf(
+            "two_link_leg",
+            FLOOR,
+            f"""    <link name="hip">
       <pose>{v(0, 0, h, 0, 0, 0)}</pose>
-      {_inertial(g['M0'], g['I0'], g['I0'], g['I0'])}
+      {_inertial(g["M0"], g["I0"], g["I0"], g["I0"])}
     </link>
     <joint name="slide" type="prismatic"><parent>ground</parent><child>hip</child>
       <axis><xyz>0 0 1</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>
     <link name="thigh">
-      <pose>{v(0, 0, h, 0, g['q1'], 0)}</pose>
-      {_inertial(g['m1'], g['I1'], g['I1'], g['I1'], v(0, 0, -g['l1'] / 2, 0, 0, 0))}
+      <pose>{v(0, 0, h, 0, g["q1"], 0)}</pose>
+      {_inertial(g["m1"], g["I1"], g["I1"], g["I1"], v(0, 0, -g["l1"] / 2, 0, 0, 0))}
     </link>
     <joint name="hip_joint" type="revolute"><parent>hip</parent><child>thigh</child>
       <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>
     <link name="shank">
-      <pose>{v(-g['l1'] * math.sin(g['q1']), 0, h - g['l1'] * math.cos(g['q1']), 0, g['q1'] + g['q2'], 0)}</pose>
-      {_inertial(g['m2'], g['I2'], g['I2'], g['I2'], v(0, 0, -g['l2'] / 2, 0, 0, 0))}
-      <collision name="foot"><pose>{v(0, 0, -g['l2'], 0, 0, 0)}</pose>
-        <geometry><sphere><radius>{f(g['r'])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
+      <pose>{v(-g["l1"] * math.sin(g["q1"]), 0, h - g["l1"] * math.cos(g["q1"]), 0, g["q1"] + g["q2"], 0)}</pose>
+      {_inertial(g["m2"], g["I2"], g["I2"], g["I2"], v(0, 0, -g["l2"] / 2, 0, 0, 0))}
+      <collision name="foot"><pose>{v(0, 0, -g["l2"], 0, 0, 0)}</pose>
+        <geometry><sphere><radius>{f(g["r"])}</radius></sphere></geometry>{FRICTIONLESS}</collision>
     </link>
     <joint name="knee" type="revolute"><parent>thigh</parent><child>shank</child>
-      <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""")
+      <axis><xyz>0 1 0</xyz><limit><lower>-1e10</lower><upper>1e10</upper></limit></axis></joint>""",
+        ),
+    )
     b = BOX
-    yield "box", _sdf("box_corner", FLOOR, f"""    <link name="box">
-      <pose>{v(0, 0, box_height(), *b['rpy'])}</pose>
-      {_inertial(b['m'], *b['inertia'])}
-      <collision name="box"><geometry><box><size>{v(*(2 * x for x in b['half']))}</size></box></geometry>{FRICTIONLESS}</collision>
-    </link>""")
+    yield (
+        "box",
+        _sdf(
+            "box_corner",
+            FLOOR,
+            f"""    <link name="box">
+      <pose>{v(0, 0, box_height(), *b["rpy"])}</pose>
+      {_inertial(b["m"], *b["inertia"])}
+      <collision name="box"><geometry><box><size>{v(*(2 * x for x in b["half"]))}</size></box></geometry>{FRICTIONLESS}</collision>
+    </link>""",
+        ),
+    )
 
 
 if __name__ == "__main__":
