@@ -208,6 +208,8 @@ class OpenSimAdapter:
     law = get_law("hunt_crossley")
     module = "opensim"
     settings = OpenSimSettings()
+    # Units of ``parameters``.
+    units = {"dissipation": "s/m", "stiffness": "Pa"}
 
     def version(self):
         """OpenSim's version string."""

@@ -152,7 +152,7 @@ def engine_parameters(fit, setup, radius=None):
         "at_approach_speed": v1,
         "e_n": e1,
         "alpha": cp.alpha,
-        "damping_mu": cp.damping,
+        "damping_mu": cp.physical_damping * k,  # mu = k d = alpha k / v, N s/m^2.5
         "engines": cp.engines,
         "note": "alpha (and OpenSim's dissipation) hold for this approach speed; reset them per impact",
     }
