@@ -308,7 +308,7 @@ def _print_engine(args, value, restitution):
 
 def _params(args, parser):
     from contactalpha.io import json_text
-    from contactalpha.scene.engine_conventions import UNIT_NOTES
+    from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.scene.parameters import contact_parameters
     from contactalpha.scene.result import as_plain_data, format_parameters
 

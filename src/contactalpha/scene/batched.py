@@ -21,10 +21,11 @@ The batch rules:
 import numpy as np
 from numba import njit
 
-from contactalpha.adapters.registry import engine_parameters
+from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
+from contactalpha.laws.domain import check_restitution
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_range
 
@@ -82,7 +83,16 @@ def _load_factor(law):
     """Load factor of arrays of scenes: Eq. 10 through ``engine.scaling`` for n = 3/2, else the law's."""
     if law.fast is ENGINE_TABLE:
         return hertz_load_factor
-    return lambda m, k, v, a: np.asarray(law.load_factor(law.load(m, k, v, a)), dtype=float)
+    return lambda m, k, v, a: law_load_factor(law, m, k, v, a)
+
+
+def law_load_factor(law, mass, stiffness, approach_speed, accel):
+    """Load factor xi of arrays of scenes of ``law``; NaN where the load is so large that it rounds to 1."""
+    A = np.asarray(law.load(mass, stiffness, approach_speed, accel), dtype=float)
+    xi = np.full(A.shape, np.nan)
+    finite = np.isfinite(A)
+    xi[finite] = law.load_factor(A[finite])
+    return np.where(xi < 1.0, xi, np.nan)
 
 
 def _domain(law):
@@ -154,14 +164,17 @@ def batched_parameters(
         Every per-scene field an array of the broadcast shape (``scene.result``).
     """
     law = get_law(law)
+    target_name = "eps" if check_restitution(restitution) == "energetic" else "e_N"
+    check_radius_used(law, radius)
     m, k, v = (
         check_rows(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
     a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
-    e = check_rows("eps" if restitution == "energetic" else "e_N", target, 0.0, 1.0, lo_open=True)
+    e = check_rows(target_name, target, 0.0, 1.0, lo_open=True)
     r = None if radius is None else check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
-    m, k, v, a, e = np.broadcast_arrays(m, k, v, a, e)
+    m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
+    r = None if r is None else r_all
     load_factor = _load_factor(law)
     xi = load_factor(m, k, v, a)
     lo_e, hi_xi = _domain(law)

@@ -22,7 +22,7 @@ from dataclasses import replace
 import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import adapter, engine_parameters
+from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
@@ -155,6 +155,7 @@ def contact_parameters(
     a = scene_accel(m, accel, force)
     sphere = None if radius is None else _positive("radius", radius)
     if law.name != DEFAULT_LAW:
+        check_radius_used(law, radius)
         return _only(law_contact_parameters(law, value, restitution, m, k, v, a, sphere), engine)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:

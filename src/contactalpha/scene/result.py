@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 
-from .engine_conventions import UNIT_NOTES
 
 
 @dataclass(frozen=True)
