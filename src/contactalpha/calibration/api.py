@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from contactalpha.scene.ball import GRAVITY
-from contactalpha.scene.engine_conventions import opensim_dissipation
+from contactalpha.adapters.engine_conventions import opensim_dissipation
 from contactalpha.adapters.registry import ADAPTERS
 from contactalpha.laws import get_law
 from contactalpha.scene.engine_params import format_block
