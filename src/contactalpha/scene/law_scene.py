@@ -14,6 +14,7 @@ import numpy as np
 from contactalpha.adapters.mujoco_soft import direct_mode
 from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
 from contactalpha.laws import get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import check_positive, check_range
 
 
@@ -50,8 +51,7 @@ class LawParameters:
 def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel):
     """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``)."""
     law = get_law(law)
-    A = law.load(mass, stiffness, approach_speed, accel)
-    xi = float(law.load_factor(A))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     if value == 0.0:
         raise ValueError(
             f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
@@ -59,7 +59,9 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         )
     sol = law.damping_for(value, xi, restitution)
     if not sol.ok:
-        raise RuntimeError(f"damping of law {law.name!r} not found at {restitution} {value!r}, xi = {xi!r}")
+        raise RuntimeError(
+            f"damping of law {law.name!r} not found at {target_name(restitution)} = {value!r}, xi = {xi!r}"
+        )
     p = float(sol.damping)
     engines = {law.name: {"stiffness": stiffness, law.damping: p}}
     c = float(law.physical_damping(p, mass, stiffness, approach_speed))
@@ -142,7 +144,7 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     from contactalpha import models
 
     law = get_law(law)
-    xi = float(law.load_factor(law.load(mass, stiffness, approach_speed, accel)))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     exact = law.damping_for(value, xi, restitution)
     verdicts = []
     for model in models.REGISTRY:
