@@ -31,7 +31,7 @@ from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
-from .engine_conventions import UNIT_NOTES
+from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from .law_scene import law_contact_parameters
 
 # Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
