@@ -23,7 +23,7 @@ from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
-from contactalpha.laws.domain import check_restitution
+from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_positive, check_range
 
@@ -121,14 +121,14 @@ def batched_parameters(
     BatchedParameters
     """
     law = get_law(law)
-    target_name = "eps" if check_restitution(restitution) == "energetic" else "e_N"
+    name = target_name(restitution)
     check_radius_used(law, radius)
     m, k, v = (
         np.asarray(check_positive(n, x), dtype=float)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
     a = np.asarray(check_range("accel", accel, 0.0, np.inf, hi_open=True), dtype=float)
-    e = np.asarray(check_range(target_name, target, 0.0, 1.0, lo_open=True), dtype=float)
+    e = np.asarray(check_range(name, target, 0.0, 1.0, lo_open=True), dtype=float)
     r = None if radius is None else np.asarray(check_positive("radius", radius), dtype=float)
     m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
     r = None if r is None else r_all
