@@ -14,12 +14,13 @@ at a stored state is ``w - a h / 2``.  So:
 
 Stronge's coefficient comes from the energy identity with the deepest sampled penetration
 ``d_max``: ``eps^2 = (v_out^2/2 + a d_max) / (v_in^2/2 + a d_max)``; a drop that comes to rest
-in contact at ``d_end`` (or still creeps there when the steps run out) has ``e_N = 0`` and ``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
+in contact at ``d_end`` (or still creeps there when the steps run out) has ``e_N = 0`` and
+``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
 
 ``run_drop`` takes the engine's kernel code (``kernels.step_map``), so one loop serves every
-engine; ``drop_<engine>`` are the interface's per-engine drops.  A step that starts above the contact and moves up
-must be free flight in every engine's map; a step that starts below it (z < 0) counts as a
-contact step.
+engine; ``drop_<engine>`` are the interface's per-engine drops.  A step that starts above the
+contact and moves up must be free flight in every engine's map; a step that starts below it
+(z < 0) counts as a contact step.
 """
 
 import math
