@@ -25,7 +25,7 @@ from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
-from contactalpha.laws.domain import check_restitution
+from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_range
 
@@ -164,14 +164,14 @@ def batched_parameters(
         Every per-scene field an array of the broadcast shape (``scene.result``).
     """
     law = get_law(law)
-    target_name = "eps" if check_restitution(restitution) == "energetic" else "e_N"
+    name = target_name(restitution)
     check_radius_used(law, radius)
     m, k, v = (
         check_rows(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
     a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
-    e = check_rows(target_name, target, 0.0, 1.0, lo_open=True)
+    e = check_rows(name, target, 0.0, 1.0, lo_open=True)
     r = None if radius is None else check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
     m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
     r = None if r is None else r_all

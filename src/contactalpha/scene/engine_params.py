@@ -8,6 +8,7 @@ refines the damping (``calibrate``), which needs the engine installed.
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
+from contactalpha.validation import check_flag
 
 from .parameters import contact_parameters
 from .result import block_lines
@@ -31,6 +32,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Refine on the engine's own drops (stepping engines; needs the engine).
     """
     a = adapter(engine)
+    refine = check_flag("refine", refine)
     key = "e_N" if restitution == "kinematic" else "eps"
     if not refine:
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,

@@ -28,6 +28,7 @@ from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
@@ -53,7 +54,7 @@ def scene_accel(mass: float, accel: float | None = None, force: float | None = N
     assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
         value = check_scalar(name, value, 0.0, np.inf, hi_open=True)
-    return value if force is None else value / mass
+    return value if force is None else value / _positive("mass", mass)
 
 
 def _target(eps, e_n):
@@ -79,7 +80,8 @@ def _alpha(value, xi, restitution):
         return alpha_tabulated(value, xi, restitution=restitution), "table"
     sol = solve_alpha(value, xi, restitution=restitution)
     if not sol.ok:
-        raise RuntimeError(f"exact alpha not found at {restitution} {value!r}, xi = {xi!r}: {sol.status}")
+        where = f"{target_name(restitution)} = {value!r}, xi = {xi!r}"
+        raise RuntimeError(f"exact alpha not found at {where}: {sol.status}")
     return sol.alpha, "solver"
 
 
