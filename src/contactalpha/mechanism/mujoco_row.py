@@ -36,11 +36,16 @@ with ``k_s = k / m_eff`` for the contact stiffness k (N/m) and ``b_s = 2 zeta sq
 over with the same ``d / d_e`` scaling.
 """
 
-from dataclasses import dataclass, replace
+import math
+from dataclasses import dataclass
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.mujoco_soft import IMPEDANCE, direct_mode
-from contactalpha.adapters.registry import adapter
+from contactalpha.laws import get_law
+from contactalpha.scene.parameters import contact_parameters
+
+# The law MuJoCo's soft contact applies (``adapters.mujoco_soft``).
+MUJOCO_LAW = "mujoco_soft"
 
 
 def effective_impedance(impedance, inv_mass, diag_approx):
@@ -88,6 +93,9 @@ def law_scene(contact, stiffness):
 def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
     """Corrected and free-body MuJoCo parameters for Newton's e_N ``target`` (see the module doc).
 
+    The law's damping ratio comes from the front door (``contact_parameters`` with MuJoCo's law
+    at the impedance that acts: d_e for the corrected parameters, d for the free-body ones).
+
     Parameters
     ----------
     contact : MechanismContact
@@ -99,29 +107,24 @@ def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
     impedance : float
         solimp's constant d, in (0, 1).
     """
-    mujoco = adapter("mujoco")
     scene = law_scene(contact, stiffness)
-    a = 1.0 / contact.effective_mass
-    d_e = effective_impedance(impedance, a, contact.engine_row["diagA"])
+    d_e = effective_impedance(impedance, 1.0 / contact.effective_mass, contact.engine_row["diagA"])
+    k_s = scene.stiffness / scene.mass
 
     def solved(d):
-        settings = replace(mujoco.settings, impedance=d)
-        sol, xi = mujoco.law_damping(scene, target, "kinematic", settings)
-        if not sol.ok:
-            raise ValueError(
-                f"no damping gives e_N {target!r} at xi = {xi!r} (impedance {d!r}): {sol.status}"
-            )
-        return float(sol.damping), xi, mujoco.parameters(float(sol.damping), scene, settings)
+        cp = contact_parameters(e_N=target, mass=scene.mass, stiffness=scene.stiffness,
+                                approach_speed=scene.approach_speed, accel=scene.accel,
+                                law=get_law(MUJOCO_LAW).with_impedance(d))  # fmt: skip
+        return float(cp.damping), float(cp.xi), 2.0 * float(cp.damping) * math.sqrt(k_s)
 
-    zeta, xi, seen = solved(d_e)
-    k_s, b_s = (-x for x in seen["solref"])
+    zeta, xi, b_s = solved(d_e)
     scale = impedance / d_e
     solref, solimp = direct_mode(k_s * scale, b_s * scale, impedance)
-    zeta_free, _, free = solved(impedance)
+    zeta_free, _, b_free = solved(impedance)
+    free_ref, free_imp = direct_mode(k_s, b_free, impedance)
     return MuJoCoTuning(
-        solref=solref, solimp=solimp,
-        free_body={"solref": free["solref"], "solimp": free["solimp"], "zeta": zeta_free},
-        impedance=float(impedance), effective_impedance=d_e, zeta=zeta, xi=float(xi),
+        solref=solref, solimp=solimp, free_body={"solref": free_ref, "solimp": free_imp, "zeta": zeta_free},
+        impedance=float(impedance), effective_impedance=d_e, zeta=zeta, xi=xi,
         stiffness=float(stiffness), seen=(k_s, b_s),
     )  # fmt: skip
 

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
-from contactalpha.adapters.registry import adapter
-from contactalpha.adapters.stepped import refine as secant
+from contactalpha.scene.parameters import contact_parameters
 from contactalpha.validation import check_range
 
 from . import write
@@ -154,16 +154,21 @@ def _compiled_mjcf(model, output):
         tmp.unlink(missing_ok=True)
 
 
+def _front_door(contact, target, stiffness, engine):
+    """The engine's block of ``contact_parameters`` at the contact's m_eff, load and speed."""
+    scene = law_scene(contact, _need(stiffness, engine))
+    cp = contact_parameters(
+        e_N=target, mass=scene.mass, stiffness=scene.stiffness, approach_speed=scene.approach_speed,
+        accel=scene.accel, engine=engine,
+    )  # fmt: skip
+    return cp, cp.engines[engine]
+
+
 def _drake_tune(contact, target, stiffness, impedance):
-    a = adapter("drake")
-    scene = law_scene(contact, _need(stiffness, "drake"))
-    sol, xi = a.law_damping(scene, target, "kinematic")
-    if not sol.ok:
-        raise ValueError(f"no dissipation gives e_N {target!r} at xi = {xi!r}: {sol.status}")
-    params = a.parameters(float(sol.damping), scene)
-    notes = [f"law {a.law.name}: alpha = {float(sol.damping):.12g} at xi = {xi:.9g}; each geometry "
-             f"gets 2k and d (Drake combines k1 k2/(k1 + k2), (k2 d1 + k1 d2)/(k1 + k2))"]  # fmt: skip
-    return params, notes, sol
+    cp, params = _front_door(contact, target, stiffness, "drake")
+    notes = [f"law {cp.law}: alpha = {cp.damping:.12g} at xi = {cp.xi:.9g}; each geometry gets 2k "
+             "and d (Drake combines k1 k2/(k1 + k2), (k2 d1 + k1 d2)/(k1 + k2))"]  # fmt: skip
+    return params, notes, cp
 
 
 def _write_drake(contact, output, params):
@@ -172,15 +177,10 @@ def _write_drake(contact, output, params):
 
 
 def _pybullet_tune(contact, target, stiffness, impedance):
-    a = adapter("pybullet")
-    scene = law_scene(contact, _need(stiffness, "pybullet"))
-    sol, xi = a.law_damping(scene, target, "kinematic")
-    if not sol.ok:
-        raise ValueError(f"no damping gives e_N {target!r} at xi = {xi!r}: {sol.status}")
-    params = a.parameters(float(sol.damping), scene)
-    notes = [f"law {a.law.name}: zeta = {float(sol.damping):.12g} at xi = {xi:.9g} (continuous law at m_eff; "
+    cp, params = _front_door(contact, target, stiffness, "pybullet")
+    notes = [f"law {cp.law}: zeta = {cp.damping:.12g} at xi = {cp.xi:.9g} (continuous law at m_eff; "
              "Bullet's own step and its multibody solver are not modelled: check with a drop)"]  # fmt: skip
-    return params, notes, sol
+    return params, notes, cp
 
 
 def _write_pybullet(contact, output, params, notes):
