@@ -16,6 +16,7 @@ RANKS = {
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
+    "stepping": 2,  # the engines' discrete steps as maps: numba kernels, below the adapters
     "baselines": 3,
     "scene": 4,
     "adapters": 4,  # peers of scene: the front door iterates the adapters' registry

@@ -39,15 +39,10 @@ from contactalpha.adapters.stepped import (
     warn_if_coarse,
 )
 from contactalpha.laws import get_law
+from contactalpha.stepping.pybullet_map import LINEAR_SLOP, TIMESTEP
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'PyBullet is an optional engine: pip install -e ".[engines]" (PyPI package "pybullet")'
-# PyBullet's default time step, s.
-TIMESTEP = 1.0 / 240.0
-# The solver's ``m_linearSlop`` that PyBullet's server sets (PhysicsServerCommandProcessor.cpp): the
-# solver reads a contact's penetration as ``distance + linearSlop``, so the contact surface lies
-# this far below the geometric one (measured: the ball rests m a / k + 1e-5 m deep for any k, step, load).
-LINEAR_SLOP = 1e-5
 
 
 def _pybullet():
@@ -103,8 +98,11 @@ class PyBulletAdapter:
             "pair_damping": float_or_array(c),
         }
 
-    def build_drop(self, scene, params, settings, *, restitution=0.0):
-        """A fresh DIRECT client with the plane and the ball; touchdown states for every phase."""
+    def build_drop(self, scene, params, settings, *, restitution=0.0, stiffness_each=None, damping_each=None):
+        """A fresh DIRECT client with the plane and the ball; touchdown states for every phase.
+
+        ``stiffness_each``/``damping_each`` = (ball, plane) override the equal split of ``params``.
+        """
         pb = _pybullet()
         client = pb.connect(pb.DIRECT)
         pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=client)
@@ -115,12 +113,14 @@ class PyBulletAdapter:
         ball = pb.createMultiBody(
             scene.mass, shape, basePosition=[0.0, 0.0, 2.0 * scene.radius], physicsClientId=client
         )
-        for body in (plane, ball):
+        k_each = stiffness_each or (float(params["contactStiffness"]),) * 2
+        c_each = damping_each or (float(params["contactDamping"]),) * 2
+        for body, k, c in ((ball, k_each[0], c_each[0]), (plane, k_each[1], c_each[1])):
             pb.changeDynamics(
                 body,
                 -1,
-                contactStiffness=float(params["contactStiffness"]),
-                contactDamping=float(params["contactDamping"]),
+                contactStiffness=float(k),
+                contactDamping=float(c),
                 restitution=float(restitution),
                 lateralFriction=0.0,
                 linearDamping=0.0,
