@@ -36,6 +36,7 @@ BULLET_SCENES = [
     (0.3, 3e3, 0.2, 3e3, 0.2, 1.2, 5.0, 0.05),
     (10.0, 4e5, 10.0, 4e5, 10.0, 0.05, 0.0, 0.2),
     (10.0, 4e4, 1.0, 4e4, 1.0, 2.0, 100.0, 0.2),
+    (0.2, 500.0, 0.05, None, None, 1.0, 1.0, 0.05),  # the plane's values unset: Bullet's defaults
 ]
 # (mass kg, k_ball N/m, d_ball s/m, k_ground, d_ground, v_in m/s, push N)
 DRAKE_SCENES = [
@@ -84,7 +85,7 @@ def test_pybullet_map_follows_the_engine_step_by_step(pybullet, row):
     from contactalpha.adapters.pybullet_kv import ADAPTER, PyBulletSettings
 
     m, k1, c1, k2, c2, v, force, radius = row
-    scene = DropScene(m, pair_stiffness(k1, k2), v, force=force, radius=radius)
+    scene = DropScene(m, k1 if k2 is None else pair_stiffness(k1, k2), v, force=force, radius=radius)
     settings = PyBulletSettings(phases=PHASES, window=3.0)
 
     def samples_of():
@@ -93,7 +94,15 @@ def test_pybullet_map_follows_the_engine_step_by_step(pybullet, row):
         )
         return ADAPTER.run(model, scene, settings)
 
-    p = pybullet_map.make_params(m, k1, c1, k2, c2, radius)
+    unset = k2 is None
+    p = pybullet_map.make_params(
+        m,
+        k1,
+        c1,
+        pybullet_map.UNSET_STIFFNESS if unset else k2,
+        pybullet_map.UNSET_DAMPING if unset else c2,
+        radius,
+    )
     engine_e = compare(
         ADAPTER, settings, scene, p, pybullet_map.drop_pybullet, pybullet_map.step_pybullet, samples_of, 1e-9, 1e-9
     )

@@ -101,7 +101,8 @@ class PyBulletAdapter:
     def build_drop(self, scene, params, settings, *, restitution=0.0, stiffness_each=None, damping_each=None):
         """A fresh DIRECT client with the plane and the ball; touchdown states for every phase.
 
-        ``stiffness_each``/``damping_each`` = (ball, plane) override the equal split of ``params``.
+        ``stiffness_each``/``damping_each`` = (ball, plane) override the equal split of ``params``;
+        a stiffness of None leaves that body's values unset.
         """
         pb = _pybullet()
         client = pb.connect(pb.DIRECT)
@@ -116,11 +117,12 @@ class PyBulletAdapter:
         k_each = stiffness_each or (float(params["contactStiffness"]),) * 2
         c_each = damping_each or (float(params["contactDamping"]),) * 2
         for body, k, c in ((ball, k_each[0], c_each[0]), (plane, k_each[1], c_each[1])):
+            # A body given None keeps Bullet's unset values (btCollisionObject: 1e30 N/m, 0.1 N s/m).
+            values = {} if k is None else {"contactStiffness": float(k), "contactDamping": float(c)}
             pb.changeDynamics(
                 body,
                 -1,
-                contactStiffness=float(k),
-                contactDamping=float(c),
+                **values,
                 restitution=float(restitution),
                 lateralFriction=0.0,
                 linearDamping=0.0,
