@@ -44,8 +44,9 @@ def test_the_interface_drop_is_the_generic_drop():
     assert status == 0 and 0.4 < e < 0.7 and 5 <= n <= 10
 
 
+MJ = stepper("mujoco")
 SAMPLES = {
-    "mujoco": [stepper("mujoco").pack(stiffness=k, damping=c, impedance=0.9) for k, c in [(4e4, 80), (5e3, 300)]],
+    "mujoco": [MJ.pack(stiffness=k, damping=c, impedance=0.9) for k, c in [(4e4, 80), (5e3, 300)]],
     "pybullet": [pybullet_map.make_params(0.5, 2 * k, c, 2 * k, c, 0.05) for k, c in [(2e4, 4), (1e3, 20)]],
     "drake": [drake_map.make_params(0.5, 2 * k, d, 2 * k, d) for k, d in [(2e4, 0.5), (1e3, 5.0)]],
 }
