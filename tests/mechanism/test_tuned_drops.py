@@ -113,3 +113,26 @@ def test_discrete_answer_at_a_coarse_step(mujoco, case, tmp_path):
     by_map = [run_drop(kernels.MUJOCO, step.inverse.p, h, f, c.approach_speed, c.accel, 10**6)[0] for f in phases]
     assert np.max(np.abs(np.array(engine) - by_map)) < 1.5e-3
     assert np.mean(engine) == pytest.approx(0.6, abs=2e-3)
+
+
+def test_pybullet_script_sets_both_bodies(pybullet, mujoco, tmp_path):
+    """The written script runs and puts 2k and c/2 on both sides (PyBullet's pair rule k/2, 2c)."""
+    import runpy
+
+    case = CASES[2]
+    out = tmp_path / "leg_tuned.py"
+    got = tune(case.path(".urdf"), case.pair, 0.6, engine="pybullet", qvel=case.qvel_mujoco, stiffness=1e5,
+               output=out)  # fmt: skip
+    assert got.parameters["pair_stiffness"] == 1e5
+    script = runpy.run_path(str(out))
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(case.path(".urdf"), useFixedBase=True, physicsClientId=client)
+        floor, shank = 0, 3  # links: ground, hip, thigh, shank
+        script["apply"](body, floor, body, shank, client)
+        for link in (floor, shank):
+            info = pybullet.getDynamicsInfo(body, link, physicsClientId=client)
+            assert info[9] == pytest.approx(got.parameters["contactStiffness"], rel=1e-12)
+            assert info[8] == pytest.approx(got.parameters["contactDamping"], rel=1e-12)
+    finally:
+        pybullet.disconnect(client)
