@@ -85,7 +85,9 @@ def test_urdf_tuned_for_mujoco_is_the_compiled_mjcf_with_the_pair(mujoco, tmp_pa
 
     case = CASES[2]
     out = tmp_path / "leg_tuned.xml"
-    got = tune(case.path(".urdf"), case.pair, 0.6, engine="mujoco", qvel=case.qvel_mujoco, stiffness=1e6, output=out)
+    got = tune(
+        case.path(".urdf"), case.pair, 0.6, engine="mujoco", qvel=case.qvel_mujoco, stiffness=1e6, output=out
+    )
     text = out.read_text()
     assert text.startswith("<mujoco") and text.count("<pair") == 1
     again = read_contact(out, case.pair, qvel=case.qvel_mujoco)

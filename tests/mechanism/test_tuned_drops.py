@@ -110,7 +110,9 @@ def test_discrete_answer_at_a_coarse_step(mujoco, case, tmp_path):
     c = got.contact
     phases = (np.arange(16) + 0.5) / 16
     engine = [mujoco_drop(str(out), case.pair, c.qpos, c.qvel, timestep=h, phase=f).e_n for f in phases]
-    by_map = [run_drop(kernels.MUJOCO, step.inverse.p, h, f, c.approach_speed, c.accel, 10**6)[0] for f in phases]
+    by_map = [
+        run_drop(kernels.MUJOCO, step.inverse.p, h, f, c.approach_speed, c.accel, 10**6)[0] for f in phases
+    ]
     assert np.max(np.abs(np.array(engine) - by_map)) < 1.5e-3
     assert np.mean(engine) == pytest.approx(0.6, abs=2e-3)
 
