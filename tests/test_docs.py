@@ -30,7 +30,7 @@ from contactalpha.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")])
-FENCE = re.compile(r"^```(\w*)\s*$")
+FENCE = re.compile(r"^( *)```(\w*)\s*$")  # indented: a block inside a list item
 NO_RUN = re.compile(r"^<!-- no-run: .+ -->$")
 REQUIRES = re.compile(r"^<!-- requires: ([\w.]+) -->$")
 FILE = re.compile(r"^<!-- file: ([\w.\-]+) -->$")
@@ -61,15 +61,16 @@ def code_blocks(markdown):
             continue
         start, above = i, lines[i - 1].strip() if i else ""
         i += 1
-        while i < len(lines) and lines[i].rstrip() != "```":
+        indent = len(match.group(1))
+        while i < len(lines) and lines[i].strip() != "```":
             i += 1
         if i == len(lines):
             raise ValueError(f"code block opened on line {start + 1} is never closed")
         requires, file = REQUIRES.match(above), FILE.match(above)
         blocks.append(
             Block(
-                match.group(1),
-                "\n".join(lines[start + 1 : i]) + "\n",
+                match.group(2),
+                "\n".join(line[indent:] for line in lines[start + 1 : i]) + "\n",
                 start + 1,
                 bool(NO_RUN.match(above)),
                 requires.group(1) if requires else None,
