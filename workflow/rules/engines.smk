@@ -11,13 +11,15 @@ ENGINES_DIR = "results/engines"
 ENGINE_NAMES = ["opensim", "exudyn"]
 # Stepping engines (issue 27): each one's round trips at its own step; a missing one is skipped.
 STEPPING_ENGINES = ["mujoco", "drake", "pybullet"]
-# The engine pages' figures (docs/engines/*.md, shown by docs/hooks.py): one per engine.
+# The engine pages' figures (docs/engines/*.md, shown by docs/hooks.py): one per engine, and the
+# round trips' figure of docs/engines/index.md (`snakemake -c2 docs_figures`; also in `engines`).
 PAGE_FIGURE_ENGINES = ENGINE_NAMES + STEPPING_ENGINES
 
 
 rule docs_figures:
     input:
         expand("results/figures/engine_{engine}.{ext}", engine=PAGE_FIGURE_ENGINES, ext=["png", "pdf"]),
+        "results/figures/engines_roundtrip.png",
 
 
 rule engines:
