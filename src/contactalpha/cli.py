@@ -220,8 +220,9 @@ def main(argv=None):
         # stdout at devnull so that Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except (ValueError, RuntimeError, OSError) as exc:
-        # Bad input, a failed solve, a file that cannot be written: one line, never a traceback.
+    except (ValueError, RuntimeError, OSError, ImportError) as exc:
+        # Bad input, a failed solve, a file that cannot be written, an optional engine not
+        # installed (its message says how to install it): one line, never a traceback.
         message = " ".join(str(exc).split()) or type(exc).__name__
         print(f"contactalpha: error: {message}", file=sys.stderr)
         return 2
@@ -267,8 +268,9 @@ def _print_engine(args, value, restitution):
     """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
     from contactalpha.io import json_text
     from contactalpha.scene.engine_params import engine_block, format_block
+    from contactalpha.scene.parameters import scene_accel
 
-    accel = args.accel if args.accel is not None else args.force / args.mass
+    accel = scene_accel(args.mass, args.accel, args.force)
     params, notes = engine_block(
         args.engine, value, args.mass, args.stiffness, args.speed, accel,
         restitution=restitution, radius=args.radius, refine=args.refine,
@@ -284,7 +286,7 @@ def _params(args, parser):
     from dataclasses import asdict
 
     from contactalpha.io import json_text
-    from contactalpha.scene.engine_conventions import UNIT_NOTES
+    from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.scene.law_scene import LawParameters, format_law_parameters
     from contactalpha.scene.parameters import contact_parameters, format_parameters
 

@@ -11,6 +11,7 @@ import math
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
+from contactalpha.validation import check_flag
 
 from .parameters import LAW, contact_parameters
 
@@ -33,6 +34,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Refine on the engine's own drops (stepping engines; needs the engine).
     """
     a = adapter(engine)
+    refine = check_flag("refine", refine)
     if a.law.name == LAW:
         key = "e_N" if restitution == "kinematic" else "eps"
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,

@@ -14,6 +14,7 @@ import numpy as np
 from contactalpha.adapters.mujoco_soft import direct_mode
 from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
 from contactalpha.laws import get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import check_positive, check_range
 
 
@@ -50,8 +51,7 @@ class LawParameters:
 def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel):
     """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``)."""
     law = get_law(law)
-    A = law.load(mass, stiffness, approach_speed, accel)
-    xi = float(law.load_factor(A))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     if value == 0.0:
         raise ValueError(
             f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
@@ -59,7 +59,9 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         )
     sol = law.damping_for(value, xi, restitution)
     if not sol.ok:
-        raise RuntimeError(f"damping of law {law.name!r} not found at {restitution} {value!r}, xi = {xi!r}")
+        raise RuntimeError(
+            f"damping of law {law.name!r} not found at {target_name(restitution)} = {value!r}, xi = {xi!r}"
+        )
     p = float(sol.damping)
     engines = {law.name: {"stiffness": stiffness, law.damping: p}}
     c = float(law.physical_damping(p, mass, stiffness, approach_speed))
@@ -142,7 +144,7 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     from contactalpha import models
 
     law = get_law(law)
-    xi = float(law.load_factor(law.load(mass, stiffness, approach_speed, accel)))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     exact = law.damping_for(value, xi, restitution)
     verdicts = []
     for model in models.REGISTRY:
@@ -177,53 +179,66 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     )
 
 
-def _separates(law, value, restitution, A):
-    """True if the law's exact damping for ``value`` at scaled load ``A`` separates."""
-    sol = law.damping_for(value, law.load_factor(A), restitution)
+def _separates(law, value, restitution, A, settings):
+    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status)."""
+    sol = law.damping_for(value, law.load_factor(A), restitution, **settings)
     if not sol.ok:
-        return None
-    return str(sol.state) == "separation"
+        return None, str(sol.status)
+    return str(sol.state) == "separation", STATUS[OK]
 
 
 # Bisection steps on ln A for the boundary (2^-60 of the bracket's width).
 BOUNDARY_BISECTIONS = 60
+# Loads the boundary is searched between; where the inverse fails at the upper end (very large
+# loads), the upper end steps down by factors of LOAD_BRACKET_STEP until it succeeds.
 LOAD_BRACKET = (1e-8, 1e6)
+LOAD_BRACKET_STEP = 10.0
 
 
-def law_boundary_load(law, eps, restitution="energetic"):
+def law_boundary_load(law, eps, restitution="energetic", **settings):
     """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
     law = get_law(law)
-    lo, hi = np.log(LOAD_BRACKET[0]), np.log(LOAD_BRACKET[1])
-    s_lo, s_hi = _separates(law, eps, restitution, np.exp(lo)), _separates(law, eps, restitution, np.exp(hi))
-    if s_lo is None or s_hi is None:
-        return np.nan, STATUS[NOT_CONVERGED]
-    if not s_lo or s_hi:
+    lo = np.log(LOAD_BRACKET[0])
+    s_lo, status = _separates(law, eps, restitution, LOAD_BRACKET[0], settings)
+    if s_lo is None:
+        return np.nan, status
+    if not s_lo:
+        return np.nan, STATUS[NO_BRACKET]
+    hi = np.log(LOAD_BRACKET[1])
+    while True:
+        s_hi, status = _separates(law, eps, restitution, np.exp(hi), settings)
+        if s_hi is not None or hi - np.log(LOAD_BRACKET_STEP) <= lo:
+            break
+        hi -= np.log(LOAD_BRACKET_STEP)
+    if s_hi is None:
+        return np.nan, status
+    if s_hi:
         return np.nan, STATUS[NO_BRACKET]
     for _ in range(BOUNDARY_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        s = _separates(law, eps, restitution, np.exp(mid))
+        s, status = _separates(law, eps, restitution, np.exp(mid), settings)
         if s is None:
-            return np.nan, STATUS[NOT_CONVERGED]
+            return np.nan, status
         lo, hi = (mid, hi) if s else (lo, mid)
     return float(np.exp(0.5 * (lo + hi))), STATUS[OK]
 
 
-def law_critical_speed(law, eps, mass, stiffness, accel):
-    """Approach speed below which the law's exact damping for Stronge's ``eps`` no longer separates (m/s)."""
+def law_critical_speed(law, eps, mass, stiffness, accel, **settings):
+    """Speeds (m/s) below which the law's exact damping for ``eps`` no longer separates, and statuses.
+
+    Takes checked inputs (``scene.threshold.critical_speed_status`` checks them): flat ``eps``.
+    """
     law = get_law(law)
-    e = check_range("eps", eps, 0.0, 1.0, lo_open=True)
-    for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
-        check_positive(name, value)
-    flat = np.atleast_1d(e).ravel()
-    out = np.zeros(flat.shape)
+    out = np.zeros(eps.shape)
+    status = np.full(eps.shape, STATUS[OK], dtype=object)
     n = law.exponent
     unit = law.length_scale(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
-    for i, value in enumerate(flat):
+    for i, value in enumerate(eps):
         if value == 1.0:
             continue
-        A_b, _ = law_boundary_load(law, float(value))
+        A_b, status[i] = law_boundary_load(law, float(value), **settings)
         out[i] = (accel * unit / A_b) ** ((n + 1.0) / (2.0 * n))
-    return float(out[0]) if np.ndim(e) == 0 else out.reshape(np.shape(e))
+    return out, status
 
 
 def law_predict_bounces(scene, model, law, max_contacts=1000):

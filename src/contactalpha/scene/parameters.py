@@ -22,15 +22,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import engine_parameters
+from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
-from .engine_conventions import UNIT_NOTES
+from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from .law_scene import law_contact_parameters
 
 # Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
@@ -106,7 +107,7 @@ def scene_accel(mass: float, accel: float | None = None, force: float | None = N
     assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
         value = check_scalar(name, value, 0.0, np.inf, hi_open=True)
-    return value if force is None else value / mass
+    return value if force is None else value / _positive("mass", mass)
 
 
 def _target(eps, e_n):
@@ -132,7 +133,8 @@ def _alpha(value, xi, restitution):
         return alpha_tabulated(value, xi, restitution=restitution), "table"
     sol = solve_alpha(value, xi, restitution=restitution)
     if not sol.ok:
-        raise RuntimeError(f"exact alpha not found at {restitution} {value!r}, xi = {xi!r}: {sol.status}")
+        where = f"{target_name(restitution)} = {value!r}, xi = {xi!r}"
+        raise RuntimeError(f"exact alpha not found at {where}: {sol.status}")
     return sol.alpha, "solver"
 
 
@@ -198,6 +200,7 @@ def contact_parameters(
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
     if law is not None and get_law(law).name != DEFAULT_LAW:
+        check_radius_used(law, radius)
         return law_contact_parameters(law, value, restitution, m, k, v, a)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
