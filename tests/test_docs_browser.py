@@ -66,7 +66,9 @@ def inspect(chromium, html):
     """Open a copy of ``html`` with the check script in Chromium; the script's report (a dict)."""
     probe = html.with_name("_probe.html")
     script = f"<script>{CHECK_JS.read_text(encoding='utf-8')}</script>"
-    probe.write_text(html.read_text(encoding="utf-8").replace("</body>", script + "</body>"), encoding="utf-8")
+    probe.write_text(
+        html.read_text(encoding="utf-8").replace("</body>", script + "</body>"), encoding="utf-8"
+    )
     try:
         run = _browser(chromium, f"--window-size={WIDTH},1000", "--virtual-time-budget=8000", "--dump-dom",
                        probe.as_uri())  # fmt: skip
@@ -99,7 +101,10 @@ def problems(site, html, report, needs_figure):
     math = report["math"]
     out += [f"raw TeX: {text!r}" for text in math["raw_tex"]]
     out += [f"unrendered formula: {text!r}" for text in math["unrendered"]]
-    out += [f"code wider than its box ({w['content']} > {w['box']} px): {w['line']!r}" for w in report["wide_code"]]
+    out += [
+        f"code wider than its box ({w['content']} > {w['box']} px): {w['line']!r}"
+        for w in report["wide_code"]
+    ]
     out += [f"broken image {src}" for src in report["broken_images"]]
     out += filter(None, (_link_problem(site, href, html) for href in sorted(set(report["links"]))))
     if needs_figure and not any("/figures/" in src for src in report["images"]):

@@ -46,7 +46,9 @@ def _roundtrip_series(ds):
                 continue  # the same parameters, another integrator of the engine
             ours = name == f"{engine}_exact"
             label = "ours: contact_parameters" if ours else RUN_HEADS[name]
-            out.append(Series(label, not ours, load, ds["epsilon"].values, r.sel(run=run)["eps_measured"].values))
+            out.append(
+                Series(label, not ours, load, ds["epsilon"].values, r.sel(run=run)["eps_measured"].values)
+            )
     return out
 
 
@@ -56,8 +58,12 @@ def _stepping_series(ds):
     for A in LOADS:
         r = ds.sel(load=A, method="nearest")
         load = f"A = {float(r['load']):g} (ξ = {float(r['xi'].mean()):.2f})"
-        out.append(Series("ours: refined at the step", False, load, ds["target"].values, r["e_n_refined"].values))
-        out.append(Series(f"usual: {USUAL_TEXT[engine]}", True, load, ds["target"].values, r["e_n_usual"].values))
+        out.append(
+            Series("ours: refined at the step", False, load, ds["target"].values, r["e_n_refined"].values)
+        )
+        out.append(
+            Series(f"usual: {USUAL_TEXT[engine]}", True, load, ds["target"].values, r["e_n_usual"].values)
+        )
     return out
 
 
