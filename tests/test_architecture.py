@@ -16,6 +16,7 @@ RANKS = {
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
+    "stepping": 2,  # the engines' discrete step maps (numba kernels): below scene and adapters
     "baselines": 3,
     "adapters": 4,  # the engines: below scene, whose front door iterates the adapters' registry
     "scene": 5,

@@ -49,7 +49,9 @@ class ContactLaw:
     engines : engines whose normal contact is this law.
     exponent : n of the elastic term k delta^n.
     damping : name of the dimensionless damping parameter ``p``.
-    damping_physical : the engine's damping in terms of ``p``.
+    damping_physical : the law's physical damping coefficient in terms of ``p`` (physical mass
+        and stiffness: N/m for n = 1, N/m^1.5 for n = 3/2).
+    physical_unit : the unit of that coefficient (``physical_damping``'s value).
     damping_unit : (factor, mass power, stiffness power, speed power): the engine's damping
         is ``p * factor * m^a * k^b * v^c`` (``physical_damping``).
     piecewise_linear : True when the motion in contact is linear (closed-form phases).
@@ -75,6 +77,7 @@ class ContactLaw:
     exponent: float
     damping: str
     damping_physical: str
+    physical_unit: str
     damping_unit: tuple
     piecewise_linear: bool
     floor_reached: bool
@@ -97,6 +100,11 @@ class ContactLaw:
         lo, hi = self.impedance_range
         d = float(check_range("impedance", d, lo, hi, hi_open=True))
         return replace(self, impedance=d)
+
+    @property
+    def stiffness_unit(self):
+        """Unit of the law's physical stiffness k in ``k delta^n``: "N/m" (n = 1) or "N/m^1.5" (n = 3/2)."""
+        return "N/m" if self.exponent == 1.0 else f"N/m^{self.exponent:g}"
 
     # --- load ---------------------------------------------------------------------------
     @property
@@ -264,6 +272,7 @@ LAWS = [
         exponent=1.5,
         damping="alpha",
         damping_physical="μ/k = α / δ̇⁻ (s/m)",
+        physical_unit="s/m",
         damping_unit=(1.0, 0.0, 0.0, -1.0),
         piecewise_linear=False,
         floor_reached=False,
@@ -283,6 +292,7 @@ LAWS = [
         exponent=1.0,
         damping="alpha",
         damping_physical="d = α / δ̇⁻ (s/m)",
+        physical_unit="s/m",
         damping_unit=(1.0, 0.0, 0.0, -1.0),
         piecewise_linear=False,
         floor_reached=False,
@@ -300,6 +310,7 @@ LAWS = [
         exponent=1.0,
         damping="zeta",
         damping_physical="c = 2 ζ √(k m) (N s/m)",
+        physical_unit="N s/m",
         damping_unit=_LINEAR_UNIT,
         piecewise_linear=True,
         floor_reached=True,
@@ -320,7 +331,8 @@ LAWS = [
         engines=("MuJoCo", "MJX", "MuJoCo Warp", "Genesis", "Newton (MuJoCo solver)"),
         exponent=1.0,
         damping="zeta",
-        damping_physical="b = 2 ζ √s (1/s), s the stiffness per unit mass (pass mass = 1)",
+        damping_physical="c = 2 ζ √(k m) (N s/m); MuJoCo's solref takes s = k/m and b = c/m",
+        physical_unit="N s/m",
         damping_unit=_LINEAR_UNIT,
         piecewise_linear=True,
         floor_reached=True,
@@ -347,6 +359,7 @@ LAWS = [
         exponent=1.5,
         damping="beta",
         damping_physical="η = β √(m k) (N s/m^{5/4})",
+        physical_unit="N s/m^1.25",
         damping_unit=(1.0, 0.5, 0.5, 0.0),
         piecewise_linear=False,
         floor_reached=True,
