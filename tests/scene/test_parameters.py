@@ -16,14 +16,15 @@ def test_energetic_scene_gives_the_exact_alpha_and_each_engines_parameter():
     assert cp.xi == xi
     assert cp.alpha == ca.alpha(0.8, xi)
     assert cp.alpha_source == "table"
-    assert cp.damping == pytest.approx(cp.alpha * 1.4e8 / 0.5, rel=1e-15)
+    assert cp.damping == cp.alpha and cp.damping_name == "alpha"
+    assert cp.physical_damping == pytest.approx(cp.alpha / 0.5, rel=1e-15) and cp.physical_unit == "s/m"
     assert cp.end_state == "separation"
     assert cp.eps == pytest.approx(0.8, abs=1e-6)
     assert 0 < cp.e_n < cp.eps
     assert cp.engines["opensim"]["dissipation"] == pytest.approx(2 * cp.alpha / (3 * 0.5), rel=1e-15)
     assert cp.engines["opensim"]["stiffness"] == pytest.approx(3 * 1.4e8 / np.sqrt(2 * 0.08), rel=1e-15)
     assert cp.engines["exudyn"]["contactStiffness"] == 1.4e8
-    from contactalpha.scene.engine_conventions import exudyn_alpha
+    from contactalpha.adapters.engine_conventions import exudyn_alpha
 
     e_res = cp.engines["exudyn"]["restitutionCoefficient"]
     assert exudyn_alpha(e_res, 2) == pytest.approx(cp.alpha, rel=1e-12)

@@ -17,7 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from contactalpha.adapters.mujoco_soft import MuJoCoSettings, _xml
+from contactalpha.adapters.mujoco_soft import MuJoCoSettings, drop_xml
 from contactalpha.adapters.stepped import measure_steps, touchdown_state
 
 # Radius of the sphere, m (the law does not depend on it).
@@ -30,7 +30,7 @@ def base_model(impedance, integrator="Euler", mass=1.0):
 
     scene = SimpleNamespace(gravity=0.0, radius=RADIUS, mass=float(mass))
     settings = MuJoCoSettings(timestep=1e-3, impedance=impedance, integrator=integrator)
-    return mujoco.MjModel.from_xml_string(_xml(scene, settings))
+    return mujoco.MjModel.from_xml_string(drop_xml(scene, settings))
 
 
 def batched_model(model, mass, solref, solimp, timestep):
