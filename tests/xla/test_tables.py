@@ -14,7 +14,7 @@ N = 4000
 def _numba(law, e, xi, restitution):
     if law.fast is ENGINE_TABLE:
         return alpha_tabulated(e, xi, restitution=restitution)
-    flat = law.fast.packed(restitution == "kinematic")
+    flat = law.fast.packed(law, restitution == "kinematic")
     fn = kinematic_alpha_from_packed if restitution == "kinematic" else damping_from_packed
     return np.array([fn(a, b, flat) for a, b in zip(e, xi, strict=True)])
 

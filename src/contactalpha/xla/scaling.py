@@ -2,9 +2,9 @@
 
 ``A = a delta_s / v^2`` with ``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``; the undamped loaded
 maximum ``x_m`` solves ``x^(n+1) = 1 + 2 (1 - d) A x`` and ``xi = A x_m / (1/2 + A x_m)``.  For
-n = 1 the root is the quadratic's; otherwise Newton from above (the function is convex there),
-a fixed number of steps with no derivative carried, then one step that carries it: at the
-root that step moves nothing and its derivative is the implicit function's.
+n = 1 the root is the quadratic's; otherwise Newton from above (the function is convex there)
+until no point moves, with no derivative carried, then one step that carries it: at the root
+that step moves nothing and its derivative is the implicit function's.
 """
 
 import jax
@@ -39,7 +39,14 @@ def load_factor(law, A):
         n1 = law.exponent + 1.0
         x0 = jax.lax.stop_gradient((1.0 + 2.0 * b) ** (1.0 / (n1 - 1.0)) if law.impedance == 0.0 else 2.0 + 2.0 * b)
         bs = jax.lax.stop_gradient(b)
-        x = jax.lax.fori_loop(0, XI_NEWTON_STEPS, lambda _, x: _newton(n1, bs, x), x0)
+
+        def step(st):
+            k, x, _ = st
+            nxt = _newton(n1, bs, x)
+            return k + 1, nxt, jnp.all(nxt == x)
+
+        # Newton from above until no point moves (as the numba form stops), at most its step count.
+        _, x, _ = jax.lax.while_loop(lambda st: (st[0] < XI_NEWTON_STEPS) & ~st[2], step, (0, x0, False))
         x = _newton(n1, b, jax.lax.stop_gradient(x))
     w = A * x
     xi = w / (0.5 + w)

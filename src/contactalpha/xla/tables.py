@@ -42,7 +42,7 @@ class DeviceTable:
 
     Attributes
     ----------
-    curves : stacked 1-D splines of the cuts: ``t`` (L,), ``c`` (K, n + 4), ``grid`` (3,).
+    curves : the cuts' 1-D splines: ``c`` (K, n + 4) on one ``grid`` (first, step, count).
     regions : stacked 2-D splines of the K + 1 regions (``splines.stack``).
     cuts : K (static).
     kinematic : True for a table in ``ln e_N`` without cuts (static).
@@ -60,7 +60,12 @@ def eta_of_xi(xi):
 
 
 def _no_curves():
-    return {"t": jnp.zeros(1), "c": jnp.zeros((0, 1)), "grid": jnp.zeros(3)}
+    return {"c": jnp.zeros((0, 1)), "grid": jnp.zeros(3)}
+
+
+def _curves(t, c, grid):
+    splines.check_knots(t, grid, "cut curves")
+    return {"c": jnp.asarray(c), "grid": jnp.asarray(grid)}
 
 
 def _kinematic(tx, ty, c, g):
@@ -69,18 +74,14 @@ def _kinematic(tx, ty, c, g):
 
 def _hertz_energetic():
     b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g = table_arrays(DEFAULT_FILE)
-    curves = {"t": jnp.asarray(b_t), "c": jnp.asarray(b_c[None, :]), "grid": jnp.asarray(g[0:3])}
+    curves = _curves(b_t, b_c[None, :], g[0:3])
     return DeviceTable(curves, splines.stack([(s_tx, s_ty, s_c, g[0:6]), (n_tx, n_ty, n_c, g[6:12])]), 1)
 
 
 def _law_energetic(arrays):
     g = arrays["geom"]
     cuts = int(g[0])
-    curves = {
-        "t": jnp.asarray(arrays["curves_t"]),
-        "c": jnp.asarray(arrays["curves_c"]),
-        "grid": jnp.asarray(g[1:4]),
-    }
+    curves = _curves(arrays["curves_t"], arrays["curves_c"], g[1:4])
     regions = []
     for r in range(cuts + 1):
         o = GEOM_HEAD + REGION_SLOTS * r
@@ -100,21 +101,26 @@ def device_table(law, restitution="energetic"):
     kinematic = restitution == "kinematic"
     key = (law.name, kinematic)
     if key not in _CACHE:
-        if law.fast is ENGINE_TABLE:
-            tab = _kinematic(*kinematic_table_arrays(KINEMATIC_FILE)) if kinematic else _hertz_energetic()
-        else:
-            arrays, _ = load_law_tables(law.fast.path)
-            names = ("k_tx", "k_ty", "k_c", "k_geom")
-            tab = _kinematic(*(arrays[n] for n in names)) if kinematic else _law_energetic(arrays)
-        _CACHE[key] = tab
+        with jax.ensure_compile_time_eval():  # concrete arrays even when first asked inside a trace
+            _CACHE[key] = _build(law, kinematic)
     return _CACHE[key]
+
+
+def _build(law, kinematic):
+    if law.fast is ENGINE_TABLE:
+        return _kinematic(*kinematic_table_arrays(KINEMATIC_FILE)) if kinematic else _hertz_energetic()
+    law.fast.packed(law, kinematic)  # the numba side's checks: law, grid, cuts, impedance
+    arrays, _ = load_law_tables(law.fast.path)
+    if kinematic:
+        return _kinematic(*(arrays[n] for n in ("k_tx", "k_ty", "k_c", "k_geom")))
+    return _law_energetic(arrays)
 
 
 def _curve_values(curves, eta):
     """Every cut's ``b_k(eta)``, shape (..., K)."""
-    m = splines._span(eta, curves["grid"])
-    N = splines._basis(curves["t"], m, eta)
-    rows = m[..., None] - splines.DEGREE + jnp.arange(splines.DEGREE + 1)
+    j, X, n = splines._span(eta, curves["grid"])
+    N = splines._basis(j, X, n)
+    rows = j.astype(jnp.int32)[..., None] + jnp.arange(splines.DEGREE + 1)
     return jnp.einsum("k...j,...j->...k", curves["c"][:, rows], N)
 
 
