@@ -64,6 +64,11 @@ def main():
         "max_miss_e_n": float(miss.max()),
         "median_miss_e_n": float(np.median(miss)),
         "within_1e-3": int((miss <= 1e-3).sum()),
+        "worst_worlds": [
+            {"zeta": float(np.asarray(out["damping"])[ok][i]), "xi": float(np.asarray(out["xi"])[ok][i]),
+             "target": float(s["target"][ok][i]), "delivered": float(got[i])}
+            for i in np.argsort(-miss)[:5]
+        ],  # fmt: skip
         "front_door_s_incl_compile": round(params_s, 1),
         "rollout_s_incl_compile": round(rollout_s, 1),
         "load_1min": os.getloadavg()[0],
