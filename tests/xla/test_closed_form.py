@@ -13,12 +13,12 @@ def _numba_states(zeta, A, d):
     return out
 
 
-@pytest.mark.parametrize("d", [0.0, 0.5, 0.9, 0.99])
+@pytest.mark.parametrize("d", [0.0, 0.5, 0.9])
 def test_closed_form_matches_numba(jax, d):
     from contactalpha.xla import closed_form as cf
 
     rng = np.random.default_rng(11)
-    zeta, A = rng.uniform(0.0, 2.5, 3000), 10.0 ** rng.uniform(-3.0, 1.0, 3000)
+    zeta, A = rng.uniform(0.0, 2.5, 1500), 10.0 ** rng.uniform(-3.0, 1.0, 1500)
     zeta[:2] = (0.0, 1.0)  # undamped; critically damped
     eps, e_n, state, floors, ended = (np.asarray(x) for x in jax.jit(lambda z, a: cf.impact(z, a, d))(zeta, A))
     ref = _numba_states(zeta, A, d)
@@ -62,7 +62,7 @@ def test_closed_form_gradient_matches_finite_differences(jax, kinematic):
         np.testing.assert_allclose(got[smooth], f2[smooth], rtol=1e-6, atol=1e-6)
 
 
-@pytest.mark.parametrize("d", [0.5, 0.9])
+@pytest.mark.parametrize("d", [0.5])
 def test_inverse_meets_the_target(jax, d):
     """The JAX inverse at any impedance, through the numba closed form's forward map."""
     from contactalpha.xla.inverse import closed_form_damping

@@ -8,7 +8,7 @@ from contactalpha.laws import LAWS
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.laws.table import damping_from_packed
 
-N = 4000
+N = 1500
 
 
 def _numba(law, e, xi, restitution):
