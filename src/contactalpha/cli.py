@@ -173,6 +173,7 @@ def build_parser():
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
+    f.add_argument("--quiet", action="store_true", help="no progress lines on stderr (--refine prints them)")
     f.add_argument(
         "--law",
         help="contact law (contactalpha.laws.LAWS; default hunt_crossley, n = 3/2); "
@@ -268,11 +269,14 @@ def _print_engine(args, value, restitution):
     from contactalpha.io import json_text
     from contactalpha.scene.engine_params import engine_block, format_block
 
+    from contactalpha.progress import Progress
+
     accel = args.accel if args.accel is not None else args.force / args.mass
-    params, notes = engine_block(
-        args.engine, value, args.mass, args.stiffness, args.speed, accel,
-        restitution=restitution, radius=args.radius, refine=args.refine,
-    )  # fmt: skip
+    with Progress(f"contactalpha: refining on {args.engine}'s drops") as progress:
+        params, notes = engine_block(
+            args.engine, value, args.mass, args.stiffness, args.speed, accel, restitution=restitution,
+            radius=args.radius, refine=args.refine, progress=None if args.quiet else progress,
+        )  # fmt: skip
     if args.json:
         print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
     else:

@@ -1,13 +1,14 @@
 """``calibrate``: a drop test in, each law's fitted parameters, the selected law and engine inputs out."""
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from contactalpha.scene.ball import GRAVITY
 from contactalpha.adapters.engine_conventions import opensim_dissipation
+from contactalpha.scene.ball import GRAVITY
 from contactalpha.scene.parameters import contact_parameters
 from contactalpha.validation import check_positive, check_range
 
@@ -191,6 +192,7 @@ def calibrate(
     level: float = LEVEL,
     intervals: bool = True,
     interval_tolerance: float = data_mod.INTERVAL_TOLERANCE,
+    progress: "Callable[[str], None] | None" = None,
 ) -> "Calibration":
     """Fit restitution laws to a drop test and select one.
 
@@ -225,6 +227,9 @@ def calibrate(
     interval_tolerance : float
         s; an impact interval longer than the one before by more than this is refused (a missed
         or spurious impact), ``data.INTERVAL_TOLERANCE`` by default.
+    progress : callable, optional
+        Called with the name of each stage (a law's fit, its intervals) as it begins
+        (``contactalpha.progress.Progress`` prints them on stderr once the work runs long).
 
     Returns
     -------
@@ -249,11 +254,16 @@ def calibrate(
     names = law_names(laws)
     setup = Setup(m, g + f / m)
     kw = {"stiffness_guess": stiffness, "level": level}
-    fits = {n: fit_law(LAWS[n], d, setup, intervals=False, **kw) for n in names}
+    say = progress if progress is not None else (lambda stage: None)
+    fits = {}
+    for i, n in enumerate(names, 1):
+        say(f"fitting {n} ({i}/{len(names)})")
+        fits[n] = fit_law(LAWS[n], d, setup, intervals=False, **kw)
     best_aic = min(f.aic for f in fits.values())
     for n in names:
         gap = fits[n].aic - best_aic
         if intervals and gap <= INTERVAL_AIC_GAP:
+            say(f"intervals of {n}")
             fits[n] = fit_law(LAWS[n], d, setup, intervals=True, **kw)
         elif intervals:
             fits[n].status += f"; no intervals: AIC {gap:.1f} above the best law's"

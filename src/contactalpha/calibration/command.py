@@ -21,26 +21,31 @@ def add_parser(make, number):
     )
     c.add_argument("--json", metavar="PATH", help="write the JSON report there")
     c.add_argument("--figures", metavar="PREFIX", help="write PREFIX_restitution.png, PREFIX_residuals.png")
+    c.add_argument("--quiet", action="store_true", help="no progress lines on stderr (a long fit prints them)")
     return c
 
 
 def run(args):
     """Run the subcommand; returns the exit status (ValueError propagates to the CLI's handler)."""
+    from contactalpha.progress import Progress
+
     from .api import calibrate, format_calibration
 
     try:
-        cal = calibrate(
-            args.file,
-            mass=args.mass,
-            radius=args.radius,
-            laws=args.law,
-            gravity=args.gravity,
-            force=args.force,
-            stiffness=args.stiffness,
-            moduli=args.moduli,
-            poisson=tuple(args.poisson),
-            interval_tolerance=args.interval_tolerance,
-        )
+        with Progress("contactalpha: calibrate") as progress:
+            cal = calibrate(
+                args.file,
+                mass=args.mass,
+                radius=args.radius,
+                laws=args.law,
+                gravity=args.gravity,
+                force=args.force,
+                stiffness=args.stiffness,
+                moduli=args.moduli,
+                poisson=tuple(args.poisson),
+                interval_tolerance=args.interval_tolerance,
+                progress=None if args.quiet else progress,
+            )
     except OSError as exc:
         raise ValueError(f"{args.file}: {exc.strerror or exc}") from None
     print(format_calibration(cal))

@@ -16,7 +16,7 @@ from .parameters import LAW, contact_parameters
 
 
 def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False):  # fmt: skip
+                 radius=None, refine=False, progress=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -31,6 +31,8 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Sphere radius, m.
     refine : bool
         Refine on the engine's own drops (stepping engines; needs the engine).
+    progress : callable, optional
+        Told of each drop of the refinement (``contactalpha.progress.Progress``).
     """
     a = adapter(engine)
     if a.law.name == LAW:
@@ -40,7 +42,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         return cp.engines[engine], [f"law {LAW}: alpha = {cp.alpha:.15g} at xi = {cp.xi:.15g}"]
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     if refine:
-        params, ref, got = a.calibrate(scene, target)
+        params, ref, got = a.calibrate(scene, target, progress=progress)
         return params, [
             f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
             f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
