@@ -17,6 +17,7 @@ RANKS = {
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
+    "stepping": 2,  # the engines' discrete step maps (numba kernels): below scene and adapters
     "baselines": 3,
     "adapters": 4,  # the engines: below scene, whose front door iterates the adapters' registry
     "scene": 5,
@@ -24,6 +25,7 @@ RANKS = {
     "paper": 7,
     "studies": 7,
     "calibration": 7,  # drop-test calibration: scene-level physics, plus a hint from studies
+    "mechanism": 7,  # contacts of the user's model files: the adapters' laws at the contact's m_eff
     "config": 8,
     "cli": 8,
     "__main__": 8,

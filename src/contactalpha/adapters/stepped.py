@@ -6,7 +6,8 @@ In flight under a constant acceleration ``a`` the positions then lie exactly on 
 velocity at a step's end is ``v - a h / 2`` (the stored velocity is the mean over the step).  So:
 
 - a drop *arrives* with approach speed ``v_minus`` when its parabola crosses z = 0 at that speed:
-  ``touchdown_state`` gives the stored state one step-fraction ``phase`` before the crossing;
+  ``touchdown_state`` (``contactalpha.stepping.flight``, re-exported here) gives the stored state
+  one step-fraction ``phase`` before the crossing;
 - the *rebound* speed is the speed of the flight parabola at z = 0, read at the first state
   reached by a step without contact force (``v_j - v_{j-1} = -a h``):
   ``e_N = sqrt((v_j - a h/2)^2 + 2 a z_j) / v_minus``.  A drop test reads the same number from the
@@ -37,6 +38,7 @@ import numpy as np
 from contactalpha.adapters.base import DELIVERED_TOL, Adapter, Delivered
 from contactalpha.adapters.measure import MeasuredImpact
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
+from contactalpha.stepping.flight import touchdown_state
 
 # A contact spanning fewer steps than this is flagged: its rebound depends on the touchdown phase.
 MIN_CONTACT_STEPS = 20
@@ -46,26 +48,6 @@ FREE_STEP_RTOL = 1e-9
 
 class ContactStepsWarning(UserWarning):
     """A discrete engine's contact spans too few steps for its restitution to be trusted."""
-
-
-def touchdown_state(approach_speed, accel, h, phase):
-    """Stored ``(z, v)`` a fraction ``phase`` of a step before the parabola meets z = 0 at ``-v_minus``.
-
-    Parameters
-    ----------
-    approach_speed : float
-        Speed at touchdown, m/s (> 0).
-    accel : float
-        Constant downward acceleration in flight, m/s^2.
-    h : float
-        The engine's step, s.
-    phase : float
-        In [0, 1): where the touchdown falls within the first step.
-    """
-    tc = phase * h
-    w = -approach_speed + accel * tc  # parabola velocity at the start
-    z0 = -(w * tc - 0.5 * accel * tc * tc)
-    return z0, w + 0.5 * accel * h
 
 
 def measure_steps(z, v, accel, h, approach_speed):

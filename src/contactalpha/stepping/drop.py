@@ -1,0 +1,128 @@
+"""A whole drop through any engine's step map, from the exact free-flight parabola (``flight``).
+
+The drop starts at ``flight.touchdown_state`` and is stepped by the engine's map until:
+
+- **separation**: after the contact's first force, a step that starts above the surface
+  (z > 0), applies no contact force and ends moving up; e_N is ``flight.rebound_speed`` of its
+  end state over ``v_in``;
+- **capture** (e_N = 0): after the contact's first force the body rose and then turned down
+  again without separating, or came to rest in contact (velocity and its change over a step
+  below ``flight.REST_FRACTION`` of ``v_in``), or still creeps slower than ``CREEP_FRACTION``
+  of ``v_in`` in contact when the steps run out (an overdamped contact creeping to rest);
+- **failure**: a non-finite state, or the steps ran out: NaN.
+
+A step applies a contact force when its end velocity differs from free flight's ``w - h a``
+(every map computes free flight exactly so).  The steps in contact counted are the steps with a
+force.  Stronge's coefficient comes from the energy identity with the deepest sampled
+penetration ``d_max``: ``eps^2 = (v_out^2/2 + a d_max) / (v_in^2/2 + a d_max)``; a captured drop
+ending at depth ``d_end`` has ``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
+
+``run_drop`` takes the engine's kernel code (``kernels.step_map``), so one loop serves every
+engine and every kernel above it caches; ``drop_mujoco`` is the interface's MuJoCo drop.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .codes import CAPTURED, D_DMAX, D_EN, D_EPS, D_STATUS, D_STEPS, N_DROP, NON_FINITE, SEPARATED, STEP_LIMIT
+from .flight import REST_FRACTION, rebound_speed, touchdown_state
+from .kernels import MUJOCO, step_map
+
+# A body still in contact when the steps run out, creeping slower than this fraction of the
+# approach speed, is captured too (an overdamped contact creeps to its rest without leaving).
+CREEP_FRACTION = 1e-3
+
+
+@njit(cache=True)
+def run_drop(code, p, h, phase, v_in, accel, max_steps):
+    """One drop through the engine's step map; the row of ``codes.D_*`` slots.
+
+    Parameters
+    ----------
+    code : int
+        The engine's kernel code (``kernels.step_map``).
+    p : float64 array
+        The engine's parameters (slots of the map's module).
+    h : float
+        Step, s.
+    phase : float
+        In [0, 1): where touchdown falls within its step.
+    v_in : float
+        Approach speed, m/s (> 0).
+    accel : float
+        Load acceleration pressing into the contact, m/s^2 (> 0).
+    max_steps : int
+        Steps at most.
+    """
+    out = np.empty(N_DROP)
+    z, w = touchdown_state(v_in, accel, h, phase)
+    n = 0
+    rising = False
+    d_max = 0.0
+    w_c = 0.5 * v_in * v_in
+    rest = REST_FRACTION * v_in
+    status = STEP_LIMIT
+    for _ in range(max_steps):
+        z1, w1 = step_map(code, z, w, p, h, accel)
+        if not (math.isfinite(z1) and math.isfinite(w1)):
+            status = NON_FINITE
+            break
+        forced = w1 != w - h * accel
+        if forced:
+            n += 1
+        elif n > 0 and z > 0.0 and w1 > 0.0:
+            v_out = rebound_speed(z1, w1, accel, h)
+            out[D_EN] = v_out / v_in
+            out[D_EPS] = math.sqrt((0.5 * v_out * v_out + accel * d_max) / (w_c + accel * d_max))
+            status = SEPARATED
+            break
+        if n > 0:
+            d_max = max(d_max, -z1)
+            if w1 > 0.0:
+                rising = True
+            elif rising or (abs(w1) <= rest and abs(w1 - w) <= rest):
+                status = CAPTURED
+                z = z1
+                break
+        z, w = z1, w1
+    if status == STEP_LIMIT and n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
+        status = CAPTURED
+    if status == CAPTURED:
+        out[D_EN] = 0.0
+        out[D_EPS] = math.sqrt(max(accel * (d_max + z) / (w_c + accel * d_max), 0.0))
+    elif status != SEPARATED:
+        out[D_EN] = math.nan
+        out[D_EPS] = math.nan
+    out[D_STEPS] = n
+    out[D_DMAX] = d_max
+    out[D_STATUS] = status
+    return out
+
+
+@njit(cache=True)
+def run_drops(code, p, h, phases, v_in, accel, max_steps):
+    """``run_drop`` at every phase: one row of ``codes.D_*`` slots per phase."""
+    rows = np.empty((phases.size, N_DROP))
+    for i in range(phases.size):
+        rows[i] = run_drop(code, p, h, phases[i], v_in, accel, max_steps)
+    return rows
+
+
+@njit(cache=True)
+def trajectory(code, p, h, phase, v_in, accel, n_steps):
+    """The stored states ``(z, w)`` of ``n_steps`` steps from ``touchdown_state`` (row 0 the start)."""
+    zs = np.empty(n_steps + 1)
+    ws = np.empty(n_steps + 1)
+    zs[0], ws[0] = touchdown_state(v_in, accel, h, phase)
+    for i in range(n_steps):
+        zs[i + 1], ws[i + 1] = step_map(code, zs[i], ws[i], p, h, accel)
+    return zs, ws
+
+
+@njit(cache=True)
+def drop_mujoco(p, h, phase, v_in, accel, max_steps):
+    """A whole MuJoCo drop (``mujoco_map``): ``(e_N, n_contact_steps, status)``."""
+    row = run_drop(MUJOCO, p, h, phase, v_in, accel, max_steps)
+    return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
