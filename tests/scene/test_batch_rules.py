@@ -1,4 +1,4 @@
-"""The batch rules (issue 32, item 4): a row with no answer is NaN everywhere and flagged; the rest unchanged."""
+"""The batch rules (issue 32, item 4): a row with no answer is NaN and flagged; the rest unchanged."""
 
 import math
 
