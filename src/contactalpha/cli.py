@@ -14,6 +14,7 @@ from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
+from contactalpha.mechanism import command as tune_command
 from contactalpha.scene.reach import EXIT_UNREACHABLE, UnreachableTarget
 from contactalpha.version import __version__
 
@@ -112,6 +113,7 @@ EXAMPLES = {
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
         "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
     ),
+    "tune": tune_command.EXAMPLES,
 }
 
 
@@ -217,6 +219,7 @@ def build_parser():
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     _sub(sub, "warmup", "compile every numba kernel now (later first calls load the compiled code)")
     calibrate_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
+    tune_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
     return p
 
 
@@ -404,6 +407,7 @@ COMMANDS = {
     "export-c": _export_c,
     "warmup": _warmup,
     "calibrate": lambda args, parser: calibrate_command.run(args),
+    "tune": tune_command.run,
 }
 
 

@@ -10,7 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import kernels, mujoco_map
+import math
+
+from . import drake_map, kernels, mujoco_map, pybullet_map
+from .drop import drop_mujoco
 
 
 @dataclass(frozen=True)
@@ -28,6 +31,8 @@ class Stepper:
     stiffness_slot : the slot of its stiffness (an unreachable target's remedy), or None.
     defaults : slot values used when a caller gives none (name -> value).
     contact_time : ``p -> s``, the contact's time scale (sizes step limits and step searches).
+    drop : the interface's ``drop_<engine>(p, h, phase, v_in, accel, max_steps)``; its e_N and
+        status agree with the generic ``drop.run_drop`` on the same map (tests/stepping).
     source : where the map was read from (files and functions of the engine's source).
     """
 
@@ -40,6 +45,7 @@ class Stepper:
     stiffness_slot: int | None
     defaults: dict
     contact_time: Callable
+    drop: Callable
     source: str
 
     def pack(self, **values):
@@ -69,9 +75,37 @@ STEPPERS = (
         stiffness_slot=mujoco_map.STIFFNESS,
         defaults={"diag_ratio": 1.0},
         contact_time=mujoco_map.contact_time,
+        drop=drop_mujoco,
         source="MuJoCo src/engine: engine_core_constraint.c (mj_diagApprox, getimpedance, "
         "mj_makeImpedance, mj_referenceConstraint), engine_collision_driver.c (con->exclude), "
         "engine_forward.c (mj_EulerSkip, mj_implicitSkip, mj_advance)",
+    ),
+    Stepper(
+        name="pybullet",
+        code=kernels.PYBULLET,
+        integrators=("semi-implicit Euler",),
+        timestep=pybullet_map.TIMESTEP,
+        slots=pybullet_map.SLOT_NAMES,
+        damping_slot=pybullet_map.DAMPING_BALL,
+        stiffness_slot=pybullet_map.STIFFNESS_BALL,
+        defaults={"slop": pybullet_map.LINEAR_SLOP},
+        contact_time=lambda p: math.pi * math.sqrt(p[pybullet_map.MASS] / pybullet_map.pair_values(p)[0]),
+        drop=pybullet_map.drop_pybullet,
+        source="bullet3: btMultiBodyConstraintSolver::setupMultiBodyContactConstraint, "
+        "btManifoldResult (combined stiffness and damping), btMultiBodyDynamicsWorld (pybullet_map)",
+    ),
+    Stepper(
+        name="drake",
+        code=kernels.DRAKE,
+        integrators=("tamsi", "lagged", "similar"),  # discrete_contact_approximation
+        timestep=drake_map.TIMESTEP,
+        slots=drake_map.SLOT_NAMES,
+        damping_slot=drake_map.DISSIPATION_BALL,
+        stiffness_slot=drake_map.STIFFNESS_BALL,
+        defaults={},
+        contact_time=lambda p: math.pi * math.sqrt(p[drake_map.MASS] / drake_map.pair_values(p)[0]),
+        drop=drake_map.drop_drake,
+        source="drake: DiscreteUpdateManager, SapHuntCrossleyConstraint, TamsiSolver (drake_map)",
     ),
 )
 STEPPER_NAMES = tuple(s.name for s in STEPPERS)
