@@ -88,8 +88,15 @@ def warm_cache(cache):
     return time.perf_counter() - start
 
 
+def _medians(runs):
+    """(median wall, median CPU) of ``runs`` of (wall, CPU); NaNs for none."""
+    if not runs:
+        return math.nan, math.nan
+    return tuple(statistics.median(x) for x in zip(*runs, strict=True))
+
+
 def measure(repeat, baseline):
-    """Rows ``(law, scenes, cold, warm, baseline)`` of median (wall, CPU) first-call s, and the warm-up's s."""
+    """Rows ``(law, scenes, cold, warm, baseline)`` of median (wall, CPU) first-call s; the warm-up's s."""
     sys.path.insert(0, str(SRC))
     from contactalpha.laws import LAWS
 
@@ -106,13 +113,10 @@ def measure(repeat, baseline):
                     if baseline:
                         with tempfile.TemporaryDirectory() as cold:
                             times["baseline"].append(first_call(law, n, cold, baseline=True))
-                med = {
-                    k: tuple(statistics.median(x) for x in zip(*v)) if v else (math.nan, math.nan)
-                    for k, v in times.items()
-                }
+                med = {k: _medians(v) for k, v in times.items()}
                 rows.append((law.name, n or 1, med["cold"], med["warm"], med["baseline"]))
-                print(f"{law.name:22s} {n or 1:6d} " + " ".join(f"{w:6.2f}/{c:5.2f}" for w, c in med.values()),
-                      flush=True)  # fmt: skip
+                cells = " ".join(f"{w:6.2f}/{c:5.2f}" for w, c in med.values())
+                print(f"{law.name:22s} {n or 1:6d} {cells}", flush=True)
     return rows, warmup_s
 
 
