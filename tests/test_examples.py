@@ -91,3 +91,29 @@ def test_mujoco_drop_example_delivers_the_target_inside_mujoco(mujoco, capsys):
     zeta = _printed(out, "damping ratio")
     assert -stiffness == pytest.approx(2.0e4 / 0.5, rel=1e-12)
     assert -damping == pytest.approx(2 * zeta * math.sqrt(2.0e4 / 0.5), rel=1e-8)
+
+
+@pytest.mark.integration
+def test_domain_randomisation_gives_4096_scenes_and_three_deliver_their_target_in_mujoco(mujoco, capsys):
+    runpy.run_path(str(EXAMPLES / "domain_randomisation.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    assert re.search(r"^scenes\s+4096, with parameters 4096$", out, re.M)
+    checks = re.findall(r"target e_N = ([0-9.]+), MuJoCo delivers e_N = ([0-9.]+)", out)
+    assert len(checks) == 3
+    for target, delivered in checks:
+        # MuJoCo's own drop at 20,000 steps per period, with the batch's solref: within 1e-3.
+        assert float(delivered) == pytest.approx(float(target), abs=1e-3)
+
+
+def test_robot_model_tuning_hits_the_target_and_reads_the_leg(mujoco, capsys):
+    runpy.run_path(str(EXAMPLES / "robot_model_tuning.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    sys.path.insert(0, str(ROOT / "tests" / "mechanism"))
+    import hand  # the leg's effective mass and load derived by hand
+
+    m_eff, accel = hand.leg()
+    assert _printed(out, "effective mass") == pytest.approx(m_eff, rel=1e-11)
+    assert _printed(out, "free accel") == pytest.approx(accel, rel=1e-11)
+    assert _printed(out, "refined e_N") == pytest.approx(0.5, abs=2e-4)
+    # the corrected law's answer misses by less than the free-body mapping's
+    assert abs(_printed(out, "delivered e_N") - 0.5) < abs(_printed(out, "free-body e_N") - 0.5)

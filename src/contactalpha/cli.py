@@ -14,6 +14,8 @@ from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
+from contactalpha.mechanism import command as tune_command
+from contactalpha.scene.reach import EXIT_UNREACHABLE, UnreachableTarget
 from contactalpha.version import __version__
 
 
@@ -22,6 +24,11 @@ def _number(text):
         return float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+
+
+def _step(text):
+    """A step in s, or the word "default" (the engine's own default step)."""
+    return text if text == "default" else _number(text)
 
 
 # Every float literal that starts with a minus: argparse's own pattern (-1, -.5) misses -1e-3,
@@ -78,7 +85,6 @@ def stiffness_help():
 
 
 # Exit statuses of `params` (its -h prints them).
-EXIT_UNREACHABLE = 3
 PARAMS_EXIT = (
     "exit status: 0 parameters printed; 2 bad input (one line on stderr); "
     f"{EXIT_UNREACHABLE} no damping reaches the target (stderr names the nearest reachable target "
@@ -112,6 +118,7 @@ EXAMPLES = {
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
         "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
     ),
+    "tune": tune_command.EXAMPLES,
 }
 
 
@@ -200,6 +207,20 @@ def build_parser():
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
     f.add_argument(
+        "--timestep",
+        type=_step,
+        nargs="?",
+        const="default",
+        help="with --engine: the engine's step, s (alone: its default step); the answer is then for the "
+        "mean over a uniformly random touchdown phase at that step, with the range one drop sees",
+    )
+    f.add_argument(
+        "--verify",
+        type=int,
+        metavar="N",
+        help="with --timestep: run the installed engine at N touchdown phases, measured against predicted",
+    )
+    f.add_argument(
         "--law",
         help="contact law (contactalpha.laws.LAWS; default hunt_crossley, n = 3/2); "
         "--stiffness is then that law's physical stiffness (N/m for n = 1, N/m^1.5 for n = 3/2)",
@@ -217,6 +238,7 @@ def build_parser():
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     _sub(sub, "warmup", "compile every numba kernel now (later first calls load the compiled code)")
     calibrate_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
+    tune_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
     return p
 
 
@@ -236,7 +258,7 @@ def _print_advice(adv):
 
 
 def main(argv=None):
-    """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
+    """Run the command line; the exit status: 2 bad input, 1 a failed solve, 3 an unreachable target."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -246,6 +268,10 @@ def main(argv=None):
         # stdout at devnull so that Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except UnreachableTarget as exc:
+        # No damping reaches the target: the nearest reachable one and the remedy, one line.
+        print(f"contactalpha: unreachable: {' '.join(str(exc).split())}", file=sys.stderr)
+        return EXIT_UNREACHABLE
     except (ValueError, RuntimeError, OSError, ImportError) as exc:
         # Bad input, a failed solve, a file that cannot be written, an optional engine not
         # installed (its message says how to install it): one line, never a traceback.
@@ -300,6 +326,7 @@ def _print_engine(args, value, restitution):
     params, notes = engine_block(
         args.engine, value, args.mass, args.stiffness, args.speed, accel,
         restitution=restitution, radius=args.radius, refine=args.refine,
+        timestep=args.timestep, verify=args.verify,
     )  # fmt: skip
     if args.json:
         print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
@@ -319,6 +346,8 @@ def _params(args, parser):
         raise ValueError("give --engine or --law, not both: an engine's block uses its own law")
     if args.engine is not None:
         return _print_engine(args, value, restitution)
+    if args.timestep is not None or args.verify is not None:
+        raise ValueError("--timestep and --verify need --engine: the step is an engine's")
     target = {"eps": value} if restitution == "energetic" else {"e_N": value}
     cp = contact_parameters(
         law=args.law,
@@ -400,6 +429,7 @@ COMMANDS = {
     "export-c": _export_c,
     "warmup": _warmup,
     "calibrate": lambda args, parser: calibrate_command.run(args),
+    "tune": tune_command.run,
 }
 
 

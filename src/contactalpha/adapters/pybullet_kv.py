@@ -32,15 +32,10 @@ import numpy as np
 from contactalpha.adapters.contract import Samples
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
+from contactalpha.stepping.pybullet_map import LINEAR_SLOP, TIMESTEP
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'PyBullet is an optional engine: pip install -e ".[engines]" (PyPI package "pybullet")'
-# PyBullet's default time step, s.
-TIMESTEP = 1.0 / 240.0
-# The solver's ``m_linearSlop`` that PyBullet's server sets (PhysicsServerCommandProcessor.cpp): the
-# solver reads a contact's penetration as ``distance + linearSlop``, so the contact surface lies
-# this far below the geometric one (measured: the ball rests m a / k + 1e-5 m deep for any k, step, load).
-LINEAR_SLOP = 1e-5
 
 
 def _pybullet():
@@ -102,8 +97,12 @@ class PyBulletAdapter(SteppingAdapter):
             "pair_damping": float_or_array(c),
         }
 
-    def build_drop(self, scene, params, settings):
-        """A fresh DIRECT client with the plane and the ball; touchdown states for every phase."""
+    def build_drop(self, scene, params, settings, *, stiffness_each=None, damping_each=None):
+        """A fresh DIRECT client with the plane and the ball; touchdown states for every phase.
+
+        ``stiffness_each``/``damping_each`` = (ball, plane) override the equal split of ``params``;
+        a stiffness of None leaves that body's values unset.
+        """
         pb = _pybullet()
         restitution = settings.restitution
         client = pb.connect(pb.DIRECT)
@@ -115,12 +114,15 @@ class PyBulletAdapter(SteppingAdapter):
         ball = pb.createMultiBody(
             scene.mass, shape, basePosition=[0.0, 0.0, 2.0 * scene.radius], physicsClientId=client
         )
-        for body in (plane, ball):
+        k_each = stiffness_each or (float(params["contactStiffness"]),) * 2
+        c_each = damping_each or (float(params["contactDamping"]),) * 2
+        for body, k, c in ((ball, k_each[0], c_each[0]), (plane, k_each[1], c_each[1])):
+            # A body given None keeps Bullet's unset values (btCollisionObject: 1e30 N/m, 0.1 N s/m).
+            values = {} if k is None else {"contactStiffness": float(k), "contactDamping": float(c)}
             pb.changeDynamics(
                 body,
                 -1,
-                contactStiffness=float(params["contactStiffness"]),
-                contactDamping=float(params["contactDamping"]),
+                **values,
                 restitution=float(restitution),
                 lateralFriction=0.0,
                 linearDamping=0.0,

@@ -9,13 +9,21 @@ its module with ``step_<engine>``, one code here and one branch in ``step_map``;
 
 from numba import njit
 
+from .drake_map import step_drake
 from .mujoco_map import step_mujoco
+from .pybullet_map import step_pybullet
 
 # Kernel codes: the position of each engine's step in ``step_map``'s table.
 MUJOCO = 0
+PYBULLET = 1
+DRAKE = 2
 
 
 @njit(cache=True)
 def step_map(code, z, w, p, h, accel):
     """One step of the engine with kernel code ``code`` (the table above): ``(z, w)`` after it."""
+    if code == PYBULLET:
+        return step_pybullet(z, w, p, h, accel)
+    if code == DRAKE:
+        return step_drake(z, w, p, h, accel)
     return step_mujoco(z, w, p, h, accel)

@@ -1,0 +1,139 @@
+"""Drake's discrete MultibodyPlant step for one frictionless point contact, as a map (numba).
+
+What the discrete plant does in one step of a sphere on a half space with
+``ContactModel.kPoint`` and Hunt-Crossley dissipation, read from Drake's source
+(RobotLocomotion/drake):
+
+1. **Contact at the step's start.**  ``QueryObject::ComputePointPairPenetration`` reports the pair
+   while the sphere touches or penetrates (depth ``x0 = -z >= 0``: at depth 0 the pair is reported
+   with ``fn0 = 0``, and its impulse ``h (-h k w')_+ ...`` still acts);
+   ``DiscreteUpdateManager::AppendDiscreteContactPairsForPointContact`` gives it ``fn0 = k x0``,
+   with the pair's ``k`` and ``d`` from the geometries' ``point_contact_stiffness`` and
+   ``hunt_crossley_dissipation`` (``internal::CombinePointContactParameters``:
+   ``k = k1 k2 / (k1 + k2)``, ``d = k2/(k1+k2) d1 + k1/(k1+k2) d2``).  Above the surface the step
+   is free.
+2. **The impulse** at the next velocity ``w'`` (up, i.e. ``vn`` of the contact frame), the same
+   law for the ``lagged`` and ``similar`` approximations (``SapHuntCrossleyConstraint``,
+   ``CalcDiscreteHuntCrossleyImpulse``, solved by ``SapSolver``) and for ``tamsi``
+   (``TamsiSolver``): ``gamma = h (fn0 - h k w')_+ (1 - d w')_+ = h k (-z')_+ (1 - d w')_+`` with
+   ``z' = z + h w'``: Hunt-Crossley at the step's end.  Without friction the two SAP
+   approximations differ only in the friction terms, which vanish.
+3. **Momentum and positions**: ``m (w' - w) = -m a h + gamma``, then ``z' = z + h w'``.
+
+So ``w'`` is the root of ``m (w' - w*) = gamma(w')`` with ``w* = w - h a``, where ``gamma`` falls
+with ``w'``: unique, and below ``v_hat = min(x0/h, 1/d)`` it is the smaller root of the quadratic
+``h^2 k d w'^2 - (m + h k (d x0 + h)) w' + (h k x0 + m w*) = 0``.  The engine's solvers stop at
+their tolerances (SAP: ``SapSolverParameters::rel_tolerance`` 1e-6 on the momentum residual,
+after Newton steps that usually land far below it); this map is the exact root.
+
+**What ``sap`` does.**  ``DiscreteContactApproximation::kSap`` ignores ``hunt_crossley_dissipation``:
+its ``SapFrictionConeConstraint`` is a linear Kelvin-Voigt law ``gamma/h = (-k z' - tau k w')_+``
+with the ``relaxation_time`` tau (default 0.1 s), and a near-rigid regularisation
+``R = max(beta^2/(4 pi^2) w, 1/(h k (h + tau)))`` (beta = 1, w the Delassus estimate, here 1/m)
+that takes over when ``h sqrt(k/m)`` exceeds about 2 pi.  It is not this map.
+
+Parameters ``p`` (float64, the engine's own units), slots named below.  Importing this module does
+not need Drake.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from contactalpha.stepping.codes import CAPTURED, NON_FINITE, SEPARATED, STEP_LIMIT
+from contactalpha.stepping.flight import REST_FRACTION, rebound_speed, touchdown_state
+
+# MultibodyPlantConfig's default time_step, s.
+TIMESTEP = 1e-3
+
+# Slots of ``p``.
+MASS = 0  # the sphere's mass, kg
+STIFFNESS_BALL = 1  # the sphere's point_contact_stiffness, N/m
+DISSIPATION_BALL = 2  # the sphere's hunt_crossley_dissipation, s/m
+STIFFNESS_GROUND = 3  # the half space's point_contact_stiffness, N/m
+DISSIPATION_GROUND = 4  # the half space's hunt_crossley_dissipation, s/m
+N_PARAMS = 5
+SLOT_NAMES = ("mass", "stiffness_ball", "dissipation_ball", "stiffness_ground", "dissipation_ground")
+
+
+def make_params(mass, stiffness_ball, dissipation_ball, stiffness_ground, dissipation_ground):
+    """``p`` for a sphere of ``mass`` (kg) on a half space, with each geometry's values."""
+    p = np.empty(N_PARAMS)
+    p[MASS] = mass
+    p[STIFFNESS_BALL], p[DISSIPATION_BALL] = stiffness_ball, dissipation_ball
+    p[STIFFNESS_GROUND], p[DISSIPATION_GROUND] = stiffness_ground, dissipation_ground
+    return p
+
+
+@njit(cache=True)
+def pair_values(p):
+    """The pair's ``(k, d)`` from the geometries' (``CombinePointContactParameters``; 0/0 gives 0)."""
+    k1, k2 = p[STIFFNESS_BALL], p[STIFFNESS_GROUND]
+    s = k1 + k2
+    if s == 0.0:
+        return 0.0, 0.0
+    return k1 * k2 / s, k2 / s * p[DISSIPATION_BALL] + k1 / s * p[DISSIPATION_GROUND]
+
+
+@njit(cache=True)
+def next_velocity_drake(z, w, p, h, accel):
+    """The step's end velocity ``w'`` (m/s, up) from ``(z, w)``; ``w - h accel`` without contact."""
+    w_star = w - h * accel
+    if not (z <= 0.0):
+        return w_star
+    k, d = pair_values(p)
+    m = p[MASS]
+    x0 = -z
+    v_hat = x0 / h
+    if d > 0.0 and 1.0 / d < v_hat:
+        v_hat = 1.0 / d
+    if w_star >= v_hat:
+        return w_star
+    a = h * h * k * d
+    b = m + h * k * (d * x0 + h)
+    c = h * k * x0 + m * w_star
+    disc = b * b - 4.0 * a * c
+    return 2.0 * c / (b + math.sqrt(max(disc, 0.0)))
+
+
+@njit(cache=True)
+def step_drake(z, w, p, h, accel):
+    """One discrete-plant step of the height ``z`` (m, above the surface) and velocity ``w`` (m/s, up).
+
+    ``accel`` (m/s^2, > 0) is the load's acceleration into the contact, ``h`` the step (s).
+    """
+    w_next = next_velocity_drake(z, w, p, h, accel)
+    return z + h * w_next, w_next
+
+
+@njit(cache=True)
+def drop_drake(p, h, phase, v_in, accel, max_steps):
+    """A whole drop in the discrete plant's steps: ``(e_N, n_contact_steps, status)`` (``stepping.codes``).
+
+    Touchdown falls at ``phase`` in [0, 1) of the first step, at approach speed ``v_in`` (m/s, > 0).
+    The contact ends at the first step that starts above the surface and ends moving up; e_N is
+    read from the flight parabola after it.  ``n_contact_steps`` counts the steps that start in
+    penetration or on the surface.  A body that turns down again without leaving, or comes to rest in contact, is captured
+    (e_N = 0);
+    ``max_steps`` spent first: STEP_LIMIT and NaN.
+    """
+    z, w = touchdown_state(v_in, accel, h, phase)
+    n_contact = 0
+    rising = False
+    for _ in range(max_steps):
+        w_next = next_velocity_drake(z, w, p, h, accel)
+        z_next = z + h * w_next
+        if not (math.isfinite(z_next) and math.isfinite(w_next)):
+            return math.nan, n_contact, NON_FINITE
+        if z <= 0.0:
+            n_contact += 1
+        elif n_contact > 0 and w_next > 0.0:
+            return rebound_speed(z_next, w_next, accel, h) / v_in, n_contact, SEPARATED
+        if n_contact > 0:
+            if w_next > 0.0:
+                rising = True
+            elif rising or (abs(w_next) <= REST_FRACTION * v_in and abs(w_next - w) <= REST_FRACTION * v_in):
+                return 0.0, n_contact, CAPTURED
+        z, w = z_next, w_next
+    return math.nan, n_contact, STEP_LIMIT
