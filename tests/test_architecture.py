@@ -16,18 +16,18 @@ RANKS = {
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
     "models": 2,
     "export": 2,
-    "stepping": 2,  # the engines' discrete steps as maps: numba kernels, below the adapters
+    "stepping": 2,  # the engines' discrete step maps (numba kernels): below scene and adapters
     "baselines": 3,
-    "scene": 4,
-    "adapters": 4,  # peers of scene: the front door iterates the adapters' registry
-    "warmup": 5,
-    "paper": 6,
-    "studies": 6,
-    "calibration": 6,  # drop-test calibration: scene-level physics, plus a hint from studies
-    "config": 7,
-    "cli": 7,
-    "__main__": 7,
-    "__init__": 7,
+    "adapters": 4,  # the engines: below scene, whose front door iterates the adapters' registry
+    "scene": 5,
+    "warmup": 6,
+    "paper": 7,
+    "studies": 7,
+    "calibration": 7,  # drop-test calibration: scene-level physics, plus a hint from studies
+    "config": 8,
+    "cli": 8,
+    "__main__": 8,
+    "__init__": 8,
 }
 
 
@@ -93,6 +93,19 @@ def test_imports_only_go_down():
             if target is not None and target != "" and _rank(target) > _rank(module):
                 upward.append(f"{module} -> {target}")
     assert upward == []
+
+
+def test_scene_and_adapters_import_one_way():
+    """``scene`` imports ``adapters`` (the front door iterates the engines), never the reverse."""
+    assert _rank("adapters") < _rank("scene")
+    back = [
+        f"{module} -> {target}"
+        for module, path in MODULES.items()
+        if module.startswith("adapters")
+        for target, _ in _imports(module, path)
+        if target and target.split(".")[0] == "scene"
+    ]
+    assert back == []
 
 
 def test_no_private_name_crosses_modules():

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import contactalpha as ca
-from contactalpha.scene.engine_conventions import opensim_dissipation
+from contactalpha.adapters.engine_conventions import opensim_dissipation
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

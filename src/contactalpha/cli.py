@@ -284,7 +284,7 @@ def _params(args, parser):
     from dataclasses import asdict
 
     from contactalpha.io import json_text
-    from contactalpha.scene.engine_conventions import UNIT_NOTES
+    from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.scene.law_scene import LawParameters, format_law_parameters
     from contactalpha.scene.parameters import contact_parameters, format_parameters
 

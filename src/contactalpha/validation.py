@@ -55,14 +55,21 @@ def _describe(bad):
     return shown + more
 
 
+# Values that numpy would turn into numbers but that are not numbers.
+_NOT_NUMBERS = (bool, np.bool_, str, bytes)
+
+
 def as_real(name, value, valid="real numbers"):
-    """Return ``value`` as a float array; complex input and non-numbers (None) raise ``ValueError``.
+    """Return ``value`` as a float array; complex input and non-numbers (None, bool, text) raise ValueError.
 
     numpy would cut a complex array to its real part with only a warning.
     """
     arr = np.asarray(value)
-    if arr.dtype == object and any(v is None for v in arr.ravel()):
+    if arr.dtype == object and any(v is None or isinstance(v, _NOT_NUMBERS) for v in arr.ravel()):
         raise ValueError(f"{name} = {reprlib.repr(value)} is not a number; valid: {valid}")
+    if arr.dtype.kind in "bUS":  # numpy would read True as 1.0 and "0.5" as 0.5
+        kind = "a bool" if arr.dtype.kind == "b" else "text"
+        raise ValueError(f"{name} = {reprlib.repr(value)} is {kind}, not a number; valid: {valid}")
     if arr.dtype.kind == "c":
         shown = ", ".join(repr(complex(c)) for c in np.atleast_1d(arr).ravel()[:3])
         raise ValueError(f"{name} = {shown} is complex; valid: {valid}")

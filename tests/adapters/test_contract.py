@@ -1,5 +1,7 @@
 """Every registered engine adapter keeps the contract, and the check catches one that does not."""
 
+import inspect
+
 import pytest
 
 from contactalpha.adapters.contract import (
@@ -9,6 +11,7 @@ from contactalpha.adapters.contract import (
     EngineAdapter,
     check_adapter,
     missing_parts,
+    signature_differs,
 )
 from contactalpha.adapters.registry import ADAPTERS, ENGINE_NAMES, adapter
 from contactalpha.laws import LAWS, get_law
@@ -47,11 +50,48 @@ def test_an_adapter_missing_any_part_is_refused(part):
 
 
 def test_registry_names_are_unique_and_looked_up():
-    assert len(set(ENGINE_NAMES)) == len(ENGINE_NAMES)
-    assert ENGINE_NAMES == ("opensim", "exudyn", "mujoco", "drake", "pybullet")
-    assert adapter("mujoco").name == "mujoco"
+    assert len(set(ENGINE_NAMES)) == len(ENGINE_NAMES) == len(ADAPTERS)
+    for a in ADAPTERS:
+        assert adapter(a.name) is a
     with pytest.raises(ValueError, match="valid choices"):
         adapter("physx")
+
+
+def test_the_protocol_holds_every_part_callers_use():
+    """``delivered`` and ``calibrate`` (the engines study, ``params --refine``) are in the contract."""
+    assert {"delivered", "calibrate", "parameters", "law_damping"} <= set(METHOD_PARTS)
+    protocol = {n for n in vars(EngineAdapter) if not n.startswith("_")}
+    assert set(METHOD_PARTS) == protocol - set(DATA_PARTS)
+
+
+@pytest.mark.parametrize("a", ADAPTERS, ids=ENGINE_NAMES)
+@pytest.mark.parametrize("part", METHOD_PARTS)
+def test_registered_methods_take_the_protocols_arguments(a, part):
+    want = list(inspect.signature(getattr(EngineAdapter, part)).parameters)[1:]
+    have = list(inspect.signature(getattr(a, part)).parameters)
+    assert have[: len(want)] == want
+    assert not signature_differs(getattr(a, part), part)
+
+
+@pytest.mark.parametrize(
+    "wrong",
+    [
+        "def calibrate(self, scene, target): pass",  # start and settings missing
+        "def calibrate(self, target, scene, start=None, settings=None): pass",  # order swapped
+        "def calibrate(self, scene, target, start, settings=None): pass",  # no default for start
+        "def calibrate(self, scene, target, start=None, settings=None, *, tol): pass",  # a required extra
+    ],
+)
+def test_a_method_with_another_signature_is_refused(wrong):
+    namespace = {}
+    exec(wrong, namespace)  # noqa: S102 - the test's own source
+
+    class Wrong(type(ADAPTERS[0])):
+        calibrate = namespace["calibrate"]
+
+    assert missing_parts(Wrong()) == ["calibrate"]
+    with pytest.raises(TypeError, match="calibrate"):
+        check_adapter(Wrong())
 
 
 def test_parameters_convert_as_documented():

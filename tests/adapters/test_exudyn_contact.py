@@ -7,7 +7,7 @@ import pytest
 
 from contactalpha import impact
 from contactalpha.scene.ball import Scene
-from contactalpha.scene.engine_conventions import exudyn_alpha, exudyn_restitution_input
+from contactalpha.adapters.engine_conventions import exudyn_alpha, exudyn_restitution_input
 from contactalpha.studies.engines.compute import exact_alpha
 
 # Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from contactalpha.adapters.stepped import measure_steps, refine, summarise, touchdown_state
+from contactalpha.adapters.base import Adapter, Delivered, refine
+from contactalpha.adapters.stepped import measure_steps, summarise, touchdown_state
 
 
 def euler_flight(z0, v0, a, h, n):
@@ -71,3 +72,32 @@ def test_refine_says_unreachable_when_zero_damping_falls_short():
 def test_summarise_reports_mean_and_spread():
     got = summarise([0.4, 0.5, 0.6], [30, 29, 31], [True, True, True])
     assert got.e_n == pytest.approx(0.5) and got.spread == pytest.approx(0.2) and got.contact_steps == 29
+
+
+class _LinearEngine(Adapter):
+    """A fake engine whose delivered e_N falls linearly with the damping: e = top - damping / 10."""
+
+    name, module, settings = "linear", "math", None
+
+    def __init__(self, top):
+        self.top, self.calls = top, []
+
+    def parameters(self, damping, scene, settings=None):
+        return {"damping": damping}
+
+    def delivered(self, scene, damping, settings=None):
+        self.calls.append(damping)
+        return Delivered(self.top - damping / 10.0, 0.0, None, True)
+
+
+@pytest.mark.parametrize("top, target", [(0.9, 0.8), (0.4, 0.8)])
+def test_calibrate_has_one_fallback_rule(top, target):
+    """Found: the refined damping's parameters; not found: ``{}``, and what the start delivers."""
+    engine = _LinearEngine(top)
+    params, ref, got = engine.calibrate(None, target, start=0.5)
+    if ref.status == "ok":
+        assert params["damping"] == pytest.approx(10.0 * (top - target), rel=1e-9)
+        assert got.e_n == pytest.approx(target, abs=1e-5)
+    else:
+        assert ref.status == "unreachable" and params == {}
+        assert engine.calls[-1] == 0.5 and got.e_n == pytest.approx(top - 0.05, rel=1e-15)

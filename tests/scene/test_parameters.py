@@ -23,7 +23,7 @@ def test_energetic_scene_gives_the_exact_alpha_and_each_engines_parameter():
     assert cp.engines["opensim"]["dissipation"] == pytest.approx(2 * cp.alpha / (3 * 0.5), rel=1e-15)
     assert cp.engines["opensim"]["stiffness"] == pytest.approx(3 * 1.4e8 / np.sqrt(2 * 0.08), rel=1e-15)
     assert cp.engines["exudyn"]["contactStiffness"] == 1.4e8
-    from contactalpha.scene.engine_conventions import exudyn_alpha
+    from contactalpha.adapters.engine_conventions import exudyn_alpha
 
     e_res = cp.engines["exudyn"]["restitutionCoefficient"]
     assert exudyn_alpha(e_res, 2) == pytest.approx(cp.alpha, rel=1e-12)

@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 from contactalpha.stepping import drake_map as dm
 from contactalpha.stepping import pybullet_map as pm
 from contactalpha.stepping.codes import CAPTURED, SEPARATED, STEP_LIMIT
+from contactalpha.stepping.drop import drop_drake, drop_pybullet
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "laws"))
 from scipy_reference import reference_impact  # noqa: E402
@@ -107,10 +108,10 @@ def test_maps_approach_the_continuous_law_at_first_order(law, damping, A):
         if law == "kelvin_voigt":
             p = pm.make_params(1.0, 2.0, damping, 2.0, damping, 1.0)  # pair k = 1, c = 2 zeta
             p[pm.SLOP] = 0.0
-            e, _ = scaled_drop(pm.drop_pybullet, p, h, A)
+            e, _ = scaled_drop(drop_pybullet, p, h, A)
         else:
             p = dm.make_params(1.0, 2.0, damping, 2.0, damping)  # pair k = 1, d = alpha / v_in
-            e, _ = scaled_drop(dm.drop_drake, p, h, A)
+            e, _ = scaled_drop(drop_drake, p, h, A)
         errors.append(abs(e - e_ref))
     assert errors[-1] < 2e-4  # measured 7.6e-5 (KV, the science's 0.348) and 1.3e-4 (HC)
     for coarse, fine in zip(errors, errors[1:]):
@@ -119,13 +120,13 @@ def test_maps_approach_the_continuous_law_at_first_order(law, damping, A):
 
 def test_drop_statuses():
     p = dm.make_params(1.0, 2.0, 0.0, 2.0, 0.0)
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 10**6)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 10**6)
     assert status == SEPARATED and 0.9 < e < 1.0 and n > 100
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 20)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 20)
     assert status == STEP_LIMIT and math.isnan(e)
     p = dm.make_params(1.0, 2.0, 50.0, 2.0, 50.0)
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
     assert status == CAPTURED and e == 0.0
     p = pm.make_params(1.0, 2.0, 5.0, 2.0, 5.0, 1.0)
-    e, n, status = pm.drop_pybullet(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
+    e, n, status = drop_pybullet(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
     assert status == CAPTURED and e == 0.0

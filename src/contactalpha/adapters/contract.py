@@ -1,7 +1,9 @@
 """The contract every engine adapter keeps, and the drop scene they all share.
 
 An engine adapter is one module in ``contactalpha.adapters`` holding one object that implements
-``EngineAdapter``; ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
+``EngineAdapter`` (usually by deriving from ``adapters.base.Adapter``, or from
+``adapters.stepped.SteppingAdapter`` for a fixed-step engine, which write the derived parts once
+for every engine); ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
 (``contactalpha.scene.parameters``), the command line, the engines study and the tests iterate
 that list, so adding an engine is that module plus one line there (``docs/adding-an-engine.md``).
 
@@ -11,7 +13,7 @@ The parts of the contract:
 - ``law``: the contact law the engine applies (a value of ``contactalpha.laws``' registry);
 - ``module``: the Python module of the engine (``import`` tells whether it is installed) and
   ``version()``;
-- ``parameters(damping, scene)``: the engine's own parameters (its names, its units) that make
+- ``parameters(damping, scene, settings=None)``: the engine's own parameters (its names, its units) that make
   it apply the law with the law's damping parameter ``damping`` (alpha for Hunt-Crossley, the
   damping ratio zeta for the spring-dashpot laws) in ``scene``; numpy arrays go through;
 - ``law_damping(scene, target, restitution)``: the law's exact damping parameter for a target
@@ -23,11 +25,18 @@ The parts of the contract:
 - ``static_penetration(scene)``: the deformation at rest under the load, found in the engine
   (the check of the stiffness conversion);
 - ``settings``: the default settings (a frozen dataclass) of ``build_drop`` and ``run``;
-- ``timestep(settings)``: the engine's fixed step in s, or None for an error-controlled one.
+- ``timestep(settings)``: the engine's fixed step in s, or None for an error-controlled one;
+- ``delivered(scene, damping, settings=None)``: the e_N the engine delivers with the law's damping
+  (``adapters.base.Delivered``: the mean over touchdown phases for a stepping engine);
+- ``calibrate(scene, target, start=None, settings=None)``: the parameters refined on the engine's
+  own drops, ``(parameters, Refinement, Delivered)``.
 
-``missing_parts`` names whatever part an object lacks; ``check_adapter`` raises on it.
+``missing_parts`` names whatever part an object lacks or whose signature differs from the
+Protocol's (its parameters, in order, with a default where the Protocol has one; any further
+parameter needs a default); ``check_adapter`` raises on it.
 """
 
+import inspect
 import math
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
@@ -99,7 +108,7 @@ class EngineAdapter(Protocol):
     def version(self) -> str:
         """The engine's version string; ImportError with the install hint when it is missing."""
 
-    def parameters(self, damping, scene) -> dict:
+    def parameters(self, damping, scene, settings=None) -> dict:
         """The engine's parameters, in its names and units, for the law's ``damping`` in ``scene``."""
 
     def law_damping(self, scene, target, restitution="kinematic", settings=None):
@@ -120,6 +129,12 @@ class EngineAdapter(Protocol):
     def timestep(self, settings):
         """The engine's fixed step (s), or None when its integrator controls its error."""
 
+    def delivered(self, scene, damping, settings=None):
+        """``Delivered``: the e_N the engine delivers with the law's ``damping`` in ``scene``."""
+
+    def calibrate(self, scene, target, start=None, settings=None):
+        """``(parameters, Refinement, Delivered)``: parameters refined on the engine's own drops."""
+
 
 # The contract's parts: attributes (data) and methods (callables).
 DATA_PARTS = ("name", "law", "module", "settings")
@@ -132,13 +147,42 @@ METHOD_PARTS = (
     "measure",
     "static_penetration",
     "timestep",
+    "delivered",
+    "calibrate",
 )
 
 
+def signature_differs(method, part):
+    """True when ``method`` (bound) cannot be called as the Protocol's ``part`` is.
+
+    Its leading parameters must be the Protocol's, by name and in order, with a default wherever
+    the Protocol has one; any parameter after them needs a default.
+    """
+    want = list(inspect.signature(getattr(EngineAdapter, part)).parameters.values())[1:]
+    try:
+        have = list(inspect.signature(method).parameters.values())
+    except (TypeError, ValueError):
+        return True
+    if len(have) < len(want):
+        return not any(p.kind is p.VAR_POSITIONAL for p in have)
+    for w, h in zip(want, have):
+        if h.name != w.name or h.kind not in (h.POSITIONAL_ONLY, h.POSITIONAL_OR_KEYWORD):
+            return True
+        if w.default is not w.empty and h.default is h.empty:
+            return True
+    return any(
+        p.default is p.empty and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) for p in have[len(want) :]
+    )
+
+
 def missing_parts(adapter):
-    """Names of the contract's parts that ``adapter`` lacks (a method must be callable)."""
+    """Names of the contract's parts that ``adapter`` lacks (a method must be callable with the
+    Protocol's signature: ``signature_differs``)."""
     missing = [p for p in DATA_PARTS if getattr(adapter, p, None) is None]
-    missing += [p for p in METHOD_PARTS if not callable(getattr(adapter, p, None))]
+    for p in METHOD_PARTS:
+        method = getattr(adapter, p, None)
+        if not callable(method) or signature_differs(method, p):
+            missing.append(p)
     return missing
 
 
@@ -146,7 +190,10 @@ def check_adapter(adapter):
     """Return ``adapter`` if it keeps the contract; TypeError naming the missing parts otherwise."""
     missing = missing_parts(adapter)
     if missing:
-        raise TypeError(f"engine adapter {adapter!r} misses part(s) of the contract: {', '.join(missing)}")
+        raise TypeError(
+            f"engine adapter {adapter!r} misses part(s) of the contract or has them with another "
+            f"signature (adapters.contract.EngineAdapter): {', '.join(missing)}"
+        )
     return adapter
 
 

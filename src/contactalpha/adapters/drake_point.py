@@ -27,23 +27,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.contract import Samples, law_damping
-from contactalpha.adapters.measure import measure_with_rest_check
-from contactalpha.adapters.stepped import (
-    float_or_array,
-    measure_steps,
-    refine,
-    summarise,
-    touchdown_state,
-    warn_if_coarse,
-)
+from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
-from contactalpha.stepping.drake_map import TIMESTEP
+from contactalpha.stepping.drake_map import APPROXIMATIONS, TIMESTEP
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'Drake is an optional engine: pip install -e ".[engines]" (PyPI package "drake")'
-# The discrete contact approximations served (the map ``stepping.drake_map`` models all three).
-APPROXIMATIONS = ("lagged", "tamsi", "similar")
 
 
 def _drake():
@@ -80,7 +70,7 @@ class _Drop:
     states: list
 
 
-class DrakeAdapter:
+class DrakeAdapter(SteppingAdapter):
     """Drake's point contact (``hunt_crossley_dissipation``): the engine adapter (``adapters.contract``)."""
 
     name = "drake"
@@ -188,21 +178,6 @@ class DrakeAdapter:
         t = np.arange(n + 1) * dt
         return Samples(t, -zs[0], -vs[0], seconds, {"z": zs, "v": vs, "timestep": h})
 
-    def measure(self, samples, scene):
-        """Hermite-located events (continuous) or the flight parabola (discrete, every phase in ``extra``)."""
-        h = samples.extra["timestep"]
-        if h == 0.0:
-            res = measure_with_rest_check(samples, scene)
-            samples.extra.update(e_n_phases=np.array([res.e_n]), contact_steps=np.array([10**9]))
-            samples.extra["separated"] = np.array([res.separated])
-            return res
-        z, v = samples.extra["z"], samples.extra["v"]
-        results = [measure_steps(z[i], v[i], scene.accel, h, scene.approach_speed) for i in range(len(z))]
-        samples.extra["e_n_phases"] = np.array([r.e_n for r in results])
-        samples.extra["contact_steps"] = np.array([round(r.t_end / h) for r in results])
-        samples.extra["separated"] = np.array([r.separated for r in results])
-        return results[0]
-
     def static_penetration(self, scene, params=None, settings=None):
         """Deformation (m) where the continuous plant's acceleration of the resting ball is zero (Brent)."""
         from scipy.optimize import brentq
@@ -224,34 +199,6 @@ class DrakeAdapter:
     def timestep(self, settings):
         """The plant's step, s, or None for the continuous plant."""
         return settings.time_step if settings.time_step > 0.0 else None
-
-    def delivered(self, scene, damping, settings=None):
-        """``stepped.Delivered``: the mean e_N over touchdown phases with the law's ``damping`` alpha."""
-        settings = self.settings if settings is None else settings
-        model = self.build_drop(scene, self.parameters(damping, scene), settings)
-        samples = self.run(model, scene, settings)
-        self.measure(samples, scene)
-        x = samples.extra
-        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
-
-    def law_damping(self, scene, target, restitution="kinematic", settings=None):
-        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
-        return law_damping(self.law, scene, target, restitution)
-
-    def calibrate(self, scene, target, start=None, settings=None):
-        """Parameters delivering the target e_N at ``settings.time_step``, refined from ``start`` (alpha).
-
-        Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
-        """
-        settings = self.settings if settings is None else settings
-        if start is None:
-            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
-        ref = refine(lambda a: self.delivered(scene, a, settings).e_n, target, start, settings.tol)
-        alpha = ref.damping if math.isfinite(ref.damping) else start
-        got = self.delivered(scene, alpha, settings)
-        if settings.time_step > 0.0:
-            warn_if_coarse(self.name, got, settings.tol)
-        return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
 
 
 ADAPTER = DrakeAdapter()

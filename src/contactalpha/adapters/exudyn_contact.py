@@ -6,7 +6,7 @@ ground sphere's centre, where the connector's gap is exactly ``y - R`` whatever 
 radius (Exudyn's force takes no radius: ``contactStiffness`` is k itself).  The load is a
 ``LoadForceVector`` of ``m g + F`` downward.  The contact uses ``contactStiffnessExponent`` 1.5,
 ``contactDamping`` 0 and an ``impactModel`` with a ``restitutionCoefficient`` (conversions in
-``contactalpha.scene.engine_conventions``).
+``contactalpha.adapters.engine_conventions``).
 
 Exudyn's impact models divide by the impact speed that the connector records in its data node
 on the step where the gap turns from positive to non-positive (``PostNewtonStep``); both the
@@ -30,12 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.contract import DropScene, Samples, law_damping
-from contactalpha.adapters.measure import measure_with_rest_check
+from contactalpha.adapters.base import Adapter
+from contactalpha.adapters.contract import DropScene, Samples
+from contactalpha.adapters.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
 from contactalpha.adapters.opensim_hc import STATIC_BRACKET
 from contactalpha.engine.scaling import length_scale, time_scale
 from contactalpha.laws import get_law
-from contactalpha.scene.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
 from contactalpha.validation import check_positive, check_range
 
 INSTALL_HINT = 'Exudyn is an optional engine: pip install -e ".[engines]" (PyPI package "exudyn")'
@@ -165,11 +165,11 @@ class _Drop:
     sensors: list
 
 
-class ExudynAdapter:
+class ExudynAdapter(Adapter):
     """Exudyn's ``ObjectContactSphereSphere``: the engine adapter (``adapters.contract``).
 
     The law is Hunt-Crossley with n = 3/2; its damping parameter alpha enters through the
-    ``restitutionCoefficient`` of ``impactModel`` 2 (``contactalpha.scene.engine_conventions``).
+    ``restitutionCoefficient`` of ``impactModel`` 2 (``contactalpha.adapters.engine_conventions``).
     ``solver`` is one of ``SOLVERS``; the registry's adapter uses DOPRI5.
     """
 
@@ -187,7 +187,7 @@ class ExudynAdapter:
         """Exudyn's version string."""
         return version()
 
-    def parameters(self, damping, scene):
+    def parameters(self, damping, scene, settings=None):
         """The connector's parameters for alpha = ``damping``: impactModel 2, contactDamping 0."""
         return {
             "contactStiffness": scene.stiffness,
@@ -249,14 +249,6 @@ class ExudynAdapter:
         speed = mbs.GetNodeOutput(model.handles["data"], exu.OutputVariableType.Coordinates)[2]
         extra = {"last_recorded_impact_speed": float(speed)}
         return Samples(pos[:, 0], scene.radius - pos[:, 2], -vel[:, 2], seconds, extra)
-
-    def measure(self, samples, scene):
-        """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
-        return measure_with_rest_check(samples, scene)
-
-    def law_damping(self, scene, target, restitution="kinematic", settings=None):
-        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
-        return law_damping(self.law, scene, target, restitution)
 
     def static_penetration(self, scene):
         """Deformation (m) at which Exudyn's contact carries the load at rest (``static_penetration``)."""

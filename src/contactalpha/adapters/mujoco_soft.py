@@ -34,14 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
-from contactalpha.adapters.stepped import (
-    float_or_array,
-    measure_steps,
-    refine,
-    summarise,
-    touchdown_state,
-    warn_if_coarse,
-)
+from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.laws.law import MUJOCO_IMPEDANCE
 from contactalpha.validation import check_range
@@ -113,7 +106,7 @@ class _Drop:
     nstep: int
 
 
-class MuJoCoAdapter:
+class MuJoCoAdapter(SteppingAdapter):
     """MuJoCo's soft contact in direct mode: the engine adapter (``adapters.contract``)."""
 
     name = "mujoco"
@@ -175,15 +168,6 @@ class MuJoCoAdapter:
         t = np.arange(z.shape[1]) * h
         return Samples(t, -z[0], -v[0], seconds, {"z": z, "v": v, "timestep": h})
 
-    def measure(self, samples, scene):
-        """The first phase's impact (``stepped.measure_steps``); every phase's e_N in ``samples.extra``."""
-        z, v, h = samples.extra["z"], samples.extra["v"], samples.extra["timestep"]
-        results = [measure_steps(z[i], v[i], scene.accel, h, scene.approach_speed) for i in range(len(z))]
-        samples.extra["e_n_phases"] = np.array([r.e_n for r in results])
-        samples.extra["contact_steps"] = np.array([round(r.t_end / h) for r in results])
-        samples.extra["separated"] = np.array([r.separated for r in results])
-        return results[0]
-
     def static_penetration(self, scene, params=None, settings=None):
         """Deformation (m) at rest, read after the engine settles (``damping`` critical by default)."""
         mj = _mujoco()
@@ -204,38 +188,11 @@ class MuJoCoAdapter:
         """MuJoCo's fixed step, s."""
         return settings.timestep
 
-    def delivered(self, scene, damping, settings=None):
-        """``stepped.Delivered``: the mean e_N over touchdown phases with the law's ``damping`` zeta."""
-        settings = self.settings if settings is None else settings
-        model = self.build_drop(scene, self.parameters(damping, scene, settings), settings)
-        samples = self.run(model, scene, settings)
-        self.measure(samples, scene)
-        x = samples.extra
-        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
-
     def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
         settings = self.settings if settings is None else settings
         law = get_law("mujoco_soft", impedance=settings.impedance)
         return law_damping(law, scene, target, restitution, per_unit_mass=True)
-
-    def calibrate(self, scene, target, start=None, settings=None):
-        """Parameters delivering the target e_N at ``settings.timestep``, refined from the law's ``start``.
-
-        Returns
-        -------
-        (dict, stepped.Refinement, stepped.Delivered)
-            The engine's parameters (``parameters`` of the refined zeta), the refinement, and what
-            they deliver; warns (``ContactStepsWarning``) when the contact is coarse.
-        """
-        settings = self.settings if settings is None else settings
-        if start is None:
-            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
-        ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
-        zeta = ref.damping if math.isfinite(ref.damping) else start
-        got = self.delivered(scene, zeta, settings)
-        warn_if_coarse(self.name, got, settings.tol)
-        return self.parameters(ref.damping, scene, settings) if math.isfinite(ref.damping) else {}, ref, got
 
 
 ADAPTER = MuJoCoAdapter()

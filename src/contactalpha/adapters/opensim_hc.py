@@ -3,7 +3,7 @@
 The scene: one body (the ball: mass ``m``, a ``ContactSphere`` of radius ``R``) on a vertical
 ``SliderJoint``, a ``ContactHalfSpace`` as the ground, gravity ``g`` and a constant downward
 ``PrescribedForce`` ``F``; both geometries share one ``ContactParameters`` (stiffness and
-dissipation from ``contactalpha.scene.engine_conventions``; no friction).  The deformation is
+dissipation from ``contactalpha.adapters.engine_conventions``; no friction).  The deformation is
 ``delta = R - y``.  OpenSim's own ``Manager`` integrates (Runge-Kutta-Merson, error-controlled at
 ``accuracy``); states are read at report times and ``adapters.measure`` cuts the impact out of them.
 
@@ -23,11 +23,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contactalpha.adapters.contract import DropScene, Samples, law_damping
-from contactalpha.adapters.measure import measure_impact, measure_with_rest_check
+from contactalpha import models
+from contactalpha.adapters.base import Adapter
+from contactalpha.adapters.contract import DropScene, Samples
+from contactalpha.adapters.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
+from contactalpha.adapters.measure import measure_impact
 from contactalpha.engine.scaling import time_scale
 from contactalpha.laws import get_law
-from contactalpha.scene.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
 from contactalpha.validation import check_positive, check_range
 
 INSTALL_HINT = 'OpenSim is an optional engine: pip install -e ".[engines]" (PyPI package "opensim")'
@@ -196,12 +198,12 @@ class OpenSimSettings:
     window: float = WINDOW_TSTAR
 
 
-class OpenSimAdapter:
+class OpenSimAdapter(Adapter):
     """Simbody's ``HuntCrossleyForce`` through OpenSim: the engine adapter (``adapters.contract``).
 
     The law is Hunt-Crossley with n = 3/2; its damping parameter is alpha, and the engine's
     parameters are ``dissipation`` (s/m) and the ``stiffness`` (Pa) of each of the two geometries
-    (``contactalpha.scene.engine_conventions``).
+    (``contactalpha.adapters.engine_conventions``).
     """
 
     name = "opensim"
@@ -213,7 +215,7 @@ class OpenSimAdapter:
         """OpenSim's version string."""
         return version()
 
-    def parameters(self, damping, scene):
+    def parameters(self, damping, scene, settings=None):
         """``dissipation`` c = 2 alpha / (3 v_minus), s/m, and each geometry's ``stiffness``, Pa.
 
         The stiffness needs the sphere's radius: without one (``scene.radius`` None) it is left out.
@@ -239,14 +241,6 @@ class OpenSimAdapter:
         d = np.concatenate([[0.0], samples.delta])
         dd = np.concatenate([[v], samples.delta_dot])
         return Samples(t, d, dd, samples.seconds, samples.extra)
-
-    def measure(self, samples, scene):
-        """The impact measured; adds ``separated_later`` and ``min_delta_after_end`` to ``samples.extra``."""
-        return measure_with_rest_check(samples, scene)
-
-    def law_damping(self, scene, target, restitution="kinematic", settings=None):
-        """``(solution, xi)``: the law's exact alpha for the target (``contract.law_damping``)."""
-        return law_damping(self.law, scene, target, restitution)
 
     def static_penetration(self, scene):
         """Deformation (m) at which OpenSim's contact carries the load at rest (``static_penetration``)."""
@@ -317,7 +311,7 @@ def bounce(
     """The bouncing ball of Sect. 6, case A, in OpenSim, with alpha per impact.
 
     Each contact's dissipation is ``c = 2 alpha / (3 v_in)`` with alpha from ``model`` at that
-    contact's influence factor (``scene.ball.contact_alpha``, as the package's own simulation).
+    contact's influence factor (``scene.influence(v_in)``, as the package's own simulation's case A).
     A contact is integrated report by report until the ball is seen in flight; the model is then
     rebuilt with the next contact's ``c`` and the state carried over.  The flight is run in one
     call to just before the predicted touchdown, ``v_in = sqrt(w^2 + 2 a h)`` for upward speed
@@ -342,15 +336,13 @@ def bounce(
         still bounces at ``scene.t_end``), ``left_ground_after_rest`` (bool), ``rest_delta`` (m,
         the deformation at ``scene.t_end``), ``seconds``.
     """
-    from contactalpha.scene.ball import contact_alpha
-
     a = scene.accel
     rows = {name: [] for name in BOUNCE_FIELDS}
     t, d, dd, v_in = 0.0, 0.0, scene.approach_speed, scene.approach_speed
     rest_time, seconds = np.nan, 0.0
     while t < scene.t_end:
         if per_impact or not rows["alpha"]:
-            c = float(opensim_dissipation(contact_alpha(scene, v_in, model, "A"), v_in))
+            c = float(opensim_dissipation(models.alpha(scene.eps, scene.influence(v_in), model=model), v_in))
         alpha = float(opensim_alpha(c, v_in))
         drop = build_drop(scene.mass, scene.radius, scene.stiffness, c, scene.gravity, scene.force)
         set_state(drop, t, d, dd)

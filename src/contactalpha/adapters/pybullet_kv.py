@@ -11,7 +11,7 @@ with ``c = 2 zeta sqrt(k m)``.  Checked in the engine: the ball rests at δ = m 
 approach the law's e_N.  The contact surface sits ``LINEAR_SLOP`` = 1e-5 m below the geometric
 one (the solver's penetration is ``distance + m_linearSlop``); heights here are measured from it.
 Bullet's own ``restitution`` is set to 0 here (it adds a velocity target of its own);
-``delivered(..., restitution=e)`` measures what it delivers instead.
+``delivered(scene, zeta, PyBulletSettings(restitution=e))`` measures what it delivers instead.
 
 Bullet's implicit step is strongly dissipative when a contact spans few steps: at its default
 1/240 s a contact of k/m = 1e4 s^-2 rebounds with e_N ~ 0.4 even without damping, and higher targets
@@ -29,15 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.contract import Samples, law_damping
-from contactalpha.adapters.stepped import (
-    float_or_array,
-    measure_steps,
-    refine,
-    summarise,
-    touchdown_state,
-    warn_if_coarse,
-)
+from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.stepping.pybullet_map import LINEAR_SLOP, TIMESTEP
 from contactalpha.validation import check_range
@@ -55,12 +48,14 @@ def _pybullet():
 
 @dataclass(frozen=True)
 class PyBulletSettings:
-    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``."""
+    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``, and
+    Bullet's own ``restitution`` on both bodies (0: the compliant contact alone)."""
 
     timestep: float = TIMESTEP
     phases: int = 4
     window: float = 3.0
     tol: float = 1e-3
+    restitution: float = 0.0
 
 
 @dataclass
@@ -71,7 +66,7 @@ class _Drop:
     restitution: float
 
 
-class PyBulletAdapter:
+class PyBulletAdapter(SteppingAdapter):
     """Bullet's compliant contact through PyBullet: the engine adapter (``adapters.contract``)."""
 
     name = "pybullet"
@@ -98,13 +93,14 @@ class PyBulletAdapter:
             "pair_damping": float_or_array(c),
         }
 
-    def build_drop(self, scene, params, settings, *, restitution=0.0, stiffness_each=None, damping_each=None):
+    def build_drop(self, scene, params, settings, *, stiffness_each=None, damping_each=None):
         """A fresh DIRECT client with the plane and the ball; touchdown states for every phase.
 
         ``stiffness_each``/``damping_each`` = (ball, plane) override the equal split of ``params``;
         a stiffness of None leaves that body's values unset.
         """
         pb = _pybullet()
+        restitution = settings.restitution
         client = pb.connect(pb.DIRECT)
         pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=client)
         pb.setTimeStep(settings.timestep, physicsClientId=client)
@@ -164,15 +160,6 @@ class PyBulletAdapter:
         t = np.arange(n + 1) * h
         return Samples(t, -zs[0], -vs[0], seconds, {"z": zs, "v": vs, "timestep": h})
 
-    def measure(self, samples, scene):
-        """The first phase's impact (``stepped.measure_steps``); every phase's e_N in ``samples.extra``."""
-        z, v, h = samples.extra["z"], samples.extra["v"], samples.extra["timestep"]
-        results = [measure_steps(z[i], v[i], scene.accel, h, scene.approach_speed) for i in range(len(z))]
-        samples.extra["e_n_phases"] = np.array([r.e_n for r in results])
-        samples.extra["contact_steps"] = np.array([round(r.t_end / h) for r in results])
-        samples.extra["separated"] = np.array([r.separated for r in results])
-        return results[0]
-
     def static_penetration(self, scene, params=None, settings=None):
         """Deformation (m) below the contact surface once the engine settles (critical damping by default)."""
         pb = _pybullet()
@@ -201,33 +188,6 @@ class PyBulletAdapter:
     def timestep(self, settings):
         """PyBullet's fixed step, s."""
         return settings.timestep
-
-    def delivered(self, scene, damping, settings=None, *, restitution=0.0):
-        """``stepped.Delivered``: mean e_N over touchdown phases with the law's ``damping`` zeta."""
-        settings = self.settings if settings is None else settings
-        model = self.build_drop(scene, self.parameters(damping, scene), settings, restitution=restitution)
-        samples = self.run(model, scene, settings)
-        self.measure(samples, scene)
-        x = samples.extra
-        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
-
-    def law_damping(self, scene, target, restitution="kinematic", settings=None):
-        """``(solution, xi)``: the law's exact damping for the target e_N (``contract.law_damping``)."""
-        return law_damping(self.law, scene, target, restitution)
-
-    def calibrate(self, scene, target, start=None, settings=None):
-        """Parameters delivering the target e_N at ``settings.timestep``, refined from ``start`` (zeta).
-
-        Returns ``(parameters, stepped.Refinement, stepped.Delivered)``; see ``MuJoCoAdapter.calibrate``.
-        """
-        settings = self.settings if settings is None else settings
-        if start is None:
-            start = float(self.law_damping(scene, target, "kinematic", settings)[0].damping)
-        ref = refine(lambda z: self.delivered(scene, z, settings).e_n, target, start, settings.tol)
-        zeta = ref.damping if math.isfinite(ref.damping) else 0.0
-        got = self.delivered(scene, zeta, settings)
-        warn_if_coarse(self.name, got, settings.tol)
-        return self.parameters(ref.damping, scene) if math.isfinite(ref.damping) else {}, ref, got
 
 
 ADAPTER = PyBulletAdapter()

@@ -6,6 +6,8 @@ line here (docs/adding-an-engine.md).
 """
 
 import importlib.util
+import reprlib
+from dataclasses import dataclass
 
 from contactalpha.adapters import drake_point, exudyn_contact, mujoco_soft, opensim_hc, pybullet_kv
 from contactalpha.adapters.contract import check_adapter
@@ -44,5 +46,30 @@ def engine_parameters(law, damping, scene):
     ``scene`` needs ``mass``, ``stiffness``, ``approach_speed`` and ``radius`` (None allowed: the
     parameters that need a geometry are left out).  Engines whose law is another are not listed.
     """
+    return {a.name: a.parameters(damping, scene) for a in _of_law(law)}
+
+
+def _of_law(law):
     name = get_law(law).name
-    return {a.name: a.parameters(damping, scene) for a in ADAPTERS if a.law.name == name}
+    return [a for a in ADAPTERS if a.law.name == name]
+
+
+def check_radius_used(law, radius):
+    """Refuse a ``radius`` that no engine of ``law`` reads (its parameters would ignore it silently)."""
+    if radius is None:
+        return
+    probe = _ProbeScene(1.0, 1.0, 1.0, None)
+    with_radius = _ProbeScene(1.0, 1.0, 1.0, 1.0)
+    if all(a.parameters(0.0, probe) == a.parameters(0.0, with_radius) for a in _of_law(law)):
+        raise ValueError(
+            f"radius = {reprlib.repr(radius)} is not used by law {get_law(law).name!r}: none of its engines' "
+            "parameters needs a geometry; leave radius out"
+        )
+
+
+@dataclass(frozen=True)
+class _ProbeScene:
+    mass: float
+    stiffness: float
+    approach_speed: float
+    radius: object

@@ -6,7 +6,7 @@ In flight under a constant acceleration ``a`` the positions then lie exactly on 
 velocity at a step's end is ``v - a h / 2`` (the stored velocity is the mean over the step).  So:
 
 - a drop *arrives* with approach speed ``v_minus`` when its parabola crosses z = 0 at that speed:
-  ``touchdown_state`` gives the stored state one step-fraction ``phase`` before the crossing;
+  ``touchdown_state`` (``contactalpha.stepping.drop``, re-exported here) gives the stored state one step-fraction ``phase`` before the crossing;
 - the *rebound* speed is the speed of the flight parabola at z = 0, read at the first state
   reached by a step without contact force (``v_j - v_{j-1} = -a h``):
   ``e_N = sqrt((v_j - a h/2)^2 + 2 a z_j) / v_minus``.  A drop test reads the same number from the
@@ -18,50 +18,35 @@ e_N over ``phases`` touchdowns spread evenly over one step and reports the sprea
 adapters warn when that spread, or the contact's length in steps, makes one drop's e_N untrustworthy.
 
 **Refinement.**  Where the step moves the mean e_N away from the target by more than the
-tolerance, ``refine`` adjusts the law's damping parameter by secant steps on the engine's own
-drops until the mean delivered e_N is the target.
+tolerance, ``calibrate`` adjusts the law's damping parameter by secant steps on the engine's own
+drops until the mean delivered e_N is the target (``adapters.base.refine``).
+
+**One implementation.**  ``SteppingAdapter`` measures every phase of a run and summarises them;
+``delivered`` and ``calibrate`` come from ``adapters.base.Adapter``.  A stepping engine's ``run``
+returns ``Samples`` whose ``extra`` holds ``z`` and ``v`` (one row per touchdown phase, height
+above touchdown and upward velocity at every step) and ``timestep`` (s; 0 for a run that is not
+stepped, which is then measured as a continuous one).
 """
+
 
 import math
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 
+from contactalpha.adapters.base import DELIVERED_TOL, Adapter, Delivered
 from contactalpha.adapters.measure import MeasuredImpact
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
+from contactalpha.stepping.drop import touchdown_state
 
 # A contact spanning fewer steps than this is flagged: its rebound depends on the touchdown phase.
 MIN_CONTACT_STEPS = 20
-# Secant iterations of ``refine`` at most, and its tolerance on the mean delivered e_N.
-REFINE_ITER = 12
-REFINE_TOL = 1e-5
 # Relative tolerance telling a free-flight step (the velocity changed by exactly -a h).
 FREE_STEP_RTOL = 1e-9
 
 
 class ContactStepsWarning(UserWarning):
     """A discrete engine's contact spans too few steps for its restitution to be trusted."""
-
-
-def touchdown_state(approach_speed, accel, h, phase):
-    """Stored ``(z, v)`` a fraction ``phase`` of a step before the parabola meets z = 0 at ``-v_minus``.
-
-    Parameters
-    ----------
-    approach_speed : float
-        Speed at touchdown, m/s (> 0).
-    accel : float
-        Constant downward acceleration in flight, m/s^2.
-    h : float
-        The engine's step, s.
-    phase : float
-        In [0, 1): where the touchdown falls within the first step.
-    """
-    tc = phase * h
-    w = -approach_speed + accel * tc  # parabola velocity at the start
-    z0 = -(w * tc - 0.5 * accel * tc * tc)
-    return z0, w + 0.5 * accel * h
 
 
 def measure_steps(z, v, accel, h, approach_speed):
@@ -101,24 +86,6 @@ def measure_steps(z, v, accel, h, approach_speed):
     )  # fmt: skip
 
 
-@dataclass(frozen=True)
-class Delivered:
-    """Newton's restitution a stepping engine delivers, over touchdown phases.
-
-    Attributes
-    ----------
-    e_n : mean e_N over the phases (0 for a drop that does not separate).
-    spread : max - min of e_N over the phases.
-    contact_steps : fewest steps in contact over the phases.
-    separated : every phase separated.
-    """
-
-    e_n: float
-    spread: float
-    contact_steps: int
-    separated: bool
-
-
 def float_or_array(arr):
     """A float for a 0-d result, else the float array (the adapters' parameters keep their input's shape)."""
     arr = np.asarray(arr, dtype=float)
@@ -131,7 +98,7 @@ def summarise(e_n_per_phase, contact_steps, separated):
     return Delivered(float(e.mean()), float(np.ptp(e)), int(np.min(contact_steps)), bool(np.all(separated)))
 
 
-def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS):
+def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS, stacklevel=3):
     """Warn (``ContactStepsWarning``): a contact under ``min_steps`` steps or a phase spread over ``tol``."""
     if result.contact_steps < min_steps or result.spread > tol:
         warnings.warn(
@@ -140,69 +107,40 @@ def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS):
             f"(tolerance {tol:g}); the mean over touchdown phases is what the parameters deliver; "
             "a smaller time step narrows it",
             ContactStepsWarning,
-            stacklevel=3,
+            stacklevel=stacklevel,
         )
 
 
-@dataclass(frozen=True)
-class Refinement:
-    """The outcome of ``refine``.
+class SteppingAdapter(Adapter):
+    """The shared measuring of a fixed-step engine (MuJoCo, Bullet, Drake's discrete plant).
 
-    Attributes
-    ----------
-    damping : the law's damping parameter that delivers the target (NaN when none does).
-    e_n : the mean e_N delivered with it.
-    start : the damping it started from (the continuous law's), and ``e_n_start`` its delivered e_N.
-    iterations : engine evaluations after the start's.
-    status : "ok", "unchanged" (the start already within the tolerance), "unreachable" (even zero
-        damping delivers less than the target at this step), or "not_converged".
+    ``run`` returns ``Samples`` with ``extra`` ``z``, ``v`` (phases x steps) and ``timestep``; the
+    rest of ``delivered`` and ``calibrate`` is ``adapters.base.Adapter``'s.
     """
 
-    damping: float
-    e_n: float
-    start: float
-    e_n_start: float
-    iterations: int
-    status: str
+    def measure(self, samples, scene):
+        """The first phase's impact (``measure_steps``); every phase's e_N in ``samples.extra``.
 
+        A run with ``extra["timestep"]`` 0 (not stepped) is measured as a continuous one.
+        """
+        x = samples.extra
+        h = x["timestep"]
+        if not h:
+            return super().measure(samples, scene)
+        results = [measure_steps(z, v, scene.accel, h, scene.approach_speed) for z, v in zip(x["z"], x["v"])]
+        x["e_n_phases"] = np.array([r.e_n for r in results])
+        x["contact_steps"] = np.array([round(r.t_end / h) for r in results])
+        x["separated"] = np.array([r.separated for r in results])
+        return results[0]
 
-def refine(e_n_of, target, start, tol, *, max_iter=REFINE_ITER, refine_tol=REFINE_TOL):
-    """Secant steps on ``e_n_of(damping) - target`` from ``start`` (the delivered e_N falls as damping grows).
+    def summary(self, result, samples, settings):
+        """``Delivered`` over the touchdown phases (``summarise``); one drop for a run not stepped."""
+        x = samples.extra
+        if "e_n_phases" not in x:
+            return super().summary(result, samples, settings)
+        return summarise(x["e_n_phases"], x["contact_steps"], x["separated"])
 
-    Parameters
-    ----------
-    e_n_of : callable
-        The mean e_N the engine delivers with a damping parameter (>= 0).
-    target : float
-        Target e_N in (0, 1).
-    start : float
-        The continuous law's damping parameter (> 0).
-    tol : float
-        Below this |delivered - target| the start is kept ("unchanged").
-    refine_tol : float
-        The secant stops once |delivered - target| <= this.
-    """
-    e0 = e_n_of(start)
-    if abs(e0 - target) <= tol:
-        return Refinement(start, e0, start, e0, 0, "unchanged")
-    x0, f0 = start, e0 - target
-    x1 = start * (1.0 + 0.05 * np.sign(f0))
-    f1 = e_n_of(x1) - target
-    n = 1
-    best = (abs(f0), x0, f0) if abs(f0) < abs(f1) else (abs(f1), x1, f1)
-    while n < max_iter and best[0] > refine_tol:
-        slope = (f1 - f0) / (x1 - x0) if x1 != x0 else -1.0
-        if not (slope < 0.0 and math.isfinite(slope)):
-            slope = -abs(f1) / max(abs(x1), 1e-12) - 1.0
-        x2 = max(x1 - f1 / slope, 0.0)
-        if x2 == 0.0 and x1 == 0.0:
-            break
-        f2 = e_n_of(x2) - target
-        n += 1
-        if x2 == 0.0 and f2 < 0.0:
-            return Refinement(math.nan, f2 + target, start, e0, n, "unreachable")
-        x0, f0, x1, f1 = x1, f1, x2, f2
-        if abs(f2) < best[0]:
-            best = (abs(f2), x2, f2)
-    status = "ok" if best[0] <= refine_tol else "not_converged"
-    return Refinement(best[1], best[2] + target, start, e0, n, status)
+    def check_delivered(self, got, settings):
+        """Warn (``ContactStepsWarning``) when the contact is coarse at the engine's step."""
+        if got.contact_steps is not None:
+            warn_if_coarse(self.name, got, getattr(settings, "tol", DELIVERED_TOL), stacklevel=4)

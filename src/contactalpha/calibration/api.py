@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from contactalpha.scene.ball import GRAVITY
-from contactalpha.scene.engine_conventions import opensim_dissipation
+from contactalpha.adapters.engine_conventions import opensim_dissipation
 from contactalpha.scene.parameters import contact_parameters
 from contactalpha.validation import check_positive, check_range
 

@@ -9,8 +9,9 @@ mass 1 and the stiffness per unit mass, as ``contactalpha.laws`` documents.  No 
 per scene: the restitutions delivered are the evaluator's (the table's ~1e-7 in alpha).
 
 Scenes outside the evaluator's domain (a target below its smallest restitution, a load factor above
-its largest) get NaN parameters and ``ok = False``; bad values (a negative mass, a target above 1)
-raise ``ValueError`` naming them.
+its largest, a load so large that the load factor rounds to 1) get NaN parameters and ``ok = False``,
+and the other rows are what they would be without them; bad values (a negative mass, a target above 1,
+a bool or a string) raise ``ValueError`` naming them.
 """
 
 from dataclasses import dataclass
@@ -18,10 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from contactalpha.adapters.registry import engine_parameters
+from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
+from contactalpha.laws.domain import check_restitution
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_positive, check_range
 
@@ -77,6 +79,15 @@ def hertz_load_factor(mass, stiffness, approach_speed, accel):
     return np.where(xi < 1.0, xi, np.nan)
 
 
+def law_load_factor(law, mass, stiffness, approach_speed, accel):
+    """Load factor xi of arrays of scenes of ``law``; NaN where the load is so large that it rounds to 1."""
+    A = np.asarray(law.load(mass, stiffness, approach_speed, accel), dtype=float)
+    xi = np.full(A.shape, np.nan)
+    finite = np.isfinite(A)
+    xi[finite] = law.load_factor(A[finite])
+    return np.where(xi < 1.0, xi, np.nan)
+
+
 def batched_parameters(
     mass,
     stiffness,
@@ -110,23 +121,28 @@ def batched_parameters(
     BatchedParameters
     """
     law = get_law(law)
+    target_name = "eps" if check_restitution(restitution) == "energetic" else "e_N"
+    check_radius_used(law, radius)
     m, k, v = (
         np.asarray(check_positive(n, x), dtype=float)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
     a = np.asarray(check_range("accel", accel, 0.0, np.inf, hi_open=True), dtype=float)
-    e = np.asarray(check_range(restitution, target, 0.0, 1.0, lo_open=True), dtype=float)
-    m, k, v, a, e = np.broadcast_arrays(m, k, v, a, e)
+    e = np.asarray(check_range(target_name, target, 0.0, 1.0, lo_open=True), dtype=float)
+    r = None if radius is None else np.asarray(check_positive("radius", radius), dtype=float)
+    m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
+    r = None if r is None else r_all
     if law.fast is ENGINE_TABLE:  # n = 3/2: the front door's own xi and table, bit for bit
         xi = hertz_load_factor(m, k, v, a)
         ok = (e >= EPS_MIN) & (xi <= XI_MAX)
         damping = np.full(e.shape, np.nan)
         damping[ok] = alpha_tabulated(e[ok], xi[ok], restitution=restitution)
     else:
-        xi = np.asarray(law.load_factor(law.load(m, k, v, a)), dtype=float)
-        damping = np.asarray(law.fast_damping(e, xi, restitution), dtype=float)
+        xi = law_load_factor(law, m, k, v, a)
+        damping = np.full(e.shape, np.nan)
+        inside = np.isfinite(xi)
+        damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
         ok = np.isfinite(damping)
-    r = None if radius is None else np.asarray(check_positive("radius", radius), dtype=float)
     engines = engine_parameters(law, np.where(ok, damping, 0.0), _Scenes(m, k, v, r))
     for values in engines.values():
         for name, x in values.items():

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import engine_parameters
+from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
@@ -30,7 +30,7 @@ from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
-from .engine_conventions import UNIT_NOTES
+from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from .law_scene import law_contact_parameters
 
 # Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
@@ -198,6 +198,7 @@ def contact_parameters(
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
     if law is not None and get_law(law).name != DEFAULT_LAW:
+        check_radius_used(law, radius)
         return law_contact_parameters(law, value, restitution, m, k, v, a)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:

@@ -21,3 +21,5 @@ The kernel interface every map keeps (docs/stepping.md):
   pressing into the contact;
 - ``drop_<engine>(p, h, phase, v_in, accel, max_steps) -> (e_N, n_contact_steps, status)``.
 """
+
+import contactalpha.engine  # noqa: F401  (installs the numba cache locator before any kernel)

@@ -2,7 +2,7 @@
 
 For every target restitution ``eps`` and force ``F`` on the paper's ball, the exact alpha at the
 first impact's influence factor goes into each engine in the engine's own convention
-(``contactalpha.scene.engine_conventions``); the engine drops the ball, and Stronge's eps and
+(``contactalpha.adapters.engine_conventions``); the engine drops the ball, and Stronge's eps and
 Newton's e_N are measured from its samples (``contactalpha.adapters.measure``).  Beside ours,
 each engine's built-in reading of a restitution is run the same way:
 
@@ -42,7 +42,7 @@ from contactalpha.models.registry import hunt_crossley
 from contactalpha.paper.ball.study import SCENE_KEYS
 from contactalpha.provenance import result_attrs
 from contactalpha.scene.ball import Scene, simulate
-from contactalpha.scene.engine_conventions import (
+from contactalpha.adapters.engine_conventions import (
     exudyn_alpha,
     exudyn_restitution_input,
     opensim_alpha,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from contactalpha.scene.engine_conventions import (
+from contactalpha.adapters.engine_conventions import (
     exudyn_alpha,
     exudyn_restitution_input,
     opensim_alpha,

@@ -1,0 +1,145 @@
+"""What an engine delivers over the touchdown phase, for a scene, a step and its parameters.
+
+``over_phase`` gives the mean of Newton's e_N (and Stronge's eps) over a uniformly random
+touchdown phase, exact across the jumps (``phase.phase_mean``), with the range and standard
+deviation one drop sees and the steps per contact.  ``at_phases`` evaluates single drops.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.validation import check_count, check_positive, check_range, check_scalar
+
+from . import codes
+from .drop import run_drops
+from .phase import GL_W, GL_X, GRID, MAX_INTERVALS, QUAD_TOL, phase_mean
+from .registry import stepper
+
+# A drop runs at most this many contact times (a slowly ringing capture comes to rest within it).
+REST_CONTACT_TIMES = 400
+# The restitutions a phase statistic or an inverse can speak of.
+RESTITUTIONS = ("kinematic", "energetic")
+
+
+@dataclass(frozen=True)
+class PhaseStats:
+    """Restitution over a uniform touchdown phase.
+
+    Attributes
+    ----------
+    mean, minimum, maximum, std : Newton's e_N over the phase (mean; the range one drop sees,
+        over the phases evaluated, both sides of every jump included; standard deviation).
+    eps_mean, eps_min, eps_max, eps_std : the same for Stronge's eps.
+    steps_min, steps_max : steps in contact, fewest and most.
+    quad_error : estimated error of the means (adaptive quadrature).
+    jumps : phases where the steps in contact change.
+    evaluations : drops evaluated.
+    status : "ok" or the worst drop's status (``codes.DROP_STATUS``); NaN statistics unless "ok"
+        or "quadrature interval limit".
+    """
+
+    mean: float
+    minimum: float
+    maximum: float
+    std: float
+    eps_mean: float
+    eps_min: float
+    eps_max: float
+    eps_std: float
+    steps_min: int
+    steps_max: int
+    quad_error: float
+    jumps: int
+    evaluations: int
+    status: str
+
+    def of(self, restitution):
+        """``(mean, minimum, maximum)`` of e_N ("kinematic") or eps ("energetic")."""
+        if restitution == "kinematic":
+            return self.mean, self.minimum, self.maximum
+        return self.eps_mean, self.eps_min, self.eps_max
+
+
+def check_restitution(restitution):
+    """``restitution`` if it is one of ``RESTITUTIONS``; ValueError naming the choices otherwise."""
+    if restitution not in RESTITUTIONS:
+        raise ValueError(f"restitution = {restitution!r} is outside the valid choices {RESTITUTIONS}")
+    return restitution
+
+
+def check_scene(p, timestep, approach_speed, accel):
+    """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0."""
+    p = np.ascontiguousarray(check_range("p", p, -math.inf, math.inf), dtype=float)
+    if p.ndim != 1:
+        raise ValueError(f"p has shape {p.shape}; valid: a 1-D array of the engine's parameters")
+    h = check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
+    v = check_scalar("approach_speed", approach_speed, 0.0, math.inf, lo_open=True, hi_open=True)
+    a = check_scalar("accel", accel, 0.0, math.inf, lo_open=True, hi_open=True)
+    return p, h, v, a
+
+
+def step_limit(s, p, h):
+    """Steps a drop of stepper ``s`` may take: ``REST_CONTACT_TIMES`` contact times, at least 1000."""
+    return int(max(1000, math.ceil(REST_CONTACT_TIMES * s.contact_time(p) / h)))
+
+
+def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid=GRID, max_steps=None):
+    """``PhaseStats`` of a drop through ``engine``'s step map over a uniform touchdown phase.
+
+    Parameters
+    ----------
+    engine : str
+        A name of ``registry.STEPPERS``.
+    p : array
+        The engine's parameters (``registry.Stepper.pack``).
+    timestep : float
+        The engine's step, s.
+    approach_speed : float
+        Touchdown speed, m/s.
+    accel : float
+        Load acceleration pressing into the contact (gravity plus push over mass), m/s^2.
+    tol : float
+        Quadrature tolerance per unit phase.
+    grid : int
+        Phases sampled to find the jumps.
+    max_steps : int, optional
+        Steps per drop (default ``step_limit``).
+    """
+    s = stepper(engine)
+    p, h, v, a = check_scene(p, timestep, approach_speed, accel)
+    check_positive("tol", tol)
+    grid = check_count("grid", grid, 4, 1_000_000)
+    max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    row = phase_mean(s.code, p, h, v, a, max_steps, float(tol), grid, MAX_INTERVALS, GL_X, GL_W)
+    return _stats(row)
+
+
+def _stats(row):
+    st = int(row[codes.P_STATUS])
+    return PhaseStats(
+        *(float(row[i]) for i in (codes.P_MEAN, codes.P_MIN, codes.P_MAX, codes.P_STD)),
+        *(float(row[i]) for i in (codes.P_EPS_MEAN, codes.P_EPS_MIN, codes.P_EPS_MAX, codes.P_EPS_STD)),
+        int(row[codes.P_STEPS_MIN]),
+        int(row[codes.P_STEPS_MAX]),
+        float(row[codes.P_ERR]),
+        int(row[codes.P_JUMPS]),
+        int(row[codes.P_EVALS]),
+        "ok" if st == 0 else codes.DROP_STATUS[st],
+    )
+
+
+def at_phases(engine, p, timestep, phases, approach_speed, accel, *, max_steps=None):
+    """Single drops at ``phases`` (each in [0, 1)): dict of arrays ``e_n``, ``eps``, ``steps``, ``status``."""
+    s = stepper(engine)
+    p, h, v, a = check_scene(p, timestep, approach_speed, accel)
+    phases = np.atleast_1d(check_range("phases", phases, 0.0, 1.0, hi_open=True)).astype(float).ravel()
+    max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    rows = run_drops(s.code, p, h, phases, v, a, max_steps)
+    return {
+        "e_n": rows[:, codes.D_EN],
+        "eps": rows[:, codes.D_EPS],
+        "steps": rows[:, codes.D_STEPS].astype(int),
+        "status": np.array([codes.DROP_STATUS[int(c)] for c in rows[:, codes.D_STATUS]]),
+    }

@@ -1,0 +1,167 @@
+"""The engine's own damping whose mean restitution over the touchdown phase is the target.
+
+The mean e_N (or eps) over a uniform phase is continuous in the damping (the jumps in phase move
+continuously with it) and falls as the damping grows.  ``damping_for`` brackets the root from
+zero damping upwards and solves it by Brent's method on the phase mean of ``delivered``; the
+result's mean is within ``MEAN_TOL`` of the target by the map.  Zero damping gives the most the
+engine can deliver at that step: a larger target is out of reach.  So is any target when the
+step is so coarse that the map is unstable (damping then raises the mean).  ``damping_for`` then
+reports the mean nearest the target and the largest step (and the largest stiffness at the given
+step) at which some damping reaches it.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from contactalpha.validation import check_range
+
+from .delivered import PhaseStats, check_restitution, check_scene, over_phase
+from .registry import stepper
+
+# The phase mean at the solution is within this of the target (by the map).
+MEAN_TOL = 1e-6
+# Brent's tolerance on the damping, relative.
+DAMPING_RTOL = 1e-12
+# Bracket growth: the upper damping is doubled at most this many times.
+BRACKET_DOUBLINGS = 40
+# Step (or stiffness) search for an unreachable target: factor per trial and trials at most.
+SHRINK = 2.0 ** -0.25
+SHRINK_TRIALS = 80
+BISECTIONS = 6
+
+
+@dataclass(frozen=True)
+class StepInverse:
+    """The engine's damping for a target mean restitution at a step.
+
+    Attributes
+    ----------
+    damping : the engine's own damping parameter (NaN when out of reach).
+    p : the engine's parameters with it (``damping`` slot set; zero damping when out of reach).
+    stats : ``PhaseStats`` at ``p``: mean (the target within ``MEAN_TOL``), range, steps.
+    status : "ok", "unreachable" (no damping delivers the target at this step) or "not_converged".
+    nearest : the mean nearest the target that the damping scan met, when unreachable.
+    timestep_reachable : the largest step (s) at which some damping reaches the target (NaN when
+        reachable at the given step, or not found).
+    stiffness_reachable : the largest value of the stiffness slot at which some damping reaches
+        the target at the given step (NaN likewise, or not searched; None for a map without a
+        stiffness slot).
+    """
+
+    damping: float
+    p: np.ndarray
+    stats: PhaseStats
+    status: str
+    nearest: float
+    timestep_reachable: float
+    stiffness_reachable: float
+
+
+def _mean(engine, p, h, v, a, restitution):
+    st = over_phase(engine, p, h, v, a)
+    return st.of(restitution)[0], st
+
+
+def damping_for(
+    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", start=None, *, remedies=True
+):
+    """``StepInverse``: the damping slot of ``p`` whose phase-mean restitution is ``target``.
+
+    Parameters
+    ----------
+    engine : str
+        A name of ``registry.STEPPERS``.
+    p : array
+        The engine's parameters (the damping slot's value is ignored).
+    timestep, approach_speed, accel : float
+        Step (s), touchdown speed (m/s), load acceleration pressing in (m/s^2).
+    target : float
+        Target mean restitution in (0, 1).
+    restitution : str
+        "kinematic" (Newton's e_N) or "energetic" (Stronge's eps).
+    start : float, optional
+        A first guess of the damping (the continuous law's); it seeds the bracket.
+    remedies : bool or str
+        When the target is out of reach: True searches the largest step that reaches it, "both"
+        also the largest stiffness at the given step, False neither.
+    """
+    s = stepper(engine)
+    p, h, v, a = check_scene(p, timestep, approach_speed, accel)
+    target = float(check_range("target", target, 0.0, 1.0, lo_open=True, hi_open=True))
+    check_restitution(restitution)
+    k = s.damping_slot
+
+    def with_damping(c):
+        q = p.copy()
+        q[k] = c
+        return q
+
+    top, st0 = _mean(engine, with_damping(0.0), h, v, a, restitution)
+    lo, hi, bracketed, nearest = 0.0, None, False, top
+    if top >= target:
+        hi = float(start) if start is not None and math.isfinite(start) and start > 0.0 else 1.0 / s.contact_time(p)
+        for _ in range(BRACKET_DOUBLINGS):
+            m, _st = _mean(engine, with_damping(hi), h, v, a, restitution)
+            if abs(m - target) < abs(nearest - target):
+                nearest = m
+            if m < target:
+                bracketed = True
+                break
+            lo, hi = hi, 2.0 * hi
+    if not bracketed:
+        # Out of reach at this step: no damping brings the mean down to, or up to, the target.
+        step = stiff = math.nan
+        if remedies:
+            step = reachable_timestep(engine, p, h, v, a, target, restitution)
+            if remedies == "both":
+                stiff = reachable_stiffness(engine, p, h, v, a, target, restitution)
+        return StepInverse(math.nan, with_damping(0.0), st0, "unreachable", nearest, step, stiff)
+    root = brentq(lambda c: _mean(engine, with_damping(c), h, v, a, restitution)[0] - target, lo, hi,
+                  xtol=1e-300, rtol=DAMPING_RTOL)  # fmt: skip
+    q = with_damping(root)
+    m, st = _mean(engine, q, h, v, a, restitution)
+    status = "ok" if abs(m - target) <= MEAN_TOL else "not_converged"
+    return StepInverse(root, q, st, status, math.nan, math.nan, math.nan)
+
+
+def _largest(reaches, x0):
+    """The largest x < x0 on a geometric scan with ``reaches(x)`` True, refined by bisection; NaN if none."""
+    prev, x = x0, x0 * SHRINK
+    for _ in range(SHRINK_TRIALS):
+        if reaches(x):
+            break
+        prev, x = x, x * SHRINK
+    else:
+        return math.nan
+    lo, hi = x, prev
+    for _ in range(BISECTIONS):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if reaches(mid) else (lo, mid)
+    return lo
+
+
+def _solved(engine, p, h, v, a, target, restitution):
+    return damping_for(engine, p, h, v, a, target, restitution, remedies=False).status == "ok"
+
+
+def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic"):
+    """The largest step below ``h`` at which some damping delivers the target phase mean (NaN if none)."""
+    return _largest(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
+
+
+def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
+    """The largest stiffness below ``p``'s at which some damping delivers the target at step ``h``."""
+    s = stepper(engine)
+    if s.stiffness_slot is None:
+        return None
+    k = s.stiffness_slot
+
+    def reaches(x):
+        q = p.copy()
+        q[k] = x
+        return _solved(engine, q, h, v, a, target, restitution)
+
+    return _largest(reaches, float(p[k]))

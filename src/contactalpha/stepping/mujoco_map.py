@@ -1,0 +1,82 @@
+"""MuJoCo's step for one frictionless contact (condim 1) of a body on a plane, as a map.
+
+Read from MuJoCo's source (``src/engine/``):
+
+- ``engine_core_constraint.c``: ``mj_diagApprox`` gives the contact row's ``diagApprox`` from the
+  bodies' ``body_invweight0`` (1/m for a free body or a body on a slide joint);
+  ``getimpedance`` returns the constant ``imp = d`` when ``solimp[0] == solimp[1]``;
+  ``mj_makeImpedance`` sets ``R = max(mjMINVAL, (1 - imp)/imp * diagApprox)`` and, in the direct
+  mode (``solref = (-stiffness, -damping)``), ``K = stiffness / solimp[1]^2``,
+  ``B = damping / solimp[1]``; ``mj_referenceConstraint`` sets
+  ``aref = -B * vel - K * imp * (pos - margin)`` with ``pos`` the contact distance.
+- The constraint solver (Newton, the default) minimises the soft-constraint cost; for one
+  normal row with ``A = J M^-1 J' = 1/m`` its exact solution is
+  ``f = max(0, -(a0 - aref) / (A + R))`` with ``a0`` the unconstrained acceleration.
+- ``engine_collision_driver.c`` excludes a contact with ``dist >= margin - gap``
+  (``con->exclude``): the contact acts in every step that *starts* at ``z < 0`` (margin 0).
+- ``engine_forward.c``: ``mj_Euler`` (``mj_EulerSkip``) and ``mj_implicitSkip`` then
+  ``mj_advance``: ``qvel += h * qacc`` first, then ``mj_integratePos`` with the new velocity.
+
+**Euler and implicitfast coincide here.**  ``implicitfast`` solves ``(M - h qDeriv) qacc = qfrc``
+where ``qDeriv`` (``mjd_smooth_vel``) holds the velocity derivatives of the passive and actuator
+forces only; the constraint force is not in it, so the contact's damping stays explicit.
+Without joint damping or velocity-dependent actuators ``qDeriv = 0`` and both integrators apply
+``qacc = M^-1 (qfrc_smooth + qfrc_constraint)``: the same map (checked against MuJoCo's own
+``mj_step`` in tests/stepping).  Per unit mass:
+
+    if z < 0:   w <- w + h (-a + max(0, -(-a - aref) / (1 + r (1 - d)/d))),
+                aref = -(damping/d) w - (stiffness/d^2) d z
+    else:       w <- w - h a
+    z <- z + h w
+
+with ``r = diagApprox * m`` (1 for a free body; other values model a contact inside a mechanism,
+where MuJoCo's ``diagApprox`` differs from ``J M^-1 J'``).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+# Slots of p (the engine's own parameters, in its units).
+STIFFNESS = 0  # -solref[0] in the direct mode, s^-2 (per unit mass)
+DAMPING = 1  # -solref[1] in the direct mode, s^-1 (per unit mass): the engine's damping parameter
+IMPEDANCE = 2  # solimp[0] = solimp[1] = d, in (0, 1)
+DIAG_RATIO = 3  # diagApprox * m: MuJoCo's approximate inverse mass over the true one (1: free body)
+N_SLOTS = 4
+SLOT_NAMES = ("stiffness", "damping", "impedance", "diag_ratio")
+# MuJoCo's floor on R (mjMINVAL, mjmodel.h).
+MINVAL = 1e-15
+# MuJoCo's default timestep, s, and its integrators this map serves.
+TIMESTEP = 0.002
+INTEGRATORS = ("Euler", "implicitfast")
+
+
+@njit(cache=True)
+def step_mujoco(z, w, p, h, accel):
+    """One MuJoCo step (Euler or implicitfast) of height ``z`` and velocity ``w`` (module docstring)."""
+    a0 = -accel
+    qacc = a0
+    if z < 0.0:
+        imp = p[IMPEDANCE]
+        r = max(MINVAL, (1.0 - imp) * p[DIAG_RATIO] / imp)
+        k = p[STIFFNESS] / (imp * imp)
+        b = p[DAMPING] / imp
+        aref = -b * w - k * imp * z
+        f = max(0.0, -(a0 - aref) / (1.0 + r))
+        qacc = a0 + f
+    w1 = w + h * qacc
+    return z + h * w1, w1
+
+
+def contact_time(p):
+    """The undamped contact's half period ``pi / sqrt(stiffness)``, s: the time scale of a contact."""
+    return math.pi / math.sqrt(p[STIFFNESS])
+
+
+def pack(stiffness, damping, impedance, diag_ratio=1.0):
+    """``p`` from MuJoCo's direct-mode values (``solref = (-stiffness, -damping)``, ``solimp[0:2] = d``)."""
+    p = np.empty(N_SLOTS)
+    p[STIFFNESS], p[DAMPING], p[IMPEDANCE], p[DIAG_RATIO] = stiffness, damping, impedance, diag_ratio
+    return p

@@ -1,0 +1,99 @@
+"""MuJoCo's own mj_step against the map, step by step and drop by drop (integration)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from contactalpha.adapters.mujoco_soft import MuJoCoSettings, _xml
+from contactalpha.adapters.stepped import measure_steps
+from contactalpha.stepping.delivered import at_phases
+from contactalpha.stepping.drop import touchdown_state
+from contactalpha.stepping.registry import stepper
+
+mujoco = pytest.importorskip("mujoco")
+pytestmark = pytest.mark.integration
+
+H = 0.002
+G = 9.81
+# (mass kg, stiffness N/m, zeta, speed m/s, push N): 10 scenes over the issue's ranges.
+SCENES = [
+    (0.5, 2e4, 0.2, 0.5, 0.0),
+    (20.0, 1e5, 0.05, 3.0, 100.0),
+    (0.02, 500.0, 0.6, 0.05, 0.1),
+    (0.1, 3e3, 0.1, 1.0, 0.0),
+    (2.0, 5e4, 0.3, 0.2, 20.0),
+    (5.0, 2e5, 0.02, 2.0, 50.0),
+    (0.05, 1e3, 0.4, 0.3, 0.5),
+    (1.0, 1e4, 0.15, 0.1, 5.0),
+    (10.0, 4e5, 0.08, 1.5, 100.0),
+    (0.2, 8e3, 0.25, 0.7, 2.0),
+]
+
+
+class _Scene:
+    def __init__(self, mass):
+        self.mass, self.gravity, self.radius = mass, G, 0.05
+
+
+def _engine(mass, integrator):
+    model = mujoco.MjModel.from_xml_string(_xml(_Scene(mass), MuJoCoSettings(timestep=H, integrator=integrator)))
+    return model, mujoco.MjData(model)
+
+
+def _params(mass, k, zeta):
+    omega2 = k / mass
+    return omega2, 2.0 * zeta * math.sqrt(omega2)
+
+
+def _run(model, data, z0, w0, push, n):
+    mujoco.mj_resetData(model, data)
+    data.qpos[0], data.qvel[0], data.ctrl[0] = z0, w0, -push
+    z, w = [z0], [w0]
+    for _ in range(n):
+        mujoco.mj_step(model, data)
+        z.append(float(data.qpos[0]))
+        w.append(float(data.qvel[0]))
+    return np.array(z), np.array(w)
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "implicitfast"])
+@pytest.mark.parametrize("scene", SCENES)
+def test_a_whole_drop_follows_mujoco_step_by_step(scene, integrator):
+    from contactalpha.stepping.drop import trajectory
+    from contactalpha.stepping.kernels import MUJOCO
+
+    mass, k, zeta, v, push = scene
+    stiffness, damping = _params(mass, k, zeta)
+    model, data = _engine(mass, integrator)
+    model.geom_solref[:] = (-stiffness, -damping)
+    accel = G + push / mass
+    p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=MuJoCoSettings().impedance)
+    n = int(2.5 * math.pi / math.sqrt(stiffness) / H) + 10  # through the contact and beyond
+    for phase in (0.0, 0.31, 0.77):
+        z0, w0 = touchdown_state(v, accel, H, phase)
+        z_mj, w_mj = _run(model, data, z0, w0, push, n)
+        z, w = trajectory(MUJOCO, p, H, phase, v, accel, n)
+        assert np.max(np.abs(z - z_mj)) <= 1e-9 * np.max(np.abs(z_mj))
+        assert np.max(np.abs(w - w_mj)) <= 1e-9 * np.max(np.abs(w_mj))
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "implicitfast"])
+@pytest.mark.parametrize("scene", [SCENES[i] for i in (0, 1, 3, 4, 9)])
+def test_e_n_at_64_phases_is_mujocos(scene, integrator):
+    mass, k, zeta, v, push = scene
+    stiffness, damping = _params(mass, k, zeta)
+    model, data = _engine(mass, integrator)
+    model.geom_solref[:] = (-stiffness, -damping)
+    accel = G + push / mass
+    p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=MuJoCoSettings().impedance)
+    phases = np.arange(64) / 64
+    n = int(3.0 * 2.0 * math.pi / math.sqrt(stiffness) / H) + 4
+    measured = []
+    for phase in phases:
+        z0, w0 = touchdown_state(v, accel, H, phase)
+        z, w = _run(model, data, z0, w0, push, n)
+        measured.append(measure_steps(z, w, accel, H, v).e_n)  # the adapters' own reading
+    predicted = at_phases("mujoco", p, H, phases, v, accel)["e_n"]
+    assert np.allclose(predicted, measured, rtol=1e-9, atol=1e-12)
+    assert np.ptp(predicted) > 1e-3  # the phase matters at 2 ms: the test sees it

@@ -1,0 +1,58 @@
+"""The steppers' registry: capabilities, parameter packing, the kernel table."""
+
+import numpy as np
+import pytest
+
+from contactalpha.stepping import kernels
+from contactalpha.stepping.drop import drop_mujoco, run_drop
+from contactalpha.stepping.mujoco_map import DAMPING, IMPEDANCE, STIFFNESS, step_mujoco
+from contactalpha.stepping.registry import STEPPER_NAMES, STEPPERS, stepper
+
+
+def test_every_stepper_names_its_capabilities():
+    assert len(set(STEPPER_NAMES)) == len(STEPPERS)
+    for s in STEPPERS:
+        assert s.timestep > 0 and s.integrators and s.source
+        assert 0 <= s.damping_slot < len(s.slots)
+        assert s.stiffness_slot is None or 0 <= s.stiffness_slot < len(s.slots)
+
+
+def test_pack_fills_defaults_and_names_bad_slots():
+    s = stepper("mujoco")
+    p = s.pack(stiffness=4e4, damping=80.0, impedance=0.9)
+    assert p[STIFFNESS] == 4e4 and p[DAMPING] == 80.0 and p[IMPEDANCE] == 0.9
+    assert s.unpack(p)["diag_ratio"] == 1.0
+    with pytest.raises(ValueError, match="impedance"):
+        s.pack(stiffness=4e4, damping=80.0)
+    with pytest.raises(ValueError, match="solref"):
+        s.pack(stiffness=4e4, damping=80.0, impedance=0.9, solref=1.0)
+    with pytest.raises(ValueError, match="valid choices"):
+        stepper("bullet")
+
+
+def test_the_table_dispatches_to_the_engines_step():
+    p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
+    for z, w in [(-1e-3, -0.3), (2e-3, 0.1), (-2e-4, 0.4)]:
+        assert kernels.step_map(kernels.MUJOCO, z, w, p, 0.002, 9.81) == step_mujoco(z, w, p, 0.002, 9.81)
+
+
+def test_the_interface_drop_is_the_generic_drop():
+    p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
+    e, n, status = drop_mujoco(p, 0.002, 0.3, 0.5, 9.81, 10_000)
+    row = run_drop(kernels.MUJOCO, p, 0.002, 0.3, 0.5, 9.81, 10_000)
+    assert (e, n, status) == (row[0], int(row[2]), int(row[4]))
+    assert status == 0 and 0.4 < e < 0.7 and 5 <= n <= 10
+
+
+def test_step_mujoco_against_hand_arithmetic():
+    """One step in penetration, worked by hand from MuJoCo's formulas (mj_makeImpedance, aref)."""
+    k, b, d, h, a = 4e4, 80.0, 0.9, 0.002, 9.81
+    p = stepper("mujoco").pack(stiffness=k, damping=b, impedance=d)
+    z, w = -1e-3, -0.3
+    aref = -(b / d) * w - (k / d**2) * d * z
+    r = (1 - d) / d
+    qacc = -a + max(0.0, (a + aref) / (1 + r))
+    w1 = w + h * qacc
+    assert np.allclose(step_mujoco(z, w, p, h, a), (z + h * w1, w1), rtol=1e-15, atol=0)
+    # Above the surface: free flight.
+    assert step_mujoco(1e-3, -0.3, p, h, a) == (1e-3 + h * (-0.3 - h * a), -0.3 - h * a)
