@@ -21,11 +21,11 @@ TIMESTEP = 1e-5  # s: small, so that the step's own dissipation stays below 1e-3
 cp = ca.contact_parameters(
     e_N=TARGET, mass=MASS, stiffness=STIFFNESS, approach_speed=SPEED, accel=G + PUSH / MASS, law="mujoco_soft"
 )
-mj = cp.engines["mujoco_soft"]
+mj = cp.engines["mujoco"]  # MuJoCo's block, per unit mass (solref = (-k/m, -2 zeta sqrt(k/m)))
 solref = " ".join(f"{x:.17g}" for x in mj["solref"])
 solimp = " ".join(f"{x:.17g}" for x in mj["solimp"])
 print(f"load factor xi   {cp.xi:.6f}")
-print(f"damping ratio    {mj['zeta']:.9f}")
+print(f"damping ratio    {cp.damping:.9f}")  # zeta, the law's dimensionless damping
 print(f"solref           {solref}")
 print(f"solimp           {solimp}")
 

@@ -24,6 +24,7 @@ RANKS = {
     "paper": 7,
     "studies": 7,
     "calibration": 7,  # drop-test calibration: scene-level physics, plus a hint from studies
+    "mechanism": 7,  # contacts of the user's model files: the adapters' laws at the contact's m_eff
     "config": 8,
     "cli": 8,
     "__main__": 8,

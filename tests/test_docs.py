@@ -4,9 +4,12 @@ Every ```python block of README.md and docs/**/*.md runs, in order, in one names
 Every `contactalpha ...` command line of a ```console or ```bash block runs through the CLI's
 ``main(argv)`` and must exit 0; in a console block, the lines that follow a `$ contactalpha`
 command (up to the next `$` line) are its output, and must be what the command prints.
+A command may go on over several lines, each but the last ending in `\\`.
 A block directly below a line `<!-- no-run: reason -->` is left out; one below
 `<!-- requires: module -->` runs only where that module imports (under CI=true a missing
-module fails, as for the engines' tests).
+module fails, as for the engines' tests).  A block in an engine's own format (MJCF, SDF, URDF,
+.osim XML) below a line `<!-- file: NAME -->` is written to NAME in the page's working folder,
+where the page's later Python blocks load it into the engine and check what it delivers.
 """
 
 import contextlib
@@ -27,9 +30,10 @@ from contactalpha.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")])
-FENCE = re.compile(r"^```(\w*)\s*$")
+FENCE = re.compile(r"^( *)```(\w*)\s*$")  # indented: a block inside a list item
 NO_RUN = re.compile(r"^<!-- no-run: .+ -->$")
 REQUIRES = re.compile(r"^<!-- requires: ([\w.]+) -->$")
+FILE = re.compile(r"^<!-- file: ([\w.\-]+) -->$")
 SHELL_LANGS = ("console", "bash", "sh", "shell")
 PROMPT = "$ "
 
@@ -43,6 +47,7 @@ class Block:
     line: int  # 1-based line of the opening fence
     skip: bool  # below a no-run marker
     requires: str | None  # below a requires marker
+    file: str | None = None  # below a file marker: written to this name, not run
 
 
 def code_blocks(markdown):
@@ -56,27 +61,40 @@ def code_blocks(markdown):
             continue
         start, above = i, lines[i - 1].strip() if i else ""
         i += 1
-        while i < len(lines) and lines[i].rstrip() != "```":
+        indent = len(match.group(1))
+        while i < len(lines) and lines[i].strip() != "```":
             i += 1
         if i == len(lines):
             raise ValueError(f"code block opened on line {start + 1} is never closed")
-        requires = REQUIRES.match(above)
+        requires, file = REQUIRES.match(above), FILE.match(above)
         blocks.append(
             Block(
-                match.group(1),
-                "\n".join(lines[start + 1 : i]) + "\n",
+                match.group(2),
+                "\n".join(line[indent:] for line in lines[start + 1 : i]) + "\n",
                 start + 1,
                 bool(NO_RUN.match(above)),
                 requires.group(1) if requires else None,
+                file.group(1) if file else None,
             )
         )
         i += 1
     return blocks
 
 
+def _joined(text):
+    """The lines of a shell block with each `\\` continuation joined to the line it ends."""
+    lines = []
+    for line in text.splitlines():
+        if lines and lines[-1].endswith("\\"):
+            lines[-1] = lines[-1][:-1].rstrip() + " " + line.strip()
+        else:
+            lines.append(line)
+    return lines
+
+
 def cli_commands(block):
     """``(argv, expected output or None)`` of each `contactalpha` command line of a shell block."""
-    commands, lines = [], block.text.splitlines()
+    commands, lines = [], _joined(block.text)
     prompted = block.lang == "console"
     for k, line in enumerate(lines):
         text = line[len(PROMPT) :] if prompted and line.startswith(PROMPT) else line
@@ -124,7 +142,9 @@ def run_page(path, workdir):
         if block.skip or (block.requires and not _module_available(block.requires)):
             continue
         where = f"{path}:{block.line}"
-        if block.lang == "python":
+        if block.file:
+            (Path(workdir) / block.file).write_text(block.text, encoding="utf-8")
+        elif block.lang == "python":
             with contextlib.chdir(workdir):
                 exec(compile(block.text, where, "exec"), namespace)  # noqa: S102
             ran += 1
@@ -179,6 +199,19 @@ def test_command_lines_must_exit_0_and_print_what_the_page_shows(tmp_path):
     page.write_text("```bash\ncontactalpha export-c out   # a comment\n```\n", encoding="utf-8")
     assert run_page(page, tmp_path) == 1
     assert (tmp_path / "out" / "contactalpha.h").is_file()
+    page.write_text("```console\n$ contactalpha alpha \\\n    0.5 0.1\nnot this\n```\n", encoding="utf-8")
+    with pytest.raises(AssertionError, match="another output"):
+        run_page(page, tmp_path)
+
+
+def test_file_blocks_are_written_for_the_python_blocks_below(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- file: scene.xml -->\n```xml\n<mujoco/>\n```\n\n"
+        "```python\nassert open('scene.xml').read() == '<mujoco/>\\n'\n```\n",
+        encoding="utf-8",
+    )
+    assert run_page(page, tmp_path) == 1
 
 
 def _mkdocs_or_skip():

@@ -73,7 +73,8 @@ def test_c_export_cmake_example_matches_the_python_front_door(tmp_path):
         cp = ca.contact_parameters(
             e_N=0.5, mass=0.5, stiffness=1.4e8, approach_speed=v, accel=9.81 + 5.1 / 0.5
         )
-        assert (xi, alpha, damping) == pytest.approx((cp.xi, cp.alpha, cp.damping), rel=1e-12)
+        mu = cp.physical_damping * 1.4e8  # the C example prints mu = alpha k / v = k d
+        assert (xi, alpha, damping) == pytest.approx((cp.xi, cp.alpha, mu), rel=1e-12)
         # Independent of the tables: one impact of the engine with that alpha gives e_N = 0.5.
         assert ca.impact(alpha, xi).e_n == pytest.approx(0.5, abs=1e-6)
 
@@ -90,3 +91,17 @@ def test_mujoco_drop_example_delivers_the_target_inside_mujoco(mujoco, capsys):
     zeta = _printed(out, "damping ratio")
     assert -stiffness == pytest.approx(2.0e4 / 0.5, rel=1e-12)
     assert -damping == pytest.approx(2 * zeta * math.sqrt(2.0e4 / 0.5), rel=1e-8)
+
+
+def test_robot_model_tuning_hits_the_target_and_reads_the_leg(mujoco, capsys):
+    runpy.run_path(str(EXAMPLES / "robot_model_tuning.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    sys.path.insert(0, str(ROOT / "tests" / "mechanism"))
+    import hand  # the leg's effective mass and load derived by hand
+
+    m_eff, accel = hand.leg()
+    assert _printed(out, "effective mass") == pytest.approx(m_eff, rel=1e-11)
+    assert _printed(out, "free accel") == pytest.approx(accel, rel=1e-11)
+    assert _printed(out, "refined e_N") == pytest.approx(0.5, abs=2e-4)
+    # the corrected law's answer misses by less than the free-body mapping's
+    assert abs(_printed(out, "delivered e_N") - 0.5) < abs(_printed(out, "free-body e_N") - 0.5)

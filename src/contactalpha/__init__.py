@@ -29,7 +29,7 @@ _EXPORTS = {
     "scaled_load": "engine.scaling",
     "time_scale": "engine.scaling",
     "load_surface": "io",
-    "ContactParameters": "scene.parameters",
+    "ContactParameters": "scene.result",
     "contact_parameters": "scene.parameters",
     "hertz_stiffness": "scene.hertz",
     "Advice": "scene.advisor",

@@ -14,6 +14,7 @@ from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
+from contactalpha.mechanism import command as tune_command
 from contactalpha.version import __version__
 
 
@@ -59,6 +60,31 @@ FORCE_HELP = (
     "constant force pressing the bodies together, N; gravity is NOT added: add the weight m g "
     "yourself, or give --accel g + F/m"
 )
+
+
+def stiffness_help():
+    """How ``params`` reads --stiffness, from the registries: physical, the unit of each law's k."""
+    from contactalpha.adapters.registry import ADAPTERS
+    from contactalpha.laws import LAWS
+
+    parts = []
+    for unit in dict.fromkeys(law.stiffness_unit for law in LAWS):
+        laws = ", ".join(law.name for law in LAWS if law.stiffness_unit == unit)
+        engines = ", ".join(a.name for a in ADAPTERS if a.law.stiffness_unit == unit)
+        parts.append(f"{unit} for {laws} (engines {engines or 'none'})")
+    return (
+        "the contact law's physical stiffness k: " + "; ".join(parts) + "; never per unit mass (MuJoCo's "
+        "block divides by --mass); default law hunt_crossley"
+    )
+
+
+# Exit statuses of `params` (its -h prints them).
+EXIT_UNREACHABLE = 3
+PARAMS_EXIT = (
+    "exit status: 0 parameters printed; 2 bad input (one line on stderr); "
+    f"{EXIT_UNREACHABLE} no damping reaches the target (stderr names the nearest reachable target "
+    "and what would reach this one)"
+)
 # Each subcommand's examples (shown by -h).
 EXAMPLES = {
     "alpha": (
@@ -87,6 +113,7 @@ EXAMPLES = {
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
         "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
     ),
+    "tune": tune_command.EXAMPLES,
 }
 
 
@@ -109,10 +136,10 @@ def _restitution_options(parser, positional):
     parser.add_argument("--kinematic", action="store_true", help="EPS is Newton's kinematic e_N (as --e-n)")
 
 
-def _scene_options(parser):
+def _scene_options(parser, stiffness_help=None):
     parser.add_argument("--mass", type=_number, required=True, help="effective mass, kg")
-    parser.add_argument("--stiffness", type=_number, required=True,
-                        help="Hertz stiffness k, N/m^1.5 (`contactalpha hertz` computes it)")  # fmt: skip
+    stiffness_help = stiffness_help or "Hertz stiffness k, N/m^1.5 (`contactalpha hertz` computes it)"
+    parser.add_argument("--stiffness", type=_number, required=True, help=stiffness_help)
     parser.add_argument("--speed", type=_number, required=True, help="approach speed, m/s")
     load = parser.add_mutually_exclusive_group(required=True)
     load.add_argument(
@@ -161,14 +188,15 @@ def build_parser():
     c.add_argument("files", nargs="+", help="YAML config files (e.g. one given to --configfile)")
     c.add_argument("--schema", default=SCHEMA, help=f"the workflow's JSON schema (default {SCHEMA})")
     f = _sub(sub, "params", "contact parameters of a scene in SI units, per engine (front door)")
+    f.epilog += "\n\n" + PARAMS_EXIT
     _restitution_options(f, positional=False)
-    _scene_options(f)
+    _scene_options(f, stiffness_help())
     f.add_argument("--radius", type=_number, help="sphere radius, m (adds OpenSim's stiffness)")
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
     f.add_argument(
         "--engine",
         choices=ENGINE_NAMES,
-        help="print only this engine's block; for n = 1 engines --stiffness is in N/m",
+        help="solve for this engine's law and print its block, in its own names and units",
     )
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
@@ -176,7 +204,7 @@ def build_parser():
     f.add_argument(
         "--law",
         help="contact law (contactalpha.laws.LAWS; default hunt_crossley, n = 3/2); "
-        "--stiffness is then in that law's units (N/m for n = 1, per unit mass for mujoco_soft)",
+        "--stiffness is then that law's physical stiffness (N/m for n = 1, N/m^1.5 for n = 3/2)",
     )
     h = _sub(sub, "hertz", "Hertz stiffness k (N/m^1.5) of two bodies from moduli, Poisson ratios, radii")
     h.add_argument("--modulus", type=_number, required=True, help="Young's modulus of body 1, Pa")
@@ -191,6 +219,7 @@ def build_parser():
     x.add_argument("directory", help="folder to write contactalpha.h and contactalpha.c into")
     _sub(sub, "warmup", "compile every numba kernel now (later first calls load the compiled code)")
     calibrate_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
+    tune_command.add_parser(lambda name, text: _sub(sub, name, text), _number)
     return p
 
 
@@ -220,8 +249,9 @@ def main(argv=None):
         # stdout at devnull so that Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except (ValueError, RuntimeError, OSError) as exc:
-        # Bad input, a failed solve, a file that cannot be written: one line, never a traceback.
+    except (ValueError, RuntimeError, OSError, ImportError) as exc:
+        # Bad input, a failed solve, a file that cannot be written, an optional engine not
+        # installed (its message says how to install it): one line, never a traceback.
         message = " ".join(str(exc).split()) or type(exc).__name__
         print(f"contactalpha: error: {message}", file=sys.stderr)
         return 2
@@ -267,8 +297,9 @@ def _print_engine(args, value, restitution):
     """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
     from contactalpha.io import json_text
     from contactalpha.scene.engine_params import engine_block, format_block
+    from contactalpha.scene.parameters import scene_accel
 
-    accel = args.accel if args.accel is not None else args.force / args.mass
+    accel = scene_accel(args.mass, args.accel, args.force)
     params, notes = engine_block(
         args.engine, value, args.mass, args.stiffness, args.speed, accel,
         restitution=restitution, radius=args.radius, refine=args.refine,
@@ -281,12 +312,10 @@ def _print_engine(args, value, restitution):
 
 
 def _params(args, parser):
-    from dataclasses import asdict
-
     from contactalpha.io import json_text
     from contactalpha.adapters.engine_conventions import UNIT_NOTES
-    from contactalpha.scene.law_scene import LawParameters, format_law_parameters
-    from contactalpha.scene.parameters import contact_parameters, format_parameters
+    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.scene.result import as_plain_data, format_parameters
 
     value, restitution = _restitution(args, parser)
     if args.engine is not None and args.law is not None:
@@ -304,15 +333,10 @@ def _params(args, parser):
         radius=args.radius,
         **target,
     )
-    data = asdict(cp) | {
+    data = as_plain_data(cp) | {
         "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
     }
-    if args.json:
-        print(json_text(data, indent=1))
-    elif isinstance(cp, LawParameters):
-        print(format_law_parameters(cp))
-    else:
-        print(format_parameters(cp))
+    print(json_text(data, indent=1) if args.json else format_parameters(cp))
     return 0
 
 
@@ -379,6 +403,7 @@ COMMANDS = {
     "export-c": _export_c,
     "warmup": _warmup,
     "calibrate": lambda args, parser: calibrate_command.run(args),
+    "tune": tune_command.run,
 }
 
 

@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 
+import contactalpha as ca
+
 from contactalpha.calibration.data import from_arrays, read_drop
 
 GOOD = [0.0, 0.5, 0.9, 1.22, 1.48, 1.69]
@@ -64,3 +66,46 @@ def test_interval_tolerance_allows_jitter_but_not_a_missed_impact(tmp_path):
     assert read_drop(_csv(tmp_path, "t", jittered)).count == 6
     with pytest.raises(ValueError, match=r"row 6, column 't'.* by more than 0.0001 s"):
         read_drop(_csv(tmp_path, "t", jittered), interval_tolerance=1e-4)
+
+
+def test_header_units_are_honoured(tmp_path):
+    t = [0.0, 0.5, 0.9, 1.22, 1.48, 1.69]
+    seconds = read_drop(_csv(tmp_path, "t (s)", t)).values
+    ms = read_drop(_csv(tmp_path, "t (ms)", [1e3 * x for x in t])).values
+    assert ms == pytest.approx(seconds, rel=1e-15)
+    h = [1.0, 0.64, 0.41, 0.26, 0.17]
+    assert read_drop(_csv(tmp_path, "h [cm]", [100 * x for x in h])).values == pytest.approx(h, rel=1e-15)
+    assert read_drop(_csv(tmp_path, "h (mm)", [1e3 * x for x in h])).values == pytest.approx(h, rel=1e-15)
+    with pytest.raises(ValueError, match=r"column 't \(min\)': unit 'min' is not one of 's', 'ms'"):
+        read_drop(_csv(tmp_path, "t (min)", t))
+
+
+def test_semicolons_with_decimal_commas_are_read(tmp_path):
+    path = tmp_path / "drop.csv"
+    path.write_text("t (s);note\n0;a\n0,5;b\n0,9;c\n1,22;d\n1,48;e\n1,69;f\n")
+    assert read_drop(path).values == pytest.approx([0.0, 0.5, 0.9, 1.22, 1.48, 1.69], rel=1e-15)
+
+
+def test_one_millisecond_jitter_is_accepted_but_a_missed_impact_is_not():
+    from contactalpha.calibration import laws, sequence
+    from contactalpha.calibration.data import check_times
+
+    t = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 20).touchdowns
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        noisy = t + rng.normal(0.0, 1e-3, t.size)
+        check_times(noisy)  # each valid recording passes with the derived tolerance
+        with pytest.raises(ValueError, match="a missed or extra impact"):
+            check_times(np.delete(noisy, 8))
+
+
+def test_long_recordings_are_capped_with_a_note(monkeypatch):
+    from contactalpha.calibration import data, laws, sequence
+
+    t = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 12).touchdowns
+    monkeypatch.setitem(data.MAX_OBSERVATIONS, "times", 8)
+    capped, note = data.capped(data.from_arrays("times", values=t))
+    assert capped.count == 8 and capped.values == pytest.approx(t[:8]) and "first 8 of 12" in note
+    lines = []
+    cal = ca.calibrate(t, kind="times", mass=0.05, laws=["constant_e"], intervals=False, progress=lines.append)
+    assert cal.data.count == 8 and cal.notes == [note] and note in lines

@@ -47,7 +47,7 @@ def test_outside_the_table_is_nan_not_a_number():
 def test_bad_input_names_the_value():
     with pytest.raises(ValueError, match="mass"):
         batched_parameters([1.0, -1.0], 1e8, 1.0, 10.0, 0.5)
-    with pytest.raises(ValueError, match="e_N = 1.5"):
+    with pytest.raises(ValueError, match=r"e_N\[1\] = 1.5"):
         batched_parameters(1.0, 1e8, 1.0, 10.0, [0.5, 1.5])
 
 

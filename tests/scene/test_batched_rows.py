@@ -61,7 +61,7 @@ def test_batched_targets_must_be_numbers(target):
 
 
 def test_a_batched_target_out_of_range_is_named_as_the_restitution():
-    with pytest.raises(ValueError, match=r"eps = 1.5 is outside"):
+    with pytest.raises(ValueError, match=r"eps\[1\] = 1.5 is outside"):  # and its first bad index
         batched_parameters(1.0, 1e5, 0.5, 9.81, [0.5, 1.5], restitution="energetic")
 
 

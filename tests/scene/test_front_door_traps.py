@@ -65,9 +65,10 @@ def _e_n_with_fixed_damping(mu, speed):
 
 def test_the_same_damping_at_half_and_twice_the_speed():
     cp = ca.contact_parameters(0.5, **FOOT)
-    assert cp.e_n_half_speed == pytest.approx(_e_n_with_fixed_damping(cp.damping, 0.25), abs=1e-7)
-    assert cp.e_n_twice_speed == pytest.approx(_e_n_with_fixed_damping(cp.damping, 1.0), abs=1e-7)
-    assert cp.e_n == pytest.approx(_e_n_with_fixed_damping(cp.damping, 0.5), abs=1e-7)
+    mu = cp.physical_damping * FOOT["stiffness"]  # mu = k d, N s/m^2.5
+    assert cp.e_n_half_speed == pytest.approx(_e_n_with_fixed_damping(mu, 0.25), abs=1e-7)
+    assert cp.e_n_twice_speed == pytest.approx(_e_n_with_fixed_damping(mu, 1.0), abs=1e-7)
+    assert cp.e_n == pytest.approx(_e_n_with_fixed_damping(mu, 0.5), abs=1e-7)
     # Hunt-Crossley's trap: slower is bouncier, faster is deader, with the same mu.
     assert cp.e_n_half_speed > cp.e_n + 0.05 and cp.e_n_twice_speed < cp.e_n - 0.05
 

@@ -16,7 +16,8 @@ def test_energetic_scene_gives_the_exact_alpha_and_each_engines_parameter():
     assert cp.xi == xi
     assert cp.alpha == ca.alpha(0.8, xi)
     assert cp.alpha_source == "table"
-    assert cp.damping == pytest.approx(cp.alpha * 1.4e8 / 0.5, rel=1e-15)
+    assert cp.damping == cp.alpha and cp.damping_name == "alpha"
+    assert cp.physical_damping == pytest.approx(cp.alpha / 0.5, rel=1e-15) and cp.physical_unit == "s/m"
     assert cp.end_state == "separation"
     assert cp.eps == pytest.approx(0.8, abs=1e-6)
     assert 0 < cp.e_n < cp.eps

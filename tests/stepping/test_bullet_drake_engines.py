@@ -6,9 +6,9 @@ so that the engines' combining rules are exercised), each dropped at 8 touchdown
 more per engine) through the adapters' own drop
 scenes.  From the engine's first stored state the map is stepped alongside the engine over the
 whole window (about three undamped periods, free flight after the rebound included), and the
-map's ``drop_*`` e_N is compared with the e_N read from the engine's own states the way
-``stepping.drop.run_drop`` reads the map's: the first state at or above the surface after one
-below it, through its flight parabola; 0 for a drop that stays in contact.
+map's ``drop_*`` e_N is compared with the e_N that ``adapters.stepped.measure_steps`` reads
+from the engine's own states (the flight parabola after the first free step that starts above
+the surface and ends moving up; 0 for a drop that stays in contact).
 
 Tolerances: PyBullet, and Drake with ``tamsi``, 1e-9 of the trajectory's scale (measured: below
 2e-12).  Drake's ``lagged`` and ``similar`` are solved by SAP, which stops at a relative momentum
@@ -17,12 +17,11 @@ usually land far below that: measured one-step errors up to 1e-9 and whole traje
 4e-9 of their scale.  Those are checked within 3e-8.
 """
 
-import math
-
 import numpy as np
 import pytest
 
 from contactalpha.adapters.contract import DropScene
+from contactalpha.adapters.stepped import measure_steps
 from contactalpha.stepping import drake_map, pybullet_map
 from contactalpha.stepping.drop import drop_drake, drop_pybullet
 
@@ -71,19 +70,6 @@ def lockstep_error(step, p, h, accel, zs, ws):
     return err
 
 
-def engine_e_n(zs, ws, accel, h, v_in):
-    """e_N read from an engine's stored states (written out apart from ``run_drop``)."""
-    below = np.nonzero(zs < 0.0)[0]
-    if below.size == 0:
-        return math.nan
-    out = np.nonzero(zs[below[0] :] >= 0.0)[0]
-    if out.size == 0:
-        return 0.0
-    j = below[0] + out[0]
-    s = ws[j] - 0.5 * accel * h
-    return math.sqrt(s * s + 2.0 * accel * zs[j]) / v_in
-
-
 def compare(scene, p, drop, step, samples_of, tol_traj, tol_e):
     samples = samples_of()
     zs, ws = samples.extra["z"], samples.extra["v"]
@@ -92,7 +78,7 @@ def compare(scene, p, drop, step, samples_of, tol_traj, tol_e):
     for i in range(PHASES):
         assert lockstep_error(step, p, h, scene.accel, zs[i], ws[i]) <= tol_traj
         e, n, status = drop(p, h, i / PHASES, scene.approach_speed, scene.accel, 10**6)
-        engine_e.append(engine_e_n(zs[i], ws[i], scene.accel, h, scene.approach_speed))
+        engine_e.append(measure_steps(zs[i], ws[i], scene.accel, h, scene.approach_speed).e_n)
         assert e == pytest.approx(engine_e[-1], abs=tol_e), (i, status, n)
     return np.array(engine_e)
 

@@ -37,7 +37,8 @@ class _Scene:
 
 
 def _engine(mass, integrator):
-    model = mujoco.MjModel.from_xml_string(_xml(_Scene(mass), MuJoCoSettings(timestep=H, integrator=integrator)))
+    settings = MuJoCoSettings(timestep=H, integrator=integrator)
+    model = mujoco.MjModel.from_xml_string(_xml(_Scene(mass), settings))
     return model, mujoco.MjData(model)
 
 

@@ -11,6 +11,15 @@ ENGINES_DIR = "results/engines"
 ENGINE_NAMES = ["opensim", "exudyn"]
 # Stepping engines (issue 27): each one's round trips at its own step; a missing one is skipped.
 STEPPING_ENGINES = ["mujoco", "drake", "pybullet"]
+# The engine pages' figures (docs/engines/*.md, shown by docs/hooks.py): one per engine, and the
+# round trips' figure of docs/engines/index.md (`snakemake -c2 docs_figures`; also in `engines`).
+PAGE_FIGURE_ENGINES = ENGINE_NAMES + STEPPING_ENGINES
+
+
+rule docs_figures:
+    input:
+        expand("results/figures/engine_{engine}.{ext}", engine=PAGE_FIGURE_ENGINES, ext=["png", "pdf"]),
+        "results/figures/engines_roundtrip.png",
 
 
 rule engines:
@@ -20,6 +29,7 @@ rule engines:
         expand("results/figures/engines_roundtrip.{ext}", ext=["png", "pdf"]),
         expand("results/figures/engines_stepping.{ext}", ext=["png", "pdf"]),
         "docs/engines-table.md",
+        rules.docs_figures.input,
 
 
 rule engines_roundtrip:
@@ -145,3 +155,19 @@ rule engines_stepping_report:
         "../envs/contactalpha.yaml"
     script:
         "../scripts/engines_stepping_report.py"
+
+
+rule engines_page_figure:
+    input:
+        lambda w: f"{ENGINES_DIR}/{'roundtrip' if w.engine in ENGINE_NAMES else 'stepping'}_{w.engine}.nc",
+    output:
+        png="results/figures/engine_{engine}.png",
+        pdf="results/figures/engine_{engine}.pdf",
+    wildcard_constraints:
+        engine="|".join(PAGE_FIGURE_ENGINES),
+    log:
+        "logs/engines/page_figure_{engine}.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/engines_page_figure.py"

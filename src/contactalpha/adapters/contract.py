@@ -225,5 +225,5 @@ def law_damping(law, scene, target, restitution="kinematic", *, per_unit_mass=Fa
     """
     law = get_law(law)
     m, k = (1.0, scene.stiffness / scene.mass) if per_unit_mass else (scene.mass, scene.stiffness)
-    xi = float(law.load_factor(law.load(m, k, scene.approach_speed, scene.accel)))
+    xi = float(law.scene_load_factor(m, k, scene.approach_speed, scene.accel))
     return law.damping_for(target, xi, restitution), xi

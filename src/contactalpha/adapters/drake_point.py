@@ -77,6 +77,9 @@ class DrakeAdapter(SteppingAdapter):
     law = get_law("hunt_crossley_linear")
     module = "pydrake"
     settings = DrakeSettings()
+    # Units of ``parameters``.
+    units = {"point_contact_stiffness": "N/m", "hunt_crossley_dissipation": "s/m", "pair_stiffness": "N/m",
+             "pair_dissipation": "s/m"}
 
     def version(self):
         """Drake's version string."""

@@ -177,6 +177,9 @@ class ExudynAdapter(Adapter):
     law = get_law("hunt_crossley")
     module = "exudyn"
     settings = ExudynSettings()
+    # Units of ``parameters``.
+    units = {"contactStiffness": "N/m^1.5", "contactStiffnessExponent": "1", "impactModel": "",
+             "restitutionCoefficient": "1", "contactDamping": "N s/m", "minimumImpactVelocity": "m/s"}
 
     def __init__(self, solver="dopri5"):
         if solver not in SOLVERS:

@@ -210,6 +210,8 @@ class OpenSimAdapter(Adapter):
     law = get_law("hunt_crossley")
     module = "opensim"
     settings = OpenSimSettings()
+    # Units of ``parameters``.
+    units = {"dissipation": "s/m", "stiffness": "Pa"}
 
     def version(self):
         """OpenSim's version string."""

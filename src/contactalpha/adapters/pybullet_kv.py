@@ -73,6 +73,10 @@ class PyBulletAdapter(SteppingAdapter):
     law = get_law("kelvin_voigt")
     module = "pybullet"
     settings = PyBulletSettings()
+    # Units of ``parameters``.
+    units = {
+        "contactStiffness": "N/m", "contactDamping": "N s/m", "pair_stiffness": "N/m", "pair_damping": "N s/m"
+    }
 
     def version(self):
         """PyBullet's API version number, as a string."""

@@ -6,7 +6,8 @@ In flight under a constant acceleration ``a`` the positions then lie exactly on 
 velocity at a step's end is ``v - a h / 2`` (the stored velocity is the mean over the step).  So:
 
 - a drop *arrives* with approach speed ``v_minus`` when its parabola crosses z = 0 at that speed:
-  ``touchdown_state`` (``contactalpha.stepping.drop``, re-exported here) gives the stored state one step-fraction ``phase`` before the crossing;
+  ``touchdown_state`` (``contactalpha.stepping.flight``, re-exported here) gives the stored state
+  one step-fraction ``phase`` before the crossing;
 - the *rebound* speed is the speed of the flight parabola at z = 0, read at the first state
   reached by a step without contact force (``v_j - v_{j-1} = -a h``):
   ``e_N = sqrt((v_j - a h/2)^2 + 2 a z_j) / v_minus``.  A drop test reads the same number from the
@@ -37,7 +38,7 @@ import numpy as np
 from contactalpha.adapters.base import DELIVERED_TOL, Adapter, Delivered
 from contactalpha.adapters.measure import MeasuredImpact
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
-from contactalpha.stepping.drop import touchdown_state
+from contactalpha.stepping.flight import touchdown_state
 
 # A contact spanning fewer steps than this is flagged: its rebound depends on the touchdown phase.
 MIN_CONTACT_STEPS = 20

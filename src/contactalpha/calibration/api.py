@@ -1,18 +1,23 @@
 """``calibrate``: a drop test in, each law's fitted parameters, the selected law and engine inputs out."""
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from contactalpha.scene.ball import GRAVITY
 from contactalpha.adapters.engine_conventions import opensim_dissipation
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.adapters.registry import ADAPTERS
+from contactalpha.laws import get_law
+from contactalpha.scene.engine_params import format_block
+from contactalpha.scene.parameters import LAW
 from contactalpha.validation import check_positive, check_range
 
 from . import data as data_mod
 from . import family  # noqa: F401  (registers the contact-law family's laws)
+from .band import METHOD
 from .fit import LEVEL, Setup, fit_law
 from .laws import LAWS, law_names
 
@@ -34,6 +39,7 @@ class Calibration:
     selected : name of the law with the lowest AIC.
     weights : law name -> Akaike weight (relative likelihood of the laws asked).
     engines : law name -> engine parameters (``engine_parameters``).
+    notes : what was done to the data before the fit (a cap on the observations).
     """
 
     data: object
@@ -43,6 +49,7 @@ class Calibration:
     selected: str
     weights: dict
     engines: dict
+    notes: list = field(default_factory=list)
 
     @property
     def best(self):
@@ -56,6 +63,8 @@ class Calibration:
         return {
             "contactalpha": __version__,
             "data": {"kind": self.data.kind, "source": self.data.source, "count": self.data.count},
+            "notes": self.notes,
+            "given": self.setup.given,
             "mass": self.setup.mass,
             "accel": self.setup.accel,
             "radius": self.radius,
@@ -100,6 +109,14 @@ def _fit_dict(f, weight, engines):
         "level": f.level,
         "fixed": list(f.fixed),
         "nuisance": f.nuisance,
+        "given": list(f.given),
+        "e_n_at_recorded_speeds": {
+            "v_in": f.sequence.v_in[: len(f.e_n_band[0])],
+            "e_n": f.e_n_band[0],
+            "lo": f.e_n_band[1],
+            "hi": f.e_n_band[2],
+            "method": METHOD,
+        },
         "rss": f.rss,
         "sigma": f.sigma,
         "n": f.n,
@@ -131,36 +148,64 @@ def stiffness_from_moduli(radius, moduli, poisson=(0.0, 0.0)):
 
 
 def engine_parameters(fit, setup, radius=None):
-    """Engine inputs of one fitted law at its first impact (``scene.parameters.contact_parameters``).
+    """Inputs of the engines that run the fitted law, at its first impact, in each engine's units.
 
-    Every supported engine's parameters for the first contact's approach speed and fitted e_N
-    (the load kept for laws that keep it).  A law with a constant damping also gets OpenSim's
-    ``dissipation``, which then holds for every bounce.
+    Only engines whose contact law is the fitted law's (``laws.Law.contact_law``: OpenSim and
+    Exudyn for the Hunt-Crossley n = 3/2 laws, MuJoCo for ``mujoco_soft_damping``, Drake for
+    ``hunt_crossley_linear_damping``, PyBullet for ``kelvin_voigt_damping``) are listed; each
+    block is the adapter's own (``adapters.contract.EngineAdapter.parameters``), with the fit's
+    given settings (MuJoCo's impedance).  A law whose damping is a constant of the material holds
+    for every bounce; the others hold for the first impact's approach speed only.
     """
     s = fit.sequence
-    k, v1, e1 = fit.values["stiffness"], float(s.v_in[0]), float(s.e_n[0])
+    law = LAWS[fit.law]
+    v1, e1 = float(s.v_in[0]), float(s.e_n[0])
     if not (s.v_out.size and e1 > 0.0):
         return {"status": "the first contact does not separate: no restitution to convert"}
-    accel = 0.0 if fit.law == "constant_e" else setup.accel
-    try:
-        cp = contact_parameters(
-            e_N=e1, mass=setup.mass, stiffness=k, approach_speed=v1, accel=accel, radius=radius
-        )
-    except (ValueError, RuntimeError) as exc:
-        return {"status": f"not converted: {exc}"}
+    damping, stiffness = law.engine_inputs(fit.values, setup.mass, setup.accel, v1)
+    scene = _EngineScene(setup.mass, float(stiffness), v1, radius)
+    contact_law = get_law(law.contact_law)
+    given = {name: fit.values[name] for name in fit.given}
+    engines = {
+        a.name: a.parameters(float(damping), scene, **_settings(a, given))
+        for a in ADAPTERS
+        if a.law.name == contact_law.name
+    }
     out = {
         "at_approach_speed": v1,
         "e_n": e1,
-        "alpha": cp.alpha,
-        "damping_mu": cp.damping,
-        "engines": cp.engines,
-        "note": "alpha (and OpenSim's dissipation) hold for this approach speed; reset them per impact",
+        "contact_law": contact_law.name,
+        contact_law.damping: float(damping),
+        **given,
+        "engines": engines,
+        "note": f"{contact_law.damping} (and the engines' damping) hold for this approach speed; "
+        "reset them per impact",
     }
-    if "damping" in fit.values:
+    if law.constant_damping:
+        out["note"] = "constant damping: the engines' damping holds for every bounce"
+    if not engines:
+        out["note"] = f"no engine adapter runs {contact_law.name}; its damping {contact_law.damping} is above"
+    if "damping" in fit.values and contact_law.name == LAW:
         d = fit.values["damping"]
         out["opensim_constant_dissipation"] = float(opensim_dissipation(d * v1, v1))
         out["note"] = "constant damping: OpenSim's dissipation holds for every bounce"
     return out
+
+
+@dataclass(frozen=True)
+class _EngineScene:
+    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
+
+    mass: float
+    stiffness: float
+    approach_speed: float
+    radius: object
+
+
+def _settings(adapter, given):
+    """``{"settings": ...}`` carrying the fit's given settings into an adapter that has them."""
+    mine = {k: v for k, v in given.items() if hasattr(adapter.settings, k)}
+    return {"settings": replace(adapter.settings, **mine)} if mine else {}
 
 
 def _as_data(source, kind, t, tolerance):
@@ -190,7 +235,9 @@ def calibrate(
     poisson: tuple[float, float] = (0.3, 0.3),
     level: float = LEVEL,
     intervals: bool = True,
-    interval_tolerance: float = data_mod.INTERVAL_TOLERANCE,
+    interval_tolerance: float | None = None,
+    impedance: float | None = None,
+    progress: "Callable[[str], None] | None" = None,
 ) -> "Calibration":
     """Fit restitution laws to a drop test and select one.
 
@@ -222,9 +269,15 @@ def calibrate(
     intervals : bool
         False skips the profile-likelihood intervals; they are computed for every law whose AIC is
         within ``INTERVAL_AIC_GAP`` of the best.
-    interval_tolerance : float
+    interval_tolerance : float, optional
         s; an impact interval longer than the one before by more than this is refused (a missed
-        or spurious impact), ``data.INTERVAL_TOLERANCE`` by default.
+        or spurious impact); by default derived from the recording's timing scatter, at least
+        ``data.INTERVAL_TOLERANCE`` (``data.interval_tolerance_for``).
+    impedance : float, optional
+        MuJoCo's constant impedance d in [0, 1) of the recording, for the laws that have one
+        (``mujoco_soft_damping``); default the law's (0.9).  It is given, not fitted, and reported.
+    progress : callable, optional
+        Called with a line of text at each stage (the command line prints them on stderr).
 
     Returns
     -------
@@ -244,16 +297,26 @@ def calibrate(
         stiffness = stiffness_from_moduli(radius, moduli, poisson)
     elif stiffness is not None:
         stiffness = float(check_positive("stiffness", stiffness))
-    tol = float(check_range("interval_tolerance", interval_tolerance, 0.0, np.inf, hi_open=True))
-    d = _as_data(data, kind, t, tol)
+    tol = interval_tolerance
+    if tol is not None:
+        tol = float(check_range("interval_tolerance", tol, 0.0, np.inf, hi_open=True))
+    say = progress or (lambda line: None)
     names = law_names(laws)
-    setup = Setup(m, g + f / m)
+    given = _given(names, impedance)
+    d, note = data_mod.capped(_as_data(data, kind, t, tol))
+    if note:
+        say(note)
+    setup = Setup(m, g + f / m, given)
     kw = {"stiffness_guess": stiffness, "level": level}
-    fits = {n: fit_law(LAWS[n], d, setup, intervals=False, **kw) for n in names}
+    fits = {}
+    for i, n in enumerate(names):
+        say(f"fitting {n} ({i + 1}/{len(names)})")
+        fits[n] = fit_law(LAWS[n], d, setup, intervals=False, **kw)
     best_aic = min(f.aic for f in fits.values())
     for n in names:
         gap = fits[n].aic - best_aic
         if intervals and gap <= INTERVAL_AIC_GAP:
+            say(f"profile-likelihood intervals of {n}")
             fits[n] = fit_law(LAWS[n], d, setup, intervals=True, **kw)
         elif intervals:
             fits[n].status += f"; no intervals: AIC {gap:.1f} above the best law's"
@@ -262,17 +325,38 @@ def calibrate(
     weights = dict(zip(names, (rel / rel.sum()).tolist(), strict=True))
     selected = names[int(np.argmin(aic))]
     engines = {n: engine_parameters(fits[n], setup, radius) for n in names}
-    return Calibration(d, setup, radius, fits, selected, weights, engines)
+    return Calibration(d, setup, radius, fits, selected, weights, engines, [note] if note else [])
+
+
+def _given(names, impedance):
+    """The given settings of the laws ``names`` (checked); ValueError if no law there takes them."""
+    if impedance is None:
+        return {}
+    takers = [n for n in names if "impedance" in LAWS[n].given]
+    if not takers:
+        having = [n for n, law in LAWS.items() if "impedance" in law.given]
+        raise ValueError(
+            f"impedance = {impedance!r} is given but no law fitted has one ({', '.join(names)}); "
+            f"laws with one: {', '.join(having)}"
+        )
+    d = get_law(LAWS[takers[0]].contact_law, impedance=impedance).impedance
+    return {"impedance": d}
+
+
+# The text report lists every contact's e_N up to this many, else the first and last few.
+SHOWN_CONTACTS = 12
 
 
 def format_calibration(cal):
-    """Text summary: each law's parameters with intervals, AIC, and the selection."""
+    """Text summary: each law's parameters with intervals, e_N at the recorded speeds, AIC, engines."""
     lines = [f"{cal.data.kind}: {cal.data.count} observations from {cal.data.source}"]
+    lines += [f"note: {n}" for n in cal.notes]
     for name, f in cal.fits.items():
         mark = "*" if name == cal.selected else " "
         lines.append(
             f"{mark} {name:12s} AIC {f.aic:10.2f}  BIC {f.bic:10.2f}  sigma {f.sigma:.3g}  {f.status}"
         )
+        units = {p.name: p.unit for p in LAWS[name].params}
         for key, value in f.values.items():
             lo, hi = f.intervals.get(key, (math.nan, math.nan))
             closed = f.bounded.get(key, (True, True))
@@ -280,14 +364,41 @@ def format_calibration(cal):
             hi_t = f"{hi:.6g}" if closed[1] else f">={hi:.6g}"
             span = f"{int(100 * f.level)}% [{lo_t}, {hi_t}]" if np.isfinite([lo, hi]).all() else ""
             held = "  (held: the data cannot see it)" if key in f.fixed else ""
-            lines.append(f"    {key:10s} {value:.6g}   {span}{held}")
+            held = "  (given, not fitted)" if key in f.given else held
+            unit = units.get(key, "1")
+            lines.append(f"    {key:10s} {value:.6g} {'' if unit == '1' else unit}  {span}{held}")
+        lines += _e_n_lines(f)
+        lines += _engine_lines(cal.engines[name])
     lines.append(f"selected: {cal.selected} (lowest AIC)")
-    eng = cal.engines[cal.selected]
-    for engine, values in eng.get("engines", {}).items():
-        for key, value in values.items():
-            lines.append(f"    {engine + '.' + key:32s} {value:.10g}")
-    if "opensim_constant_dissipation" in eng:
-        lines.append(
-            f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}"
-        )
     return "\n".join(lines)
+
+
+def _e_n_lines(f):
+    e, lo, hi = f.e_n_band
+    if not len(e):
+        return []
+    v = f.sequence.v_in[: len(e)]
+    shown = list(range(len(e)))
+    if len(e) > SHOWN_CONTACTS:
+        shown = shown[: SHOWN_CONTACTS - 3] + [-1] + shown[-3:]
+    head = f"    e_N at the recorded approach speeds ({int(100 * f.level)}% {METHOD}):"
+    if not np.isfinite(lo).any():
+        head = "    e_N at the recorded approach speeds (no interval):"
+    out = [head]
+    for i in shown:
+        if i < 0:
+            out.append(f"      ... {len(e) - SHOWN_CONTACTS + 1} more contacts ...")
+            continue
+        band = f"  [{lo[i]:.6f}, {hi[i]:.6f}]" if np.isfinite([lo[i], hi[i]]).all() else ""
+        out.append(f"      contact {i + 1:3d}  v- {v[i]:.6g} m/s  e_N {e[i]:.6f}{band}")
+    return out
+
+
+def _engine_lines(eng):
+    if "engines" not in eng:
+        return [f"    engines: {eng.get('status', '')}"]
+    out = [f"    {format_block(engine, block, []).replace(chr(10), chr(10) + '    ')}" for engine, block in
+           eng["engines"].items()]  # fmt: skip
+    if "opensim_constant_dissipation" in eng:
+        out.append(f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}")
+    return out + [f"    # {eng['note']}"]

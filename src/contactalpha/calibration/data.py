@@ -1,7 +1,9 @@
 """Drop-test data: read and check a CSV of impact times, apex heights or a tracked trajectory.
 
-Three kinds, told apart by the CSV's column names (case-insensitive; a unit in brackets or
-parentheses after the name, ``t (s)``, is ignored; other columns are ignored):
+Three kinds, told apart by the CSV's column names (case-insensitive; other columns are ignored).
+A unit in brackets or parentheses after a name is honoured: ``t (ms)``, ``h [cm]`` (``UNITS``
+lists them; an unknown one is refused).  Comma, semicolon and tab separated files are read; in a
+semicolon or tab separated file a decimal comma (``0,125``) is read as a decimal point.
 
 ``times``
     Column ``t``: the time of each impact (touchdown), s, one row per impact, in order; or
@@ -35,7 +37,18 @@ KINDS = ("times", "heights", "trajectory")
 # as the flights shrink), so timing jitter can reverse two of them; a missed impact or an echo
 # changes an interval by a whole flight.  1 ms is about 4 sigma of the reversal for 0.1 ms jitter.
 INTERVAL_TOLERANCE = 1e-3
-_UNIT = re.compile(r"\s*[\(\[].*[\)\]]\s*$")
+# The derived tolerance: this many standard deviations of the change between two successive
+# intervals (sqrt(6) sigma for independent timing errors of sigma on each impact time).
+JITTER_SIGMAS = 4.0
+# Fewest intervals the scatter is estimated from (fewer: the fit would absorb a missed impact).
+JITTER_MIN_INTERVALS = 10
+# Units a column header may carry, to SI: times (t, dt) and lengths (h, z).
+UNITS = {
+    "time": {"s": 1.0, "ms": 1e-3},
+    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3},
+}
+COLUMN_QUANTITY = {"t": "time", "dt": "time", "h": "length", "z": "length"}
+_UNIT = re.compile(r"\s*[\(\[](.*)[\)\]]\s*$")
 
 
 @dataclass(frozen=True)
@@ -65,12 +78,28 @@ def _column_key(name):
     return _UNIT.sub("", name.strip()).strip().lower()
 
 
-def _floats(rows, column, header):
-    """Column ``header`` of ``rows`` as floats; ValueError naming the row and column if not numbers."""
+def unit_scale(header):
+    """The factor to SI of the unit in ``header``'s brackets (1 without one); ValueError if unknown."""
+    match = _UNIT.search(header.strip())
+    if match is None:
+        return 1.0
+    unit = match.group(1).strip()
+    table = UNITS[COLUMN_QUANTITY[_column_key(header)]]
+    if unit not in table:
+        raise ValueError(
+            f"column {header!r}: unit {unit!r} is not one of {', '.join(map(repr, table))}"
+        )
+    return table[unit]
+
+
+def _floats(rows, column, header, decimal_comma=False):
+    """Column ``header`` of ``rows`` as floats in SI; ValueError naming the row and column if not numbers."""
     out = np.empty(len(rows))
+    scale = unit_scale(header)
     for i, row in enumerate(rows):
         try:
-            out[i] = float(row[column])
+            cell = row[column].strip()
+            out[i] = float(cell.replace(",", ".") if decimal_comma else cell) * scale
         except (ValueError, IndexError):
             cell = row[column] if column < len(row) else ""
             raise ValueError(f"row {i + 1}, column {header!r}: {cell!r} is not a number") from None
@@ -85,12 +114,40 @@ def _check_finite(values, header):
         )
 
 
-def check_times(t, header="t", tolerance=INTERVAL_TOLERANCE):
+def timing_jitter(t):
+    """Estimated standard deviation (s) of the timing error of each impact time in ``t``.
+
+    The log of the intervals is nearly linear in the impact's index (the flights shrink by a factor
+    e_N each), so its third differences hold little but the timing errors, and the median absolute
+    deviation of them is robust to a missed impact (which shifts every later index by one: a
+    global fit would take that for scatter).  0 with fewer than ``JITTER_MIN_INTERVALS`` intervals.
+    """
+    dt = np.diff(np.asarray(t, dtype=float))
+    if dt.size < JITTER_MIN_INTERVALS or np.any(dt <= 0.0):
+        return 0.0
+    # Third differences of log(dt) cancel the trend locally; scaled by the interval they are the
+    # fourth differences of the times, sqrt(70) sigma, and a missed impact spoils only four of them.
+    d3 = np.diff(np.log(dt), 3) * dt[1:-2]
+    scatter = 1.4826 * np.median(np.abs(d3 - np.median(d3))) * math.sqrt(2.0 / 70.0)
+    return float(scatter / math.sqrt(2.0))
+
+
+def interval_tolerance_for(t):
+    """The default tolerance of ``check_times``: ``INTERVAL_TOLERANCE`` or the recording's jitter.
+
+    ``JITTER_SIGMAS`` standard deviations of the change between successive intervals
+    (``sqrt(6) timing_jitter(t)``), never less than ``INTERVAL_TOLERANCE``.
+    """
+    return max(INTERVAL_TOLERANCE, JITTER_SIGMAS * math.sqrt(6.0) * timing_jitter(t))
+
+
+def check_times(t, header="t", tolerance=None):
     """Impact times: finite, strictly increasing, each interval not longer than the one before.
 
     A ball under a constant load loses speed at every contact, so its flights only shorten;
-    an interval longer than the one before by more than ``tolerance`` (s) means a missed or a
-    spurious impact.
+    an interval longer than the one before by more than ``tolerance`` (s; by default derived from
+    the recording's own timing scatter, ``interval_tolerance_for``) means a missed or a spurious
+    impact.
     """
     t = np.asarray(t, dtype=float)
     _check_finite(t, header)
@@ -105,13 +162,16 @@ def check_times(t, header="t", tolerance=INTERVAL_TOLERANCE):
         raise ValueError(
             f"row {i + 1}, column {header!r}: time {float(t[i])!r} is not after row {i}'s {float(t[i - 1])!r}"
         )
+    derived = tolerance is None
+    tolerance = interval_tolerance_for(t) if derived else tolerance
     longer = np.flatnonzero(dt[1:] > dt[:-1] + tolerance)
     if longer.size:
         i = longer[0] + 2
         raise ValueError(
             f"row {i + 1}, column {header!r}: the interval {dt[i - 1]:.6g} s before this impact is longer "
-            f"than the one before it ({dt[i - 2]:.6g} s) by more than {tolerance:g} s; a ball's bounces only "
-            "shorten (a missed or extra impact?)"
+            f"than the one before it ({dt[i - 2]:.6g} s) by more than {tolerance:g} s"
+            f"{' (derived from the recording)' if derived else ''}; a ball's bounces only shorten (a missed "
+            "or extra impact? If the timing is that noisy, set interval_tolerance, --interval-tolerance, in s)"
         )
     return t
 
@@ -156,7 +216,7 @@ def check_trajectory(t, z):
     return t, z
 
 
-def from_arrays(kind, t=None, values=None, source="array", interval_tolerance=INTERVAL_TOLERANCE):
+def from_arrays(kind, t=None, values=None, source="array", interval_tolerance=None):
     """``DropData`` of ``kind`` from arrays, checked (``values``: times, heights or z)."""
     if kind == "times":
         v = check_times(values if values is not None else t, tolerance=interval_tolerance)
@@ -169,11 +229,11 @@ def from_arrays(kind, t=None, values=None, source="array", interval_tolerance=IN
     raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, KINDS))}")
 
 
-def read_drop(path, interval_tolerance=INTERVAL_TOLERANCE):
+def read_drop(path, interval_tolerance=None):
     """Read a drop-test CSV (see the module docstring for its columns) into checked ``DropData``.
 
     ``interval_tolerance`` (s) is ``check_times``' allowance for an interval longer than the one
-    before it.
+    before it (None: derived from the recording).
     """
     with open(path, newline="", encoding="utf-8-sig") as fh:
         sample = fh.read(4096)
@@ -188,30 +248,46 @@ def read_drop(path, interval_tolerance=INTERVAL_TOLERANCE):
     header, body = rows[0], rows[1:]
     keys = {_column_key(h): i for i, h in reversed(list(enumerate(header)))}
     name = str(path)
+    comma = dialect.delimiter in ";\t"
+
+    def column(key):
+        return _floats(body, keys[key], header[keys[key]], comma)
+
     if "t" in keys and "z" in keys:
-        t = _floats(body, keys["t"], header[keys["t"]])
-        z = _floats(body, keys["z"], header[keys["z"]])
-        return DropData("trajectory", *check_trajectory(t, z), name)
+        return DropData("trajectory", *check_trajectory(column("t"), column("z")), name)
     if "t" in keys:
-        head = header[keys["t"]]
-        t = check_times(_floats(body, keys["t"], head), head, interval_tolerance)
+        t = check_times(column("t"), header[keys["t"]], interval_tolerance)
         return DropData("times", t, t, name)
     if "dt" in keys:
-        dt = _floats(body, keys["dt"], header[keys["dt"]])
+        dt = column("dt")
         _check_finite(dt, header[keys["dt"]])
         t = check_times(np.concatenate([[0.0], np.cumsum(dt)]), header[keys["dt"]], interval_tolerance)
         return DropData("times", t, t, name)
     if "h" in keys:
-        return DropData(
-            "heights",
-            np.empty(0),
-            check_heights(_floats(body, keys["h"], header[keys["h"]]), header[keys["h"]]),
-            name,
-        )
+        return DropData("heights", np.empty(0), check_heights(column("h"), header[keys["h"]]), name)
     raise ValueError(
         f"{path}: no known columns in the header {header!r}; expected 't' (impact times), 'dt' "
         "(intervals), 'h' (drop and apex heights) or 't' and 'z' (trajectory)"
     )
+
+
+# Most observations fitted: impact times and heights beyond these are the slowest bounces, each
+# as costly as the first and nearly at rest; a trajectory is thinned evenly to this many samples.
+MAX_OBSERVATIONS = {"times": 200, "heights": 200, "trajectory": 5000}
+
+
+def capped(data):
+    """``(data, note)``: ``data`` within ``MAX_OBSERVATIONS`` (note None) or cut to it, saying how."""
+    most = MAX_OBSERVATIONS[data.kind]
+    if data.count <= most:
+        return data, None
+    if data.kind == "trajectory":
+        keep = np.unique(np.linspace(0, data.count - 1, most).round().astype(int))
+        note = f"{data.count} trajectory samples thinned evenly to {keep.size} (MAX_OBSERVATIONS)"
+        return DropData(data.kind, data.t[keep], data.values[keep], data.source), note
+    note = f"fitting the first {most} of {data.count} {data.kind} (MAX_OBSERVATIONS): the rest are the slowest bounces"
+    t = data.t[:most] if data.t.size else data.t
+    return DropData(data.kind, t, data.values[:most], data.source), note
 
 
 def first_guess(data, accel):

@@ -64,11 +64,22 @@ ENTRIES = (
 )
 
 
+def _law_at(entry, values):
+    """The contact law of ``entry`` with the given settings found in ``values`` (MuJoCo's impedance)."""
+    base = get_law(entry.law)
+    return get_law(base, **{name: values[name] for name in given_settings(base) if name in values})
+
+
+def given_settings(law):
+    """The contact law's given (not fitted) settings and their defaults: MuJoCo's impedance ``d``."""
+    return {} if law.impedance_range is None else {"impedance": law.impedance}
+
+
 def family_contact(entry):
     """``Law.contact`` of a family law with constant engine damping and stiffness."""
-    law = get_law(entry.law)
 
     def contact(values, mass, accel, v):
+        law = _law_at(entry, values)
         m = 1.0 if entry.per_unit_mass else mass
         k, c = values["stiffness"], values["damping"]
         ds = law.length_scale(m, k, v)
@@ -81,6 +92,18 @@ def family_contact(entry):
         return Contact(row[R_EN] * v if sep else 0.0, row[R_TE] * ds / v, sep, status)
 
     return contact
+
+
+def family_engine_inputs(entry):
+    """``Law.engine_inputs`` of a family law: its damping parameter and the physical stiffness."""
+
+    def engine_inputs(values, mass, accel, v):
+        law = _law_at(entry, values)
+        m = 1.0 if entry.per_unit_mass else mass
+        p = float(law.damping_from_physical(values["damping"], m, values["stiffness"], v))
+        return p, values["stiffness"] * (mass if entry.per_unit_mass else 1.0)
+
+    return engine_inputs
 
 
 def _middle(param):
@@ -99,6 +122,10 @@ def register_family():
                 (entry.damping, entry.stiffness),
                 family_contact(entry),
                 _middle(entry.damping),
+                family_engine_inputs(entry),
+                contact_law=law.name,
+                constant_damping=True,
+                given=given_settings(law),
             )
         )
 

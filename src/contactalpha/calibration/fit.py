@@ -21,13 +21,14 @@ Model selection: AIC ``n log(RSS/n) + 2 (p + 1)`` and BIC ``n log(RSS/n) + (p + 
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq, least_squares
 from scipy.stats import f as f_dist
 
 from . import sequence as seq_mod
+from .band import e_n_band
 from .data import first_guess
 from .laws import STIFFNESS
 
@@ -52,16 +53,25 @@ AT_BOUND = 1e-3
 PROFILE_NFEV = 40
 # Smallest first step of a profile, as a fraction of the parameter's range (fitting coordinates).
 MIN_STEP = 1e-5
+# An interval end is located to this fraction of the Wald standard error, and never more coarsely
+# than this fraction of the bracket it lies in (a flat profile has a huge standard error).
+END_TOL_SE = 0.01
+END_TOL_BRACKET = 1e-3
 # Most contacts a trajectory's sequence is followed for.
 MAX_CONTACTS = 500
 
 
 @dataclass(frozen=True)
 class Setup:
-    """What is known: ball mass (kg) and the constant acceleration a = g + F/m (m/s^2)."""
+    """What is known: ball mass (kg), the constant acceleration a = g + F/m (m/s^2), given settings.
+
+    ``given`` holds contact-law settings that are known, not fitted (MuJoCo's impedance ``d``); a
+    law that has one and finds it absent here uses its default (``laws.Law.given``).
+    """
 
     mass: float
     accel: float
+    given: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -77,6 +87,9 @@ class LawFit:
     nuisance : fitted ``v0`` and ``t0``.
     free : names fitted (law parameters then nuisance).
     fixed : law parameters held at their start (the data cannot see them).
+    given : contact-law settings given, not fitted (in ``values`` too: MuJoCo's impedance).
+    e_n_band : (e_N, lo, hi) of each separating contact at its fitted approach speed
+        (``sequence.v_in``), with the interval at ``level`` (``band.e_n_band``); NaN without intervals.
     rss, sigma, n, p, aic, bic : fit statistics (sigma in the data's units; log units for heights).
     residuals : observed minus fitted, data units (log ratio for heights).
     sequence : the fitted bounce sequence (``sequence.Sequence``).
@@ -101,6 +114,8 @@ class LawFit:
     status: str = "ok"
     level: float = LEVEL
     evaluations: int = 0
+    given: tuple = ()
+    e_n_band: tuple = ()
 
 
 class Problem:
@@ -241,6 +256,7 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
     fixed = tuple(p.name for p in law.params if p.timing_only and data.kind == "heights")
     problem = Problem(law, data, setup, fixed)
     problem.fixed_values = {name: (stiffness_guess or HELD_STIFFNESS) for name in fixed}
+    problem.fixed_values.update({name: setup.given.get(name, d) for name, d in law.given.items()})
     best = None
     starts = sorted(_starts(problem, stiffness_guess), key=lambda x0: _cost(problem, x0))
     for x0 in starts[:FITTED_STARTS]:
@@ -270,6 +286,7 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
         sequence=problem.sequence(x),
         status="ok" if best.success else f"optimiser: {best.message}",
         level=level,
+        given=tuple(law.given),
     )
     at_bound = [
         name
@@ -283,6 +300,7 @@ def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=Tr
     if n <= p:
         out.status = f"{n} observations for {p} parameters: no intervals"
         intervals = False
+    out.e_n_band = e_n_band(problem, best, level, interval=intervals)
     for j, prm in enumerate(problem.law_free):
         if intervals:
             lo, hi, blo, bhi = _profile(problem, best, j, _threshold(n, p, level) * rss)
@@ -365,7 +383,8 @@ def _profile(problem, best, j, limit):
             f_t = excess(trial)
             if f_t > 0.0:
                 # The refits along the way are warm-started, so the sign at ``inside`` is the one seen.
-                end = trial if f_in >= 0.0 else _crossing(excess, inside, trial, 0.01 * se)
+                xtol = min(END_TOL_SE * se, END_TOL_BRACKET * abs(trial - inside))
+                end = trial if f_in >= 0.0 else _crossing(excess, inside, trial, xtol)
                 break
             if trial == edge:
                 end, bounded = edge, False

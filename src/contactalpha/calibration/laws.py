@@ -26,7 +26,7 @@ durations marks it ``timing_only`` (heights alone cannot see it).  Add a law wit
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -96,6 +96,14 @@ class Law:
     contact : ``contact(values, mass, accel, v) -> Contact``, ``values`` a dict of natural values.
     start : ``start(e, v) -> dict``: the law's parameters (stiffness aside) for a rough
         restitution ``e`` at a typical approach speed ``v``, to start a fit.
+    engine_inputs : ``engine_inputs(values, mass, accel, v) -> (damping, stiffness)``: the contact
+        law's dimensionless damping (alpha, zeta, beta) and its physical stiffness (N/m^1.5 or N/m)
+        at a contact of approach speed ``v``: what the engines that run ``contact_law`` take.
+    contact_law : the name of the contact law (``contactalpha.laws``) whose engines run this law.
+    constant_damping : the engines' physical damping is the law's fitted constant (it holds for
+        every bounce, not only the first).
+    given : settings of the contact law that are given, not fitted, with their defaults
+        (MuJoCo's impedance ``d``); ``calibrate`` takes them by name and reports them.
     """
 
     name: str
@@ -104,6 +112,10 @@ class Law:
     params: tuple
     contact: Callable
     start: Callable
+    engine_inputs: Callable
+    contact_law: str = "hunt_crossley"
+    constant_damping: bool = False
+    given: dict = field(default_factory=dict)
 
     @property
     def names(self):
@@ -158,6 +170,20 @@ def _constant_e(values, mass, accel, v):
     return hc_contact(float(alpha_exact(values["e"])), mass, values["stiffness"], accel, v, loaded=False)
 
 
+def _hc_eps_inputs(values, mass, accel, v):
+    k = values["stiffness"]
+    return exact_loaded_alpha(values["eps"], influence_factor(mass, k, v, accel)), k
+
+
+def _hc_damping_inputs(values, mass, accel, v):
+    return values["damping"] * v, values["stiffness"]
+
+
+def _constant_e_inputs(values, mass, accel, v):
+    # The null model leaves the load out of the contact: its alpha is the unloaded one for e.
+    return float(alpha_exact(values["e"])), values["stiffness"]
+
+
 LAWS: dict[str, Law] = {}
 
 
@@ -174,6 +200,7 @@ register(
         (Param("eps", "1", "Stronge's restitution ε", 0.02, 1.0), STIFFNESS),
         _hc_eps,
         lambda e, v: {"eps": e},
+        _hc_eps_inputs,
     )
 )
 register(
@@ -184,6 +211,7 @@ register(
         (Param("damping", "s/m", "damping d = α / v⁻", 1e-6, 1e3, log=True), STIFFNESS),
         _hc_damping,
         lambda e, v: {"damping": float(alpha_exact(e)) / v},
+        _hc_damping_inputs,
     )
 )
 register(
@@ -197,6 +225,7 @@ register(
         ),
         _constant_e,
         lambda e, v: {"e": e},
+        _constant_e_inputs,
     )
 )
 DEFAULT_LAW = "hc_eps"

@@ -21,11 +21,13 @@ Coordinates
     ``b_eff = F + s softplus((b - F)/s)`` keeps the mapping smooth in eta.
 
 Accuracy is verified against ``solve_alpha`` at random points off the nodes
-(tests/test_table.py); the build records its grid and tolerances, and
-``load_table`` refuses a file whose format version differs.  The one-off build
+(tests/test_table.py); the build records its grid, tolerances and the SHA-256 of its
+arrays, and ``load_table`` refuses a file whose format version or checksum differs, and a
+file at the package's own path whose grid is not the shipped one (``SHIPPED_GRIDS``).  The one-off build
 (node values, splines, writing the file) lives in ``table_build``.
 """
 
+import hashlib
 import json
 import zipfile
 from collections.abc import Callable
@@ -51,8 +53,16 @@ U_MIN = float(np.log(EPS_MIN))
 XI_SCALE = 1e-10
 # Spline degree in both directions.
 DEGREE = 5
-DEFAULT_FILE = Path(__file__).parents[1] / "data" / "alpha_table.npz"
-KINEMATIC_FILE = Path(__file__).parents[1] / "data" / "alpha_table_kinematic.npz"
+DEFAULT_FILE = Path(__file__).resolve().parents[1] / "data" / "alpha_table.npz"
+KINEMATIC_FILE = Path(__file__).resolve().parents[1] / "data" / "alpha_table_kinematic.npz"
+# The grids and tolerances the package's own tables were built with (config.yaml's models.table
+# and restitution.table; tests check that they agree).  A table of another grid at the package's
+# path is refused: its accuracy is not the documented one (the workflow's coarse test table misses
+# by 4e-3 in alpha).
+SHIPPED_GRIDS = {
+    DEFAULT_FILE: {"n_eta": 277, "n_p": 101, "tol": 1e-13, "rtol": 1e-12, "atol": 1e-14},
+    KINEMATIC_FILE: {"n_eta": 139, "n_q": 51, "tol": 1e-13, "rtol": 1e-12, "atol": 1e-14},
+}
 # Arrays stored in the table file, in the argument order of ``alpha_from_table``.
 ARRAY_NAMES = ("b_t", "b_c", "s_tx", "s_ty", "s_c", "n_tx", "n_ty", "n_c", "geom")
 
@@ -304,7 +314,39 @@ def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
             f"this package reads version {TABLE_FORMAT_VERSION}; rebuild it with {build_hint}"
         )
     check_table_shapes(path, names, arrays)
+    got = checksum(arrays)
+    if got != meta.get("sha256"):
+        raise ValueError(
+            f"exact-alpha table {path}: checksum {got[:12]}... differs from the recorded "
+            f"{str(meta.get('sha256'))[:12]}...: changed or not written by table_build; "
+            f"rebuild it with {build_hint}"
+        )
+    check_shipped_grid(path, meta)
     return arrays, meta
+
+
+def checksum(arrays):
+    """SHA-256 (hex) of the arrays' names, dtypes, shapes and bytes, in name order."""
+    h = hashlib.sha256()
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}:{a.dtype.str}:{a.shape};".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def check_shipped_grid(path, meta):
+    """Refuse a table at one of the package's own paths whose grid or tolerances are not the shipped ones."""
+    want = SHIPPED_GRIDS.get(Path(path).resolve())
+    if want is None:
+        return
+    got = {key: meta.get(key) for key in want}
+    if got != want:
+        raise ValueError(
+            f"exact-alpha table {path} was built with {got}, the package's table with {want}: a table "
+            "of another grid does not have the documented accuracy; reinstall the package, or build one "
+            "with config.yaml's grid and ship it (`snakemake -c2 ship`)"
+        )
 
 
 def load_table(path=DEFAULT_FILE):

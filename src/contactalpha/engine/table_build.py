@@ -43,6 +43,7 @@ from .table import (
     XI_MAX,
     XI_SCALE,
     AlphaTable,
+    checksum,
     alpha_tabulated,
     eta_of_xi,
     kinematic_q,
@@ -301,8 +302,8 @@ def build_kinematic_table(
 
 def save_kinematic_table(table, path=KINEMATIC_FILE, **extra_meta):
     """Write the kinematic table (``build_kinematic_table``'s dict) to ``path`` (.npz) atomically."""
-    meta = dict(table["meta"], **extra_meta)
     arrays = {name: table[name] for name in KINEMATIC_ARRAY_NAMES}
+    meta = dict(table["meta"], **extra_meta, sha256=checksum(arrays))
 
     def write(tmp):
         with open(tmp, "wb") as fh:
@@ -313,8 +314,8 @@ def save_kinematic_table(table, path=KINEMATIC_FILE, **extra_meta):
 
 def save_table(table, path, **extra_meta):
     """Write the table to ``path`` (.npz) atomically, with its metadata as JSON."""
-    meta = dict(table.meta, **extra_meta)
     arrays = {name: getattr(table, name) for name in ARRAY_NAMES}
+    meta = dict(table.meta, **extra_meta, sha256=checksum(arrays))
 
     def write(tmp):
         with open(tmp, "wb") as fh:

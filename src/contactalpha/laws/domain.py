@@ -8,3 +8,12 @@ def check_restitution(restitution):
     if restitution not in RESTITUTIONS:
         raise ValueError(f"restitution = {restitution!r} is not one of {', '.join(map(repr, RESTITUTIONS))}")
     return restitution
+
+
+# How each restitution is written in messages and keywords.
+TARGET_NAMES = {"energetic": "eps", "kinematic": "e_N"}
+
+
+def target_name(restitution):
+    """``"eps"`` (Stronge's energetic) or ``"e_N"`` (Newton's kinematic): the target's name in messages."""
+    return TARGET_NAMES[check_restitution(restitution)]

@@ -114,9 +114,11 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
     """
     from .maps import check_target
 
+    from contactalpha.validation import check_flag
+
     kinematic = restitution == "kinematic"
     fast = _fast_of(law)
-    if exact:
+    if check_flag("exact", exact):
         if fast.exact_inverse is None:
             raise ValueError(
                 f"law {law.name!r} has no closed form to invert exactly; law.damping_for computes it"

@@ -24,6 +24,8 @@ from .domain import RESTITUTIONS, check_restitution
 from .fast import CLOSED_FORM, ENGINE_TABLE
 from .table import LawTable, LawTableSettings
 
+# Scaled load past which xi is 1.0 in double precision for every law (n = 1: 1 - xi ~ 1 / (4 A^2)).
+A_ROUNDS_TO_ONE = 1e30
 # The load factors every law covers: the paper's 0 <= xi <= 0.99.
 XI_MAX = 0.99
 # The restitution targets every law covers.
@@ -47,7 +49,9 @@ class ContactLaw:
     engines : engines whose normal contact is this law.
     exponent : n of the elastic term k delta^n.
     damping : name of the dimensionless damping parameter ``p``.
-    damping_physical : the engine's damping in terms of ``p``.
+    damping_physical : the law's physical damping coefficient in terms of ``p`` (physical mass
+        and stiffness: N/m for n = 1, N/m^1.5 for n = 3/2).
+    physical_unit : the unit of that coefficient (``physical_damping``'s value).
     damping_unit : (factor, mass power, stiffness power, speed power): the engine's damping
         is ``p * factor * m^a * k^b * v^c`` (``physical_damping``).
     piecewise_linear : True when the motion in contact is linear (closed-form phases).
@@ -73,6 +77,7 @@ class ContactLaw:
     exponent: float
     damping: str
     damping_physical: str
+    physical_unit: str
     damping_unit: tuple
     piecewise_linear: bool
     floor_reached: bool
@@ -96,6 +101,11 @@ class ContactLaw:
         d = float(check_range("impedance", d, lo, hi, hi_open=True))
         return replace(self, impedance=d)
 
+    @property
+    def stiffness_unit(self):
+        """Unit of the law's physical stiffness k in ``k delta^n``: "N/m" (n = 1) or "N/m^1.5" (n = 3/2)."""
+        return "N/m" if self.exponent == 1.0 else f"N/m^{self.exponent:g}"
+
     # --- load ---------------------------------------------------------------------------
     @property
     def _stiffness_coefficient(self):
@@ -114,8 +124,11 @@ class ContactLaw:
         return _plain(w / x_m)
 
     def load_factor(self, A):
-        """Load factor ``xi = A x_m / (1/2 + A x_m)`` of scaled load ``A >= 0`` (``scaled_load`` inverted)."""
-        a = check_range("A", A, 0.0, np.inf, hi_open=True)
+        """Load factor ``xi = A x_m / (1/2 + A x_m)`` of scaled load ``A >= 0`` (``scaled_load`` inverted).
+
+        Past ``A_ROUNDS_TO_ONE`` xi is 1.0 in double precision for every law: ``A`` is capped there.
+        """
+        a = np.minimum(check_range("A", A, 0.0, np.inf, hi_open=True), A_ROUNDS_TO_ONE)
         n1 = self.exponent + 1.0
         b = (1.0 - self.impedance) * a
         if self.exponent == 1.0:  # x^2 = 1 + 2 b x: the quadratic's positive root
@@ -138,18 +151,51 @@ class ContactLaw:
         )
 
     def length_scale(self, mass, stiffness, approach_speed):
-        """``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``, m (``mass`` 1 for per-unit-mass laws)."""
+        """``delta_s = ((n + 1) m v^2 / (2 k))^(1/(n+1))``, m (``mass`` 1 for per-unit-mass laws).
+
+        From logarithms where the direct power under- or overflows; a ``ValueError`` names the
+        inputs where the scale itself is beyond the doubles.
+        """
         m, k, v = (
             check_positive(n, x)
             for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
         )
-        return _plain((self._stiffness_coefficient * m * v * v / k) ** (1.0 / (self.exponent + 1.0)))
+        n1 = self.exponent + 1.0
+        with np.errstate(all="ignore"):
+            direct = (self._stiffness_coefficient * m * v * v / k) ** (1.0 / n1)
+            log_d = (np.log(self._stiffness_coefficient) + np.log(m) + 2.0 * np.log(v) - np.log(k)) / n1
+        d = _direct_or_log(direct, log_d)
+        bad = ~((d > 0.0) & (d < np.inf))
+        if np.any(bad):
+            m1, k1, v1 = (float(np.broadcast_to(x, d.shape)[bad][0]) for x in (m, k, v))
+            raise ValueError(
+                f"mass = {m1!r}, stiffness = {k1!r}, approach_speed = {v1!r} give law {self.name!r} a length "
+                "scale beyond double precision; valid: a scene whose scale lies between 1e-308 and 1e308 m"
+            )
+        return _plain(d)
 
     def load(self, mass, stiffness, approach_speed, accel):
-        """Scaled load ``A = a delta_s / v^2`` of a scene."""
+        """Scaled load ``A = a delta_s / v^2`` of a scene (from logarithms where the product would
+        under- or overflow; capped at ``A_ROUNDS_TO_ONE``, where xi is 1.0 for every law)."""
         a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
         v = check_positive("approach_speed", approach_speed)
-        return _plain(a * self.length_scale(mass, stiffness, approach_speed) / (v * v))
+        d = self.length_scale(mass, stiffness, approach_speed)
+        with np.errstate(all="ignore"):
+            direct = a * d / (v * v)
+            log_A = np.log(a) + np.log(d) - 2.0 * np.log(v)
+        A = np.where(a == 0.0, 0.0, _direct_or_log(direct, np.minimum(log_A, np.log(A_ROUNDS_TO_ONE))))
+        return _plain(np.minimum(A, A_ROUNDS_TO_ONE))
+
+    def scene_load_factor(self, mass, stiffness, approach_speed, accel):
+        """Load factor ``xi`` of a scene; a ``ValueError`` naming the scene where it rounds to 1.0."""
+        xi = self.load_factor(self.load(mass, stiffness, approach_speed, accel))
+        if np.any(np.asarray(xi) >= 1.0):
+            raise ValueError(
+                f"accel = {accel!r} m/s^2 at approach_speed = {approach_speed!r} m/s (mass = {mass!r}, "
+                f"stiffness = {stiffness!r}) gives law {self.name!r} a load factor that rounds to 1.0, outside "
+                "[0, 1): the load is too large for the approach speed"
+            )
+        return xi
 
     def physical_damping(self, p, mass, stiffness, approach_speed):
         """The engine's damping coefficient for dimensionless damping ``p`` (see ``damping_physical``)."""
@@ -158,13 +204,13 @@ class ContactLaw:
             check_positive(n, x)
             for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
         )
-        return _plain(np.asarray(p, dtype=float) * factor * m**pm * k**pk * v**pv)
+        p = check_range(self.damping, p, 0.0, np.inf, hi_open=True)
+        return _plain(p * factor * m**pm * k**pk * v**pv)
 
     def damping_from_physical(self, c, mass, stiffness, approach_speed):
         """Dimensionless damping ``p`` of the engine's damping coefficient ``c`` (its inverse)."""
-        return _plain(
-            np.asarray(c, dtype=float) / self.physical_damping(1.0, mass, stiffness, approach_speed)
-        )
+        c = check_range("damping", c, 0.0, np.inf, hi_open=True)
+        return _plain(c / self.physical_damping(1.0, mass, stiffness, approach_speed))
 
     # --- maps ---------------------------------------------------------------------------
     def impact(self, p, xi, **settings):
@@ -200,6 +246,15 @@ class ContactLaw:
         return fast_restitution(self, p, xi, restitution)
 
 
+def _direct_or_log(direct, log_value):
+    """``direct`` where it agrees with its logarithm (nothing under- or overflowed), else ``exp(log_value)``."""
+    direct, log_value = np.broadcast_arrays(np.asarray(direct, dtype=float), np.asarray(log_value, dtype=float))
+    with np.errstate(all="ignore"):
+        agree = (direct > 0.0) & (direct < np.inf)
+        agree &= np.abs(np.log(direct) - log_value) <= 1e-9 * np.maximum(1.0, np.abs(log_value))
+        return np.where(agree, direct, np.exp(log_value))
+
+
 def _plain(arr):
     arr = np.asarray(arr, dtype=float)
     return float(arr) if arr.ndim == 0 else arr
@@ -217,6 +272,7 @@ LAWS = [
         exponent=1.5,
         damping="alpha",
         damping_physical="μ/k = α / δ̇⁻ (s/m)",
+        physical_unit="s/m",
         damping_unit=(1.0, 0.0, 0.0, -1.0),
         piecewise_linear=False,
         floor_reached=False,
@@ -236,6 +292,7 @@ LAWS = [
         exponent=1.0,
         damping="alpha",
         damping_physical="d = α / δ̇⁻ (s/m)",
+        physical_unit="s/m",
         damping_unit=(1.0, 0.0, 0.0, -1.0),
         piecewise_linear=False,
         floor_reached=False,
@@ -253,6 +310,7 @@ LAWS = [
         exponent=1.0,
         damping="zeta",
         damping_physical="c = 2 ζ √(k m) (N s/m)",
+        physical_unit="N s/m",
         damping_unit=_LINEAR_UNIT,
         piecewise_linear=True,
         floor_reached=True,
@@ -273,7 +331,8 @@ LAWS = [
         engines=("MuJoCo", "MJX", "MuJoCo Warp", "Genesis", "Newton (MuJoCo solver)"),
         exponent=1.0,
         damping="zeta",
-        damping_physical="b = 2 ζ √s (1/s), s the stiffness per unit mass (pass mass = 1)",
+        damping_physical="c = 2 ζ √(k m) (N s/m); MuJoCo's solref takes s = k/m and b = c/m",
+        physical_unit="N s/m",
         damping_unit=_LINEAR_UNIT,
         piecewise_linear=True,
         floor_reached=True,
@@ -300,6 +359,7 @@ LAWS = [
         exponent=1.5,
         damping="beta",
         damping_physical="η = β √(m k) (N s/m^{5/4})",
+        physical_unit="N s/m^1.25",
         damping_unit=(1.0, 0.5, 0.5, 0.0),
         piecewise_linear=False,
         floor_reached=True,

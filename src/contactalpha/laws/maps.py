@@ -5,9 +5,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.engine.codes import END_STATES, OK, STATUS
-from contactalpha.validation import check_range
+from contactalpha.validation import check_max_steps, check_range, check_tolerances
 
 from .domain import check_restitution
+from .integrate import ATOL, RTOL
 
 
 @dataclass(frozen=True)
@@ -77,8 +78,32 @@ def check_load_factor(law, xi):
     return check_range("xi", xi, 0.0, 1.0, hi_open=True)
 
 
+# The integrator settings a law's maps take, and their defaults.
+SETTINGS = ("rtol", "atol", "max_steps")
+
+
+def check_settings(law, settings):
+    """The integrator ``settings`` (rtol, atol, max_steps) checked by name, as the default law checks them.
+
+    Every backend takes them checked: a negative tolerance or a text would otherwise reach the
+    compiled integrator (a wrong number with status ok, or a typing error).
+    """
+    unknown = sorted(set(settings) - set(SETTINGS))
+    if unknown:
+        raise ValueError(f"unknown settings {unknown} of law {law.name!r}; valid: {', '.join(SETTINGS)}")
+    checked = dict(settings)
+    if "rtol" in checked or "atol" in checked:
+        checked["rtol"], checked["atol"] = check_tolerances(
+            checked.get("rtol", RTOL), checked.get("atol", ATOL)
+        )
+    if "max_steps" in checked:
+        checked["max_steps"] = check_max_steps(checked["max_steps"])
+    return checked
+
+
 def impact(law, p, xi, **settings):
     """Both restitutions and the end state at damping ``p`` and load factor ``xi`` (broadcast)."""
+    settings = check_settings(law, settings)
     pp = check_range(law.damping, p, 0.0, np.inf, hi_open=True)
     xx = check_load_factor(law, xi)
     pp, xx = np.broadcast_arrays(pp, xx)
@@ -114,6 +139,7 @@ def damping_for(law, target, xi, restitution="energetic", **settings):
     DampingSolution
         ``damping`` and what it delivers (both restitutions, end state), broadcast shape.
     """
+    settings = check_settings(law, settings)
     tt = check_target(law, target, restitution)
     xx = check_load_factor(law, xi)
     tt, xx = np.broadcast_arrays(tt, xx)

@@ -19,10 +19,9 @@ On load every array's shape is checked against its grid and the SHA-256 of the a
 the one the file records: a changed or truncated file is refused, never evaluated.
 """
 
-import hashlib
 import json
 import zipfile
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +36,7 @@ from contactalpha.engine.table import (
     G_K_Q,
     U_MIN,
     XI_MAX,
+    checksum,
     eta_of_xi,
     kinematic_alpha_from_packed,
     pack_table,
@@ -120,16 +120,6 @@ def damping_rows(e, xi, flat, kinematic, out, start, stop):
             out[i] = kinematic_alpha_from_packed(e[i], xi[i], flat)
         else:
             out[i] = damping_from_packed(e[i], xi[i], flat)
-
-
-def checksum(arrays):
-    """SHA-256 (hex) of the arrays' names, dtypes, shapes and bytes, in name order."""
-    h = hashlib.sha256()
-    for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        h.update(f"{name}:{a.dtype.str}:{a.shape};".encode())
-        h.update(a.tobytes())
-    return h.hexdigest()
 
 
 def _expected_shapes(a, cuts):
@@ -261,11 +251,26 @@ class LawTable:
         """The shipped file."""
         return DATA / self.file
 
-    def packed(self, kinematic):
-        """The checked table of one restitution, packed (``engine.table.pack_table``), once a process."""
+    def packed(self, law, kinematic):
+        """The checked table of one restitution of ``law``, packed (``engine.table.pack_table``), once.
+
+        Refused by name where the file holds another law, another grid (``settings``), other cuts
+        or another impedance than this table stands for.
+        """
         key = (str(self.path), kinematic)
         if key not in _PACKED:
             arrays, meta = load_law_tables(self.path)
+            if meta.get("law") != law.name:
+                raise ValueError(
+                    f"law table {self.path} holds law {meta.get('law')!r}, expected {law.name!r}; "
+                    f"rebuild it with `{BUILD_COMMAND} {law.name}`"
+                )
+            grid = {name: meta.get(name) for name in asdict(self.settings)}
+            if grid != asdict(self.settings):
+                raise ValueError(
+                    f"law table {self.path} has grid {grid}, expected {asdict(self.settings)}; "
+                    f"rebuild it with `{BUILD_COMMAND} {law.name}`"
+                )
             if tuple(meta["cuts"]) != tuple(self.cuts):
                 raise ValueError(
                     f"law table {self.path} is cut along {meta['cuts']}, expected {list(self.cuts)}"
@@ -294,7 +299,7 @@ class LawTable:
                     f"impedance {self.impedance}; law.damping_for computes it exactly"
                 )
             return self.forward.damping(law, target, kinematic, A, xi)
-        flat = self.packed(kinematic)
+        flat = self.packed(law, kinematic)
         out = np.empty(target.size)
         threads = None if target.size >= PARALLEL_MIN else 1
         run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)

@@ -48,6 +48,7 @@ from contactalpha.engine.exact import alpha_exact
 from contactalpha.engine.scaling import influence_factor
 from contactalpha.engine.solver import RESTITUTIONS, solve_alpha
 from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import check_positive, check_range, check_scalar
 
 from .law_scene import law_advise
@@ -358,7 +359,8 @@ def advise(
         Cost per evaluation of every model (positive, any fixed unit); default ``COST_MODEL``.
     law : str or ContactLaw, optional
         The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
-        judges that law's registered models and returns ``scene.law_scene.LawAdvice``.
+        judges that law's registered models at ``approach_speed`` and returns
+        ``scene.law_scene.LawAdvice``; it takes neither ``speeds`` nor ``costs`` (ValueError).
 
     Returns
     -------
@@ -380,12 +382,19 @@ def advise(
     a = float(scene_accel(m, accel=accel, force=force))
     tol = check_scalar("tol", tol, 0.0, 1.0, lo_open=True)
     if law is not None and get_law(law).name != DEFAULT_LAW:
+        for name, given in (("speeds", speeds), ("costs", costs)):
+            if given is not None:  # law_advise judges at the scene's speed, with no cost model
+                raise ValueError(
+                    f"{name} = {given!r} is not taken with law {get_law(law).name!r}: its models are judged "
+                    "at the scene's approach speed only; leave it out"
+                )
         return law_advise(law, e, restitution, m, k, v, a, tol)
     cost = model_costs(costs=costs)
     xi = float(influence_factor(m, k, v, a))
     sol = solve_alpha(e, xi, restitution=restitution)
     if not sol.ok:
-        raise RuntimeError(f"exact alpha not found at eps = {e!r}, xi = {xi!r}: {sol.status}")
+        where = f"{target_name(restitution)} = {e!r}, xi = {xi!r}"
+        raise RuntimeError(f"exact alpha not found at {where}: {sol.status}")
     judged, source = _judged_speeds(e, m, k, v, a, restitution, speeds)
     xis = np.array([influence_factor(m, k, s, a) for s in judged])
     exact = solve_alpha(np.full(xis.shape, e), xis, restitution=restitution)

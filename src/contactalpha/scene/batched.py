@@ -4,17 +4,19 @@
 speed, a load and a target restitution; the arrays broadcast.  The law's damping comes from the
 law's fast evaluator (``ContactLaw.fast_damping``; for Hunt-Crossley, n = 3/2, the shipped exact
 table at ``engine.scaling``'s xi, as the scalar front door), and each registered engine of that law
-converts it (``adapters.registry.engine_parameters``).  A law written per unit mass (MuJoCo's) takes
-mass 1 and the stiffness per unit mass, as ``contactalpha.laws`` documents.  No impact is integrated
-per scene: the restitutions delivered are the evaluator's (the table's ~1e-7 in alpha).
+converts it (``adapters.registry.engine_parameters``).  The stiffness is the law's physical one
+(N/m for n = 1, MuJoCo's included; N/m^1.5 for n = 3/2).  Each row's impact is integrated
+(``ContactLaw.impact``) for its restitutions and end state, as one scene's is.
 
-Scenes outside the evaluator's domain (a target below its smallest restitution, a load factor above
-its largest, a load so large that the load factor rounds to 1) get NaN parameters and ``ok = False``,
-and the other rows are what they would be without them; bad values (a negative mass, a target above 1,
-a bool or a string) raise ``ValueError`` naming them.
+The batch rules:
+
+- a row outside the evaluator's domain (a target below its smallest restitution, a load factor
+  above its largest) or whose impact fails gets NaN in every number (engine blocks included,
+  MuJoCo's ``solref`` too), ``ok = False`` and a ``reason``; the other rows are bit for bit what
+  a batch without it gives (every step works row by row);
+- a bad value (a NaN, a negative mass, a target above 1) refuses the whole batch with a
+  ``ValueError`` naming the argument, its first bad index and that value.
 """
-
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -23,37 +25,12 @@ from contactalpha.adapters.registry import check_radius_used, engine_parameters
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
-from contactalpha.laws.domain import check_restitution
+from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import check_range
 
-
-@dataclass(frozen=True)
-class BatchedParameters:
-    """``contact_parameters`` of many scenes; every field an array of the scenes' broadcast shape.
-
-    Attributes
-    ----------
-    law : name of the contact law.
-    xi : load factor of each scene.
-    damping : the law's damping parameter (alpha for Hunt-Crossley, zeta for the spring-dashpots).
-    ok : True where the scene is inside the evaluator's domain (elsewhere the numbers are NaN).
-    engines : ``{engine: {parameter: array}}`` for every registered engine of the law.
-    """
-
-    law: str
-    xi: np.ndarray
-    damping: np.ndarray
-    ok: np.ndarray
-    engines: dict
-
-
-@dataclass(frozen=True)
-class _Scenes:
-    mass: np.ndarray
-    stiffness: np.ndarray
-    approach_speed: np.ndarray
-    radius: object
+from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
+from .result import ContactParameters
 
 
 @njit(cache=True, error_model="numpy")
@@ -79,6 +56,36 @@ def hertz_load_factor(mass, stiffness, approach_speed, accel):
     return np.where(xi < 1.0, xi, np.nan)
 
 
+def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
+    """``value`` as a float array in range; else ValueError naming ``name``, its first bad index and value."""
+    try:
+        return np.asarray(check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open), dtype=float)
+    except ValueError as err:
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise err from None
+        with np.errstate(invalid="ignore"):
+            good = (arr > lo if lo_open else arr >= lo) & (arr < hi if hi_open else arr <= hi)
+        bad = np.argwhere(~good)
+        if arr.ndim == 0 or bad.size == 0:
+            raise
+        index = int(bad[0][0]) if arr.ndim == 1 else tuple(int(i) for i in bad[0])
+        left, right = "(" if lo_open else "[", ")" if hi_open else "]"
+        shown = float(arr[tuple(bad[0])])
+        raise ValueError(
+            f"{name}[{index}] = {shown!r} is outside the valid range {left}{lo}, {hi}{right} "
+            f"(the first bad index of {name}; {len(bad)} of {arr.size} bad): the whole batch is refused"
+        ) from None
+
+
+def _load_factor(law):
+    """Load factor of arrays of scenes: Eq. 10 through ``engine.scaling`` for n = 3/2, else the law's."""
+    if law.fast is ENGINE_TABLE:
+        return hertz_load_factor
+    return lambda m, k, v, a: law_load_factor(law, m, k, v, a)
+
+
 def law_load_factor(law, mass, stiffness, approach_speed, accel):
     """Load factor xi of arrays of scenes of ``law``; NaN where the load is so large that it rounds to 1."""
     A = np.asarray(law.load(mass, stiffness, approach_speed, accel), dtype=float)
@@ -86,6 +93,41 @@ def law_load_factor(law, mass, stiffness, approach_speed, accel):
     finite = np.isfinite(A)
     xi[finite] = law.load_factor(A[finite])
     return np.where(xi < 1.0, xi, np.nan)
+
+
+def _domain(law):
+    """(smallest target, largest load factor) of the law's fast evaluator."""
+    if law.fast is ENGINE_TABLE:
+        return EPS_MIN, XI_MAX
+    return law.restitution_domain[0], law.load_domain[1]
+
+
+def _reasons(law, e, xi, ok):
+    """Why each row has no answer ("" where it has one), with the row's offending value."""
+    lo_e, hi_xi = _domain(law)
+    why = np.full(e.shape, "", dtype=object)
+    for i in zip(*np.nonzero(~ok)):
+        if e[i] < lo_e:
+            why[i] = f"target {float(e[i])!r} below the batch evaluator's {lo_e} (one scene's call solves it)"
+        elif not np.isfinite(xi[i]):
+            why[i] = "load so large that the load factor xi rounds to 1"
+        elif xi[i] > hi_xi:
+            why[i] = (
+                f"load factor xi = {float(xi[i])!r} above the batch evaluator's {hi_xi} "
+                "(one scene's call solves it)"
+            )
+        else:
+            why[i] = "no damping found (the evaluator or the impact failed)"
+    return why
+
+
+def _masked(x, ok):
+    """Engine value ``x`` with NaN in the rows without an answer (a tuple entry by entry)."""
+    if isinstance(x, tuple):
+        return tuple(_masked(v, ok) for v in x)
+    if isinstance(x, np.ndarray | float | int) and not isinstance(x, bool):
+        return np.where(ok, np.broadcast_to(np.asarray(x, dtype=float), ok.shape), np.nan)
+    return x
 
 
 def batched_parameters(
@@ -104,7 +146,7 @@ def batched_parameters(
     Parameters
     ----------
     mass, stiffness, approach_speed : array_like
-        kg, the law's stiffness (N/m^1.5 for n = 3/2, N/m for n = 1), m/s; all > 0.
+        kg, the law's physical stiffness (N/m^1.5 for n = 3/2, N/m for n = 1), m/s; all > 0.
     accel : array_like
         Acceleration of the load pressing the bodies together, m/s^2 (>= 0).
     target : array_like
@@ -118,34 +160,70 @@ def batched_parameters(
 
     Returns
     -------
-    BatchedParameters
+    ContactParameters
+        Every per-scene field an array of the broadcast shape (``scene.result``).
     """
     law = get_law(law)
-    target_name = "eps" if check_restitution(restitution) == "energetic" else "e_N"
+    name = target_name(restitution)
     check_radius_used(law, radius)
     m, k, v = (
-        np.asarray(check_positive(n, x), dtype=float)
+        check_rows(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
-    a = np.asarray(check_range("accel", accel, 0.0, np.inf, hi_open=True), dtype=float)
-    e = np.asarray(check_range(target_name, target, 0.0, 1.0, lo_open=True), dtype=float)
-    r = None if radius is None else np.asarray(check_positive("radius", radius), dtype=float)
+    a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
+    e = check_rows(name, target, 0.0, 1.0, lo_open=True)
+    r = None if radius is None else check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
     m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
     r = None if r is None else r_all
+    load_factor = _load_factor(law)
+    xi = load_factor(m, k, v, a)
+    lo_e, hi_xi = _domain(law)
+    inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
+    damping = np.full(e.shape, np.nan)
     if law.fast is ENGINE_TABLE:  # n = 3/2: the front door's own xi and table, bit for bit
-        xi = hertz_load_factor(m, k, v, a)
-        ok = (e >= EPS_MIN) & (xi <= XI_MAX)
-        damping = np.full(e.shape, np.nan)
-        damping[ok] = alpha_tabulated(e[ok], xi[ok], restitution=restitution)
+        damping[inside] = alpha_tabulated(e[inside], xi[inside], restitution=restitution)
     else:
-        xi = law_load_factor(law, m, k, v, a)
-        damping = np.full(e.shape, np.nan)
-        inside = np.isfinite(xi)
         damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
-        ok = np.isfinite(damping)
-    engines = engine_parameters(law, np.where(ok, damping, 0.0), _Scenes(m, k, v, r))
-    for values in engines.values():
-        for name, x in values.items():
-            if isinstance(x, np.ndarray) and x.shape == ok.shape:
-                values[name] = np.where(ok, x, np.nan)
-    return BatchedParameters(law.name, xi, damping, ok, engines)
+    ok = np.isfinite(damping)
+    p = np.where(ok, damping, 0.0)
+    hit = law.impact(p, np.where(ok, xi, 0.0))
+    ok = ok & (np.asarray(hit.status) == "ok")
+    p = np.where(ok, damping, 0.0)
+
+    def rows(x):
+        return np.where(ok, x, np.nan)
+
+    engines = engine_parameters(law, p, EngineScene(m, k, v, r))
+    return ContactParameters(
+        law=law.name,
+        xi=rows(xi),
+        damping_name=law.damping,
+        damping=rows(damping),
+        physical_damping=rows(law.physical_damping(p, m, k, v)),
+        physical_unit=law.physical_unit,
+        eps=rows(hit.eps),
+        e_n=rows(hit.e_n),
+        end_state=np.where(ok, np.asarray(hit.state, dtype=object), "none"),
+        ok=ok,
+        reason=_reasons(law, e, xi, ok),
+        accel=a,
+        delta_star=rows(law.length_scale(m, k, v)),
+        source=np.where(ok, "table" if law.fast is ENGINE_TABLE else law.fast.name, "none"),
+        engines={name: {key: _masked(x, ok) for key, x in block.items()} for name, block in engines.items()},
+        e_n_half_speed=rows(fixed_damping_e_n(law, p, m, k, v, a, SPEED_FACTORS[0], load_factor)),
+        e_n_twice_speed=rows(fixed_damping_e_n(law, p, m, k, v, a, SPEED_FACTORS[1], load_factor)),
+    )
+
+
+def __getattr__(name):
+    if name == "BatchedParameters":
+        import warnings
+
+        warnings.warn(
+            "scene.batched.BatchedParameters is deprecated: contact_parameters returns "
+            "contactalpha.ContactParameters for one scene and for arrays",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return ContactParameters
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -12,21 +12,38 @@ A flat body (a half space) has ``R_2 = inf``; a rigid one ``E_2 = inf``.  ``k`` 
 """
 
 import math
+import sys
 
 from contactalpha.validation import check_positive, check_range
 
+# Natural logarithms of the smallest normal and the largest double: k must lie between them.
+LOG_FLOAT_RANGE = (math.log(sys.float_info.min), math.log(sys.float_info.max))
 # Poisson's ratio of an isotropic elastic material lies in (-1, 1/2].
 POISSON_RANGE = (-1.0, 0.5)
 
 
 def effective_modulus(modulus: float, poisson: float, modulus_2: float, poisson_2: float) -> float:
     """``E*`` of two bodies (Pa): ``1/E* = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2``."""
-    compliance = 0.0
+    log_e_star = _log_effective_modulus(modulus, poisson, modulus_2, poisson_2)
+    compliance = sum((1.0 - nu * nu) / e for e, nu in ((modulus, poisson), (modulus_2, poisson_2)))
+    return 1.0 / compliance if 0.0 < compliance < math.inf else math.exp(log_e_star)
+
+
+def _log_effective_modulus(modulus, poisson, modulus_2, poisson_2):
+    """``ln E*``, summed in logarithms: a tiny modulus would overflow the plain compliance."""
+    logs = []
     for name, e, nu in (("modulus", modulus, poisson), ("modulus_2", modulus_2, poisson_2)):
         e = float(check_positive(name, e)) if e != math.inf else math.inf
         nu = float(check_range(f"poisson{name[len('modulus') :]}", nu, *POISSON_RANGE, lo_open=True))
-        compliance += (1.0 - nu * nu) / e
-    return 1.0 / compliance
+        if e != math.inf:
+            logs.append(math.log1p(-nu * nu) - math.log(e))
+    if not logs:
+        raise ValueError(
+            f"modulus = {modulus!r} and modulus_2 = {modulus_2!r}: two rigid bodies have no Hertz contact; "
+            "give a finite modulus"
+        )
+    top = max(logs)
+    return -(top + math.log(sum(math.exp(x - top) for x in logs)))
 
 
 def effective_radius(radius: float, radius_2: float = math.inf) -> float:
@@ -84,5 +101,15 @@ def hertz_stiffness(
     """
     modulus_2 = modulus if modulus_2 is None else modulus_2
     poisson_2 = poisson if poisson_2 is None else poisson_2
+    # In logarithms: E* or R* may leave double precision although k does not.
+    log_e_star = _log_effective_modulus(modulus, poisson, modulus_2, poisson_2)
+    r_star = effective_radius(radius, radius_2)
+    log_k = math.log(4.0 / 3.0) + log_e_star + 0.5 * math.log(r_star)
+    if not LOG_FLOAT_RANGE[0] < log_k < LOG_FLOAT_RANGE[1]:
+        raise ValueError(
+            f"hertz stiffness of modulus = {modulus!r}, modulus_2 = {modulus_2!r}, radius = {radius!r}, "
+            f"radius_2 = {radius_2!r} is e^{log_k:.6g}: outside double precision (1e-308 to 1e308 N/m^1.5)"
+        )
     e_star = effective_modulus(modulus, poisson, modulus_2, poisson_2)
-    return 4.0 / 3.0 * e_star * math.sqrt(effective_radius(radius, radius_2))
+    k = 4.0 / 3.0 * e_star * math.sqrt(r_star)  # the plain product where nothing leaves the normal range
+    return k if min(e_star, r_star, k) >= sys.float_info.min and k < math.inf else math.exp(log_k)

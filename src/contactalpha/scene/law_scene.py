@@ -2,56 +2,45 @@
 
 ``contact_parameters``, ``advise``, ``critical_speed`` and ``predict_bounces`` take ``law=`` and hand
 every law but the default (Hunt-Crossley, n = 3/2, whose own code stays as it was) to the functions
-here.  A scene's ``stiffness`` is the law's: N/m for the linear laws (per unit mass, 1/s^2, for
-MuJoCo's soft contact with ``mass = 1``), N/m^1.5 for the Hertz laws; its load enters as the scaled
-load ``A = a delta_s / v^2`` of the law's own scaling (``ContactLaw.load``).
+here.  A scene's ``stiffness`` is the law's physical one: N/m for the linear laws (MuJoCo's soft
+contact included: its block divides by the mass), N/m^1.5 for the Hertz laws; its load enters as
+the scaled load ``A = a delta_s / v^2`` of the law's own scaling (``ContactLaw.load``).
 """
 
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contactalpha.adapters.mujoco_soft import direct_mode
+from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
 from contactalpha.laws import get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import check_positive, check_range
+
+from .result import ContactParameters
+
+# Approach speeds, as factors of the given one, at which the fixed physical damping is checked.
+SPEED_FACTORS = (0.5, 2.0)
 
 
 @dataclass(frozen=True)
-class LawParameters:
-    """``contact_parameters`` for a law of the family (SI units).
+class EngineScene:
+    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
 
-    Attributes
-    ----------
-    law : the law's name.
-    xi : load factor of the scene (``ContactLaw.load_factor``), in [0, 1).
-    alpha : the law's dimensionless damping (``ContactLaw.damping``: alpha, zeta or beta).
-    damping : the engine's damping coefficient (``ContactLaw.damping_physical``).
-    end_state, eps, e_n : how that impact ends and both its restitutions.
-    accel : relative acceleration of the load, m/s^2.
-    delta_star : the law's length scale, m.
-    alpha_source : "closed form" or "solver".
-    engines : the law's inputs: its stiffness, dimensionless and engine damping (and MuJoCo's solref).
+    mass: object
+    stiffness: object
+    approach_speed: object
+    radius: object
+
+
+def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel, radius=None):
+    """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``).
+
+    ``stiffness`` is the law's physical one (N/m for n = 1, N/m^1.5 for n = 3/2); the engines'
+    blocks (``adapters.registry.engine_parameters``) convert it to their own units.
     """
-
-    law: str
-    xi: float
-    alpha: float
-    damping: float
-    end_state: str
-    eps: float
-    e_n: float
-    accel: float
-    delta_star: float
-    alpha_source: str
-    engines: dict
-
-
-def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel):
-    """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``)."""
     law = get_law(law)
-    A = law.load(mass, stiffness, approach_speed, accel)
-    xi = float(law.load_factor(A))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     if value == 0.0:
         raise ValueError(
             f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
@@ -59,50 +48,55 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         )
     sol = law.damping_for(value, xi, restitution)
     if not sol.ok:
-        raise RuntimeError(f"damping of law {law.name!r} not found at {restitution} {value!r}, xi = {xi!r}")
+        raise RuntimeError(
+            f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} at xi = {xi!r}: "
+            f"{sol.status}"
+        )
     p = float(sol.damping)
-    engines = {law.name: {"stiffness": stiffness, law.damping: p}}
-    c = float(law.physical_damping(p, mass, stiffness, approach_speed))
-    engines[law.name]["damping"] = c
-    if law.impedance_range is not None:
-        # MuJoCo's direct mode (its adapter's one home): per unit mass, constant impedance d.
-        solref, solimp = direct_mode(stiffness / mass, c / mass, law.impedance)
-        engines[law.name]["solref"] = solref
-        engines[law.name]["solimp"] = solimp
-    return LawParameters(
+    scene = EngineScene(mass, stiffness, approach_speed, radius)
+    e_n_half, e_n_twice = (
+        float(fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, f)) for f in SPEED_FACTORS
+    )
+    return ContactParameters(
         law=law.name,
         xi=xi,
-        alpha=p,
-        damping=c,
-        end_state=str(sol.state),
+        damping_name=law.damping,
+        damping=p,
+        physical_damping=float(law.physical_damping(p, mass, stiffness, approach_speed)),
+        physical_unit=law.physical_unit,
         eps=float(sol.eps),
         e_n=float(sol.e_n),
+        end_state=str(sol.state),
+        ok=True,
+        reason="",
         accel=accel,
         delta_star=float(law.length_scale(mass, stiffness, approach_speed)),
-        alpha_source="solver",
-        engines=engines,
+        source="solver",
+        engines=engine_parameters(law, p, scene),
+        e_n_half_speed=e_n_half,
+        e_n_twice_speed=e_n_twice,
     )
 
 
-def format_law_parameters(cp):
-    """``LawParameters`` as aligned text lines (the command line's output)."""
-    law = get_law(cp.law)
-    lines = [
-        f"law             {law.name}: {law.formula}",
-        f"xi              {cp.xi:.15g}",
-        f"{law.damping:15s} {cp.alpha:.15g}   ({cp.alpha_source})",
-        f"damping         {cp.damping:.15g}   ({law.damping_physical})",
-        f"end state       {cp.end_state}",
-        f"eps             {cp.eps:.15g}",
-        f"e_N             {cp.e_n:.15g}",
-        f"accel           {cp.accel:.15g} m/s^2",
-        f"delta_star      {cp.delta_star:.15g} m",
-    ]
-    for engine, values in cp.engines.items():
-        for name, value in values.items():
-            text = " ".join(f"{v:.15g}" for v in value) if isinstance(value, tuple) else f"{value:.15g}"
-            lines.append(f"{engine + '.' + name:32s} {text}")
-    return "\n".join(lines)
+def fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, factor, load_factor=None):
+    """Newton's e_N at ``factor`` times the approach speed with the same physical damping as ``p``.
+
+    The physical damping is ``p m^a k^b v^c`` (``ContactLaw.damping_unit``), so at the speed
+    ``factor v`` the law's damping is ``p factor^-c``; the load factor is the scene's at that
+    speed (``load_factor(mass, stiffness, speed, accel)`` if given, else the law's).  NaN where the
+    load's xi rounds to 1 there or the impact fails; arrays go through.
+    """
+    speed = np.asarray(approach_speed, dtype=float) * factor
+    with np.errstate(all="ignore"):
+        if load_factor is None:
+            xi = np.asarray(law.load_factor(law.load(mass, stiffness, speed, accel)), dtype=float)
+        else:
+            xi = np.asarray(load_factor(mass, stiffness, speed, accel), dtype=float)
+    p_f = np.asarray(p, dtype=float) * factor ** -law.damping_unit[3]
+    good = np.isfinite(p_f) & (xi < 1.0)
+    r = law.impact(np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
+    e_n = np.where(good & (np.asarray(r.status) == "ok"), r.e_n, np.nan)
+    return float(e_n) if e_n.ndim == 0 else e_n
 
 
 @dataclass(frozen=True)
@@ -142,7 +136,7 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     from contactalpha import models
 
     law = get_law(law)
-    xi = float(law.load_factor(law.load(mass, stiffness, approach_speed, accel)))
+    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
     exact = law.damping_for(value, xi, restitution)
     verdicts = []
     for model in models.REGISTRY:
@@ -177,53 +171,66 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     )
 
 
-def _separates(law, value, restitution, A):
-    """True if the law's exact damping for ``value`` at scaled load ``A`` separates."""
-    sol = law.damping_for(value, law.load_factor(A), restitution)
+def _separates(law, value, restitution, A, settings):
+    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status)."""
+    sol = law.damping_for(value, law.load_factor(A), restitution, **settings)
     if not sol.ok:
-        return None
-    return str(sol.state) == "separation"
+        return None, str(sol.status)
+    return str(sol.state) == "separation", STATUS[OK]
 
 
 # Bisection steps on ln A for the boundary (2^-60 of the bracket's width).
 BOUNDARY_BISECTIONS = 60
+# Loads the boundary is searched between; where the inverse fails at the upper end (very large
+# loads), the upper end steps down by factors of LOAD_BRACKET_STEP until it succeeds.
 LOAD_BRACKET = (1e-8, 1e6)
+LOAD_BRACKET_STEP = 10.0
 
 
-def law_boundary_load(law, eps, restitution="energetic"):
+def law_boundary_load(law, eps, restitution="energetic", **settings):
     """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
     law = get_law(law)
-    lo, hi = np.log(LOAD_BRACKET[0]), np.log(LOAD_BRACKET[1])
-    s_lo, s_hi = _separates(law, eps, restitution, np.exp(lo)), _separates(law, eps, restitution, np.exp(hi))
-    if s_lo is None or s_hi is None:
-        return np.nan, STATUS[NOT_CONVERGED]
-    if not s_lo or s_hi:
+    lo = np.log(LOAD_BRACKET[0])
+    s_lo, status = _separates(law, eps, restitution, LOAD_BRACKET[0], settings)
+    if s_lo is None:
+        return np.nan, status
+    if not s_lo:
+        return np.nan, STATUS[NO_BRACKET]
+    hi = np.log(LOAD_BRACKET[1])
+    while True:
+        s_hi, status = _separates(law, eps, restitution, np.exp(hi), settings)
+        if s_hi is not None or hi - np.log(LOAD_BRACKET_STEP) <= lo:
+            break
+        hi -= np.log(LOAD_BRACKET_STEP)
+    if s_hi is None:
+        return np.nan, status
+    if s_hi:
         return np.nan, STATUS[NO_BRACKET]
     for _ in range(BOUNDARY_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        s = _separates(law, eps, restitution, np.exp(mid))
+        s, status = _separates(law, eps, restitution, np.exp(mid), settings)
         if s is None:
-            return np.nan, STATUS[NOT_CONVERGED]
+            return np.nan, status
         lo, hi = (mid, hi) if s else (lo, mid)
     return float(np.exp(0.5 * (lo + hi))), STATUS[OK]
 
 
-def law_critical_speed(law, eps, mass, stiffness, accel):
-    """Approach speed below which the law's exact damping for Stronge's ``eps`` no longer separates (m/s)."""
+def law_critical_speed(law, eps, mass, stiffness, accel, **settings):
+    """Speeds (m/s) below which the law's exact damping for ``eps`` no longer separates, and statuses.
+
+    Takes checked inputs (``scene.threshold.critical_speed_status`` checks them): flat ``eps``.
+    """
     law = get_law(law)
-    e = check_range("eps", eps, 0.0, 1.0, lo_open=True)
-    for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
-        check_positive(name, value)
-    flat = np.atleast_1d(e).ravel()
-    out = np.zeros(flat.shape)
+    out = np.zeros(eps.shape)
+    status = np.full(eps.shape, STATUS[OK], dtype=object)
     n = law.exponent
     unit = law.length_scale(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
-    for i, value in enumerate(flat):
+    for i, value in enumerate(eps):
         if value == 1.0:
             continue
-        A_b, _ = law_boundary_load(law, float(value))
+        A_b, status[i] = law_boundary_load(law, float(value), **settings)
         out[i] = (accel * unit / A_b) ** ((n + 1.0) / (2.0 * n))
-    return float(out[0]) if np.ndim(e) == 0 else out.reshape(np.shape(e))
+    return out, status
 
 
 def law_predict_bounces(scene, model, law, max_contacts=1000):
@@ -262,3 +269,17 @@ def law_predict_bounces(scene, model, law, max_contacts=1000):
     out["states"] = tuple(rows["state"])
     out["time_to_rest"] = t
     return out
+
+
+def __getattr__(name):
+    if name == "LawParameters":
+        import warnings
+
+        warnings.warn(
+            "scene.law_scene.LawParameters is deprecated: contact_parameters returns "
+            "contactalpha.ContactParameters for every law",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return ContactParameters
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,93 +1,41 @@
-"""The front door: from a scene in SI units to every number an engine needs.
+"""The front door: from a scene in SI units to every number an engine needs (``ContactParameters``).
 
-A simulation engineer has a mass, a Hertz stiffness, an approach speed, a constant load
-(gravity plus a force) and a measured restitution, energetic (Stronge's eps) or kinematic
-(Newton's e_N, what a drop test measures).  ``contact_parameters`` returns the load's influence
-factor xi (paper Eq. 10), the exact alpha for that restitution at that xi, the damping
-``mu = alpha k / v_minus`` of the contact law (paper Eq. 23, ``f = k delta^{3/2} + mu
-delta^{3/2} delta_dot``), the end state and both restitutions of the impact that alpha gives
-(one impact integrated), and the parameter of each supported engine in its own convention
-(``engine_conventions``, whose ``UNIT_NOTES`` the text output prints).
+A simulation engineer has a mass, a stiffness, an approach speed, a constant load (gravity plus
+a force) and a measured restitution, energetic (Stronge's eps) or kinematic (Newton's e_N, what a
+drop test measures).  ``contact_parameters`` returns, for the contact law asked for (default
+Hunt-Crossley, n = 3/2) or the law of the engine asked for: the load factor xi (paper Eq. 10
+for Hunt-Crossley), the law's exact dimensionless damping for that restitution at that xi, its
+physical damping, the end state and both restitutions of the impact it gives (one impact
+integrated), and the parameters of each engine of the law in its own names and units.  One
+result type for every law and for batches: ``scene.result.ContactParameters``.
 
-The damping ``mu`` (and OpenSim's ``dissipation``) is a constant of the contact law, but the
-alpha it stands for is ``mu v_minus / k``: it delivers the requested restitution at this approach
-speed only.  So the parameters also carry the e_N the same ``mu`` delivers at half and at twice
-the approach speed (one impact each, the load's xi at that speed): a drop from another height
-needs its own ``mu``.
+The physical damping (and OpenSim's ``dissipation``) is a constant of the contact law, but for
+the Hunt-Crossley laws the alpha it stands for is ``d v_minus``: it delivers the requested
+restitution at this approach speed only.  So the parameters also carry the e_N the same physical
+damping delivers at half and at twice the approach speed (one impact each, the load's xi at that
+speed): a drop from another height needs its own damping.
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import replace
 
 import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import check_radius_used, engine_parameters
+from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
 from contactalpha.engine.driver import frozen_instance, impact
 from contactalpha.engine.scaling import influence_factor, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
-from contactalpha.adapters.engine_conventions import UNIT_NOTES
-from .law_scene import law_contact_parameters
+from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
+from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
 
-# Approach speeds, as factors of the given one, at which the fixed damping mu is checked.
-SPEED_FACTORS = (0.5, 2.0)
-
-# The contact law this front door solves for (Hunt-Crossley, n = 3/2).
+# The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
 LAW = DEFAULT_LAW
-
-
-@dataclass(frozen=True)
-class _EngineScene:
-    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
-
-    mass: float
-    stiffness: float
-    approach_speed: float
-    radius: object
-
-
-@dataclass(frozen=True)
-class ContactParameters:
-    """Everything ``contact_parameters`` derives for one contact (SI units).
-
-    Attributes
-    ----------
-    xi : influence factor of the load (Eq. 10), in [0, 1).
-    alpha : exact hysteresis damping factor for the requested restitution at ``xi``.
-    damping : ``mu = alpha k / v_minus``, N s / m^2.5 (paper Eq. 23).
-    end_state : how the impact with ``alpha`` ends: separation, nonseparation, creep, no_restitution.
-    eps, e_n : Stronge's energetic and Newton's kinematic restitution of that impact (one of them
-        is the requested value to the solver's tolerance, or to the table's ~1e-7 in alpha).
-    accel : relative acceleration of the load, m/s^2.
-    delta_star : maximum compression of the undamped unloaded contact, m (the length scale).
-    alpha_source : "table" (shipped exact table) or "solver" (outside the table's domain).
-    e_n_half_speed, e_n_twice_speed : Newton's e_N that the same ``damping`` mu (the same OpenSim
-        ``dissipation``) delivers at half and at twice the approach speed (NaN where the load's
-        xi rounds to 1 at half the speed).  Exudyn's parameters scale with each impact's speed.
-    engines : parameters per engine, each in its own names and units:
-        ``opensim`` (Simbody ``HuntCrossleyForce``): ``dissipation`` c in s/m, and ``stiffness``
-        E in Pa of each of the two geometries (only when a sphere radius is given);
-        ``exudyn`` (``ObjectContactSphereSphere``): ``contactStiffness``,
-        ``contactStiffnessExponent``, ``impactModel``, ``restitutionCoefficient``,
-        ``contactDamping``, ``minimumImpactVelocity``.
-    """
-
-    xi: float
-    alpha: float
-    damping: float
-    end_state: str
-    eps: float
-    e_n: float
-    accel: float
-    delta_star: float
-    alpha_source: str
-    engines: dict[str, dict[str, float]]
-    e_n_half_speed: float
-    e_n_twice_speed: float
 
 
 def _positive(name, value):
@@ -106,7 +54,7 @@ def scene_accel(mass: float, accel: float | None = None, force: float | None = N
     assert value is not None  # exactly one of them is given (checked above)
     if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
         value = check_scalar(name, value, 0.0, np.inf, hi_open=True)
-    return value if force is None else value / mass
+    return value if force is None else value / _positive("mass", mass)
 
 
 def _target(eps, e_n):
@@ -132,7 +80,8 @@ def _alpha(value, xi, restitution):
         return alpha_tabulated(value, xi, restitution=restitution), "table"
     sol = solve_alpha(value, xi, restitution=restitution)
     if not sol.ok:
-        raise RuntimeError(f"exact alpha not found at {restitution} {value!r}, xi = {xi!r}: {sol.status}")
+        where = f"{target_name(restitution)} = {value!r}, xi = {xi!r}"
+        raise RuntimeError(f"exact alpha not found at {where}: {sol.status}")
     return sol.alpha, "solver"
 
 
@@ -147,48 +96,57 @@ def contact_parameters(
     force: float | None = None,
     radius: float | None = None,
     law: str | None = None,
+    engine: str | None = None,
 ) -> ContactParameters:
-    """Contact parameters of one impact, in SI units, from the scene and a measured restitution.
+    """Contact parameters of one impact, or of a batch, in SI units, from the scene and a restitution.
 
     Parameters
     ----------
-    eps : float, optional
+    eps : float or array, optional
         Stronge's energetic restitution, 0 <= eps <= 1 (eps = 0 only with a load).
-    mass : float
+    mass : float or array
         Effective mass m_e, kg (> 0).
-    stiffness : float
-        Hertz stiffness k, N/m^1.5 (> 0).
-    approach_speed : float
+    stiffness : float or array
+        The law's physical stiffness k (> 0): N/m^1.5 for the Hertz laws (the default law,
+        ``hertz_tsuji``), N/m for the n = 1 laws (``hunt_crossley_linear``, ``kelvin_voigt``,
+        ``mujoco_soft``).  Never per unit mass: MuJoCo's ``solref`` divides by the mass itself.
+    approach_speed : float or array
         Approach speed v_minus, m/s (> 0).
-    e_N : float, optional
+    e_N : float or array, optional
         Newton's kinematic restitution (separation speed / approach speed), 0 < e_N <= 1.
         Give exactly one of ``eps`` and ``e_N``.
-    accel, force : float
+    accel, force : float or array
         Give one: the constant acceleration pressing the bodies together (m/s^2, >= 0; gravity
         included if it acts), or the constant force (N, >= 0; ``accel = force / mass``).
-    radius : float, optional
+    radius : float or array, optional
         Radius of a sphere meeting a half space, m (> 0): adds OpenSim's ``stiffness``.
     law : str or ContactLaw, optional
-        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.  Another law
-        returns ``scene.law_scene.LawParameters``, with ``stiffness`` in that law's units.
+        The contact law (``contactalpha.laws``); default Hunt-Crossley n = 3/2.
+    engine : str, optional
+        A registered engine (``adapters.registry.ENGINE_NAMES``: opensim, exudyn, mujoco, drake,
+        pybullet): solve for that engine's law and keep only its block in ``engines`` (the numbers
+        ``contactalpha params --engine NAME`` prints).  Give ``law`` or ``engine``, not both
+        (unless ``law`` is the engine's).
 
     Returns
     -------
     ContactParameters
-        Or, when any input is an array, ``scene.batched.BatchedParameters`` (any ``law``): every
-        engine's parameters as arrays over the broadcast scenes (the law's fast evaluator, no
-        impact integrated).
+        The one result type (``scene.result``): plain values for one scene, arrays of the broadcast
+        shape when any input is an array (the law's fast evaluator gives the damping; each row's
+        impact is integrated for its restitutions).  ``engines`` is keyed by engine.
 
     Raises
     ------
     ValueError
         Naming the value and its valid range, for bad or non-physical input (also a load so
-        large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give).
+        large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
+        for a batch, naming the argument and its first bad index.
     RuntimeError
-        If the solver fails outside the table's domain (never a plausible wrong number).
+        If no damping is found for one scene (never a plausible wrong number).
     """
+    law = _law_of(law, engine)
     if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
-        return _batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law)
+        return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law), engine)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -197,9 +155,10 @@ def contact_parameters(
     k = _positive("stiffness", stiffness)
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
-    if law is not None and get_law(law).name != DEFAULT_LAW:
+    sphere = None if radius is None else _positive("radius", radius)
+    if law.name != DEFAULT_LAW:
         check_radius_used(law, radius)
-        return law_contact_parameters(law, value, restitution, m, k, v, a)
+        return _only(law_contact_parameters(law, value, restitution, m, k, v, a, sphere), engine)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")
@@ -207,24 +166,52 @@ def contact_parameters(
     r = impact(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
-    sphere = None if radius is None else _positive("radius", radius)
-    engines = engine_parameters(LAW, alpha, _EngineScene(m, k, v, sphere))
+    engines = engine_parameters(law, alpha, EngineScene(m, k, v, sphere))
     e_n_half, e_n_twice = (_fixed_damping_e_n(alpha, m, k, v, a, factor) for factor in SPEED_FACTORS)
-    return frozen_instance(
-        ContactParameters,
-        xi=xi,
-        alpha=alpha,
-        damping=alpha * k / v,
-        end_state=r.state,
-        eps=r.eps,
-        e_n=r.e_n,
-        accel=a,
-        delta_star=float(length_scale(m, k, v)),
-        alpha_source=source,
-        engines=engines,
-        e_n_half_speed=e_n_half,
-        e_n_twice_speed=e_n_twice,
+    return _only(
+        frozen_instance(
+            ContactParameters,
+            law=law.name,
+            xi=xi,
+            damping_name=law.damping,
+            damping=alpha,
+            physical_damping=law.physical_damping(alpha, m, k, v),
+            physical_unit=law.physical_unit,
+            eps=r.eps,
+            e_n=r.e_n,
+            end_state=r.state,
+            ok=True,
+            reason="",
+            accel=a,
+            delta_star=float(length_scale(m, k, v)),
+            source=source,
+            engines=engines,
+            e_n_half_speed=e_n_half,
+            e_n_twice_speed=e_n_twice,
+            engine=None,
+        ),
+        engine,
     )
+
+
+def _law_of(law, engine):
+    """The law to solve for: ``law`` (default Hunt-Crossley), or ``engine``'s (they must agree)."""
+    if engine is None:
+        return get_law(DEFAULT_LAW if law is None else law)
+    engines_law = adapter(engine).law
+    if law is not None and get_law(law).name != engines_law.name:
+        raise ValueError(
+            f"law = {get_law(law).name!r} is not engine {engine!r}'s law {engines_law.name!r}: "
+            "give engine= or law=, not both"
+        )
+    return engines_law
+
+
+def _only(cp, engine):
+    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked."""
+    if engine is None:
+        return cp
+    return replace(cp, engines={engine: cp.engines[engine]}, engine=engine)
 
 
 def _batch(*values):
@@ -234,16 +221,21 @@ def _batch(*values):
 
 def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law):
     """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
-    from contactalpha.scene.batched import batched_parameters
+    from contactalpha.scene.batched import batched_parameters, check_rows
 
     if (eps is None) == (e_n is None):
         raise ValueError("give exactly one of eps (energetic) and e_N (kinematic) arrays")
     if (accel is None) == (force is None):
         raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
-    a = accel if force is None else np.asarray(force, dtype=float) / np.asarray(mass, dtype=float)
+    for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
+        if given is None:
+            raise ValueError(f"{name} is required (SI units)")
+    if force is not None:
+        m = check_rows("mass", mass, 0.0, np.inf, lo_open=True, hi_open=True)
+        accel = check_rows("force", force, 0.0, np.inf, hi_open=True) / m
     target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
     return batched_parameters(
-        mass, stiffness, approach_speed, a, target, restitution=restitution, law=law or LAW, radius=radius
+        mass, stiffness, approach_speed, accel, target, restitution=restitution, law=law, radius=radius
     )
 
 
@@ -255,26 +247,3 @@ def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
         return math.nan
     r = impact(alpha * factor, xi)
     return float(r.e_n) if r.status == "ok" else math.nan
-
-
-def format_parameters(cp: ContactParameters) -> str:
-    """``ContactParameters`` as aligned text lines (the command line's output)."""
-    lines = [
-        f"xi              {cp.xi:.15g}",
-        f"alpha           {cp.alpha:.15g}   ({cp.alpha_source})",
-        f"damping mu      {cp.damping:.15g} N s/m^2.5",
-        f"end state       {cp.end_state}",
-        f"eps             {cp.eps:.15g}",
-        f"e_N             {cp.e_n:.15g}",
-        f"accel           {cp.accel:.15g} m/s^2",
-        f"delta_star      {cp.delta_star:.15g} m",
-    ]
-    lines.append(
-        f"the same mu delivers e_N = {cp.e_n_half_speed:.6g} at half and {cp.e_n_twice_speed:.6g} at twice "
-        "this approach speed: it holds at this speed only"
-    )
-    for engine, values in cp.engines.items():
-        for name, value in values.items():
-            lines.append(f"{engine + '.' + name:32s} {value:.15g}")
-        lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
-    return "\n".join(lines)

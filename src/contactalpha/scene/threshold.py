@@ -32,6 +32,8 @@ exact limits ``A_b ~ c0 eps^(3/2)`` (eps -> 0) and ``A_b ~ 2^(-3/5) / 2 (1 - eps
 (so 5/6 of that in ``v_crit``) over ``BOUNDARY_FIT_DOMAIN``.
 """
 
+import warnings
+
 import numpy as np
 
 from contactalpha.engine.boundary import LIMIT_EPS_POWER, LIMIT_ONE_MINUS_EPS_POWER, boundary_kernel
@@ -287,12 +289,25 @@ def critical_speed(
         Good to 1e-8 relative; NaN where the boundary search failed (then see
         ``critical_speed_status``).
     """
-    if law is not None and get_law(law).name != DEFAULT_LAW:
-        return law_critical_speed(law, eps, mass, stiffness, accel)
-    return critical_speed_status(eps, mass, stiffness, accel, rtol=rtol, atol=atol, max_steps=max_steps)[0]
+    v, status = critical_speed_status(
+        eps, mass, stiffness, accel, rtol=rtol, atol=atol, max_steps=max_steps, law=law
+    )
+    bad = np.atleast_1d(status).ravel() != STATUS[OK]
+    if np.any(bad):
+        at = np.atleast_1d(np.asarray(eps, dtype=float)).ravel()[bad]
+        reason = np.atleast_1d(status).ravel()[bad][0]
+        warnings.warn(
+            f"critical_speed: the boundary search failed at eps = {float(at[0])!r} ({int(bad.sum())} of "
+            f"{bad.size} points): {reason}; the speed is NaN there (critical_speed_status gives each status)",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return v
 
 
-def critical_speed_status(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+def critical_speed_status(
+    eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS, law=None
+):
     """``critical_speed`` and a status (``"ok"`` or why it is NaN) per point."""
     e = check_range("eps", eps, CRITICAL_EPS_MIN, 1.0)
     for name, value in (("mass", mass), ("stiffness", stiffness), ("accel", accel)):
@@ -300,6 +315,18 @@ def critical_speed_status(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, 
     rtol, atol = check_tolerances(rtol, atol)
     max_steps = check_max_steps(max_steps)
     flat = np.atleast_1d(e).ravel()
+    if law is not None and get_law(law).name != DEFAULT_LAW:
+        v, status = law_critical_speed(
+            law, flat, mass, stiffness, accel, rtol=rtol, atol=atol, max_steps=max_steps
+        )
+    else:
+        v, status = _hertz_critical_speed(flat, mass, stiffness, accel, rtol, atol, max_steps)
+    if np.ndim(e) == 0:
+        return float(v[0]), status[0]
+    return v.reshape(np.shape(e)), status.reshape(np.shape(e))
+
+
+def _hertz_critical_speed(flat, mass, stiffness, accel, rtol, atol, max_steps):
     v = np.zeros(flat.shape)
     status = np.full(flat.shape, STATUS[OK], dtype=object)
     for i, value in enumerate(flat):
@@ -307,9 +334,7 @@ def critical_speed_status(eps, mass, stiffness, accel, *, rtol=RTOL, atol=ATOL, 
             continue
         A_b, status[i] = boundary_load(value, rtol=rtol, atol=atol, max_steps=max_steps)
         v[i] = speed_for_load(A_b, mass, stiffness, accel) if np.isfinite(A_b) else np.nan
-    if np.ndim(e) == 0:
-        return float(v[0]), status[0]
-    return v.reshape(np.shape(e)), status.reshape(np.shape(e))
+    return v, status
 
 
 def critical_speed_fit(eps, mass, stiffness, accel):

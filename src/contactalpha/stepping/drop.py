@@ -1,25 +1,24 @@
-"""A whole drop through any engine's step map, from the exact free-flight parabola.
+"""A whole drop through any engine's step map, from the exact free-flight parabola (``flight``).
 
-**Semi-implicit Euler in flight.**  The engines update the velocity first and the position with
-the new velocity: ``w' = w - a h``, ``z' = z + h w'`` (z the height above the contact, w up).
-Under a constant acceleration ``a`` the positions then lie exactly on a parabola whose velocity
-at a stored state is ``w - a h / 2``.  So:
+The drop starts at ``flight.touchdown_state`` and is stepped by the engine's map until:
 
-- a drop *arrives* with approach speed ``v_in`` when its parabola crosses z = 0 at that speed:
-  ``touchdown_state`` gives the stored state a fraction ``phase`` of a step before the crossing
-  (touchdown falls at ``phase`` of the first step);
-- the *rebound* speed is the parabola's speed at z = 0 through the first state above the
-  contact after it: ``v_out = sqrt((w - a h/2)^2 + 2 a z)`` (``rebound_speed``); a drop test
-  reads the same number from the rebound height.
+- **separation**: after the contact's first force, a step that starts above the surface
+  (z > 0), applies no contact force and ends moving up; e_N is ``flight.rebound_speed`` of its
+  end state over ``v_in``;
+- **capture** (e_N = 0): after the contact's first force the body rose and then turned down
+  again without separating, or came to rest in contact (velocity and its change over a step
+  below ``flight.REST_FRACTION`` of ``v_in``), or still creeps slower than ``CREEP_FRACTION``
+  of ``v_in`` in contact when the steps run out (an overdamped contact creeping to rest);
+- **failure**: a non-finite state, or the steps ran out: NaN.
 
-Stronge's coefficient comes from the energy identity with the deepest sampled penetration
-``d_max``: ``eps^2 = (v_out^2/2 + a d_max) / (v_in^2/2 + a d_max)``; a drop that comes to rest
-in contact at ``d_end`` (or still creeps there when the steps run out) has ``e_N = 0`` and ``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
+A step applies a contact force when its end velocity differs from free flight's ``w - h a``
+(every map computes free flight exactly so).  The steps in contact counted are the steps with a
+force.  Stronge's coefficient comes from the energy identity with the deepest sampled
+penetration ``d_max``: ``eps^2 = (v_out^2/2 + a d_max) / (v_in^2/2 + a d_max)``; a captured drop
+ending at depth ``d_end`` has ``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
 
 ``run_drop`` takes the engine's kernel code (``kernels.step_map``), so one loop serves every
-engine; ``drop_<engine>`` are the interface's per-engine drops.  A step that starts above the contact and moves up
-must be free flight in every engine's map; a step that starts below it (z < 0) counts as a
-contact step.
+engine and every kernel above it caches; ``drop_mujoco`` is the interface's MuJoCo drop.
 """
 
 import math
@@ -27,37 +26,18 @@ import math
 import numpy as np
 from numba import njit
 
-from .codes import D_EN, D_STATUS, D_STEPS
-from .kernels import DRAKE, MUJOCO, PYBULLET, step_map
 from .codes import CAPTURED, D_DMAX, D_EN, D_EPS, D_STATUS, D_STEPS, N_DROP, NON_FINITE, SEPARATED, STEP_LIMIT
+from .flight import REST_FRACTION, rebound_speed, touchdown_state
+from .kernels import DRAKE, MUJOCO, PYBULLET, step_map
 
-# A body in contact whose velocity and its change over a step are both below this fraction of
-# the approach speed is at rest: captured.
-REST_FRACTION = 1e-10
 # A body still in contact when the steps run out, creeping slower than this fraction of the
 # approach speed, is captured too (an overdamped contact creeps to its rest without leaving).
 CREEP_FRACTION = 1e-3
 
 
 @njit(cache=True)
-def touchdown_state(v_in, accel, h, phase):
-    """Stored ``(z, w)`` a fraction ``phase`` of a step before the parabola meets z = 0 at ``-v_in``."""
-    tc = phase * h
-    w = -v_in + accel * tc  # the parabola's velocity at the start
-    z0 = -(w * tc - 0.5 * accel * tc * tc)
-    return z0, w + 0.5 * accel * h
-
-
-@njit(cache=True)
-def rebound_speed(z, w, accel, h):
-    """Speed at z = 0 of the free-flight parabola through the stored state ``(z, w)``."""
-    s = w - 0.5 * accel * h
-    return math.sqrt(s * s + 2.0 * accel * z)
-
-
-@njit(cache=True)
 def run_drop(code, p, h, phase, v_in, accel, max_steps):
-    """One drop through ``step``; the row of ``codes.D_*`` slots.
+    """One drop through the engine's step map; the row of ``codes.D_*`` slots.
 
     Parameters
     ----------
@@ -78,48 +58,46 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
     """
     out = np.empty(N_DROP)
     z, w = touchdown_state(v_in, accel, h, phase)
-    entered = False
     n = 0
+    rising = False
     d_max = 0.0
     w_c = 0.5 * v_in * v_in
     rest = REST_FRACTION * v_in
     status = STEP_LIMIT
     for _ in range(max_steps):
-        if z < 0.0:
-            entered = True
-            n += 1
-            d_max = max(d_max, -z)
         z1, w1 = step_map(code, z, w, p, h, accel)
         if not (math.isfinite(z1) and math.isfinite(w1)):
             status = NON_FINITE
             break
-        if entered and z1 >= 0.0:
+        forced = w1 != w - h * accel
+        if forced:
+            n += 1
+        elif n > 0 and z > 0.0 and w1 > 0.0:
             v_out = rebound_speed(z1, w1, accel, h)
             out[D_EN] = v_out / v_in
             out[D_EPS] = math.sqrt((0.5 * v_out * v_out + accel * d_max) / (w_c + accel * d_max))
-            out[D_STEPS] = n
-            out[D_DMAX] = d_max
-            out[D_STATUS] = SEPARATED
-            return out
-        if entered and abs(w1) <= rest and abs(w1 - w) <= rest:
-            eps2 = accel * (d_max + z1) / (w_c + accel * d_max)
-            out[D_EN] = 0.0
-            out[D_EPS] = math.sqrt(max(eps2, 0.0))
-            out[D_STEPS] = n
-            out[D_DMAX] = d_max
-            out[D_STATUS] = CAPTURED
-            return out
+            status = SEPARATED
+            break
+        if n > 0:
+            d_max = max(d_max, -z1)
+            if w1 > 0.0:
+                rising = True
+            elif rising or (abs(w1) <= rest and abs(w1 - w) <= rest):
+                status = CAPTURED
+                z = z1
+                break
         z, w = z1, w1
-    if status == STEP_LIMIT and entered and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
+    if status == STEP_LIMIT and n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
+        status = CAPTURED
+    if status == CAPTURED:
         out[D_EN] = 0.0
         out[D_EPS] = math.sqrt(max(accel * (d_max + z) / (w_c + accel * d_max), 0.0))
-        out[D_STATUS] = CAPTURED
-    else:
+    elif status != SEPARATED:
         out[D_EN] = math.nan
         out[D_EPS] = math.nan
-        out[D_STATUS] = status
     out[D_STEPS] = n
     out[D_DMAX] = d_max
+    out[D_STATUS] = status
     return out
 
 

@@ -102,7 +102,8 @@ def damping_for(
     top, st0 = _mean(engine, with_damping(0.0), h, v, a, restitution)
     lo, hi, bracketed, nearest = 0.0, None, False, top
     if top >= target:
-        hi = float(start) if start is not None and math.isfinite(start) and start > 0.0 else 1.0 / s.contact_time(p)
+        seeded = start is not None and math.isfinite(start) and start > 0.0
+        hi = float(start) if seeded else 1.0 / s.contact_time(p)
         for _ in range(BRACKET_DOUBLINGS):
             m, _st = _mean(engine, with_damping(hi), h, v, a, restitution)
             if abs(m - target) < abs(nearest - target):

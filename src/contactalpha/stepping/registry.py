@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import drake_map, kernels, mujoco_map, pybullet_map
+from .drop import drop_drake, drop_mujoco, drop_pybullet
 
 
 @dataclass(frozen=True)
@@ -28,6 +29,8 @@ class Stepper:
     stiffness_slot : the slot of its stiffness (an unreachable target's remedy), or None.
     defaults : slot values used when a caller gives none (name -> value).
     contact_time : ``p -> s``, the contact's time scale (sizes step limits and step searches).
+    drop : the interface's ``drop_<engine>(p, h, phase, v_in, accel, max_steps)``; its e_N and
+        status agree with the generic ``drop.run_drop`` on the same map (tests/stepping).
     source : where the map was read from (files and functions of the engine's source).
     """
 
@@ -40,6 +43,7 @@ class Stepper:
     stiffness_slot: int | None
     defaults: dict
     contact_time: Callable
+    drop: Callable
     source: str
 
     def pack(self, **values):
@@ -69,6 +73,7 @@ STEPPERS = (
         stiffness_slot=mujoco_map.STIFFNESS,
         defaults={"diag_ratio": 1.0},
         contact_time=mujoco_map.contact_time,
+        drop=drop_mujoco,
         source="MuJoCo src/engine: engine_core_constraint.c (mj_diagApprox, getimpedance, "
         "mj_makeImpedance, mj_referenceConstraint), engine_collision_driver.c (con->exclude), "
         "engine_forward.c (mj_EulerSkip, mj_implicitSkip, mj_advance)",
@@ -83,6 +88,7 @@ STEPPERS = (
         stiffness_slot=pybullet_map.STIFFNESS_BALL,
         defaults=pybullet_map.defaults(),
         contact_time=pybullet_map.contact_time,
+        drop=drop_pybullet,
         source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
         "(setupMultiBodyContactConstraint, resolveSingleConstraintRowGeneric), btMultiBodyDynamicsWorld.cpp "
         "(solveConstraints, integrateMultiBodyTransforms); src/BulletCollision/CollisionDispatch: "
@@ -100,6 +106,7 @@ STEPPERS = (
         stiffness_slot=drake_map.STIFFNESS_BALL,
         defaults={},
         contact_time=drake_map.contact_time,
+        drop=drop_drake,
         source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
         "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",

@@ -1,0 +1,191 @@
+"""A contact of an SDF or URDF model read with Drake's parser, and its drop on Drake's plant.
+
+``read_drake`` parses the model into a ``MultibodyPlant`` (continuous), sets the configuration
+(Drake's positions: a free body's are its quaternion and position) and reads:
+
+- the contact point (midway between the closest points) and normal (from geometry 1 to 2) of
+  ``QueryObject.ComputeSignedDistancePairClosestPoints``, and the gap;
+- the gap row ``J = n . (J_p(body 2) - J_p(body 1))`` from ``CalcJacobianTranslationalVelocity``
+  with respect to the velocities, and ``CalcMassMatrix``: ``m_eff = 1 / (J M^-1 J^T)``;
+- ``CalcGravityGeneralizedForces``, the named forces ``J_com^T F`` and ``-CalcBiasTerm`` (the
+  Coriolis and centrifugal forces at the joint velocity).
+
+Signed distance in Drake covers pairs of spheres, boxes, capsules, cylinders and ellipsoids, not
+a half space with anything but a sphere: model a floor as a large box.  ``drake_drop`` runs the
+continuous plant with point contact from the touchdown state and measures the rebound.
+
+Importing this module does not need Drake.
+"""
+
+import math
+
+import numpy as np
+
+from .contact import MechanismContact, approach, pressing_accel
+from .crossing import rebound_speed
+
+INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
+# The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
+ACCURACY = 1e-9
+
+
+def _drake():
+    try:
+        import pydrake.all as drake
+    except ImportError as err:  # pragma: no cover - depends on the machine
+        raise ImportError(INSTALL_HINT) from err
+    return drake
+
+
+class _Plant:
+    """A parsed model: diagram, plant, scene graph, root and plant contexts."""
+
+    def __init__(self, model_path, point_contact=False):
+        dk = _drake()
+        builder = dk.DiagramBuilder()
+        self.plant, self.scene_graph = dk.AddMultibodyPlantSceneGraph(builder, 0.0)
+        if point_contact:
+            self.plant.set_contact_model(dk.ContactModel.kPoint)
+        try:
+            dk.Parser(self.plant).AddModels(str(model_path))
+        except RuntimeError as err:
+            raise ValueError(
+                f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}"
+            ) from None
+        self.plant.Finalize()
+        self.diagram = builder.Build()
+        self.root = self.diagram.CreateDefaultContext()
+        self.context = self.plant.GetMyContextFromRoot(self.root)
+
+    def geometry(self, name):
+        dk = _drake()
+        inspector = self.scene_graph.model_inspector()
+        ids = inspector.GetAllGeometryIds(dk.Role.kProximity)
+        names = {gid: inspector.GetName(gid) for gid in ids}
+        hits = [gid for gid, n in names.items() if n == name or n.split("::")[-1] == name]
+        if len(hits) != 1:
+            raise ValueError(
+                f"geometry {name!r} matches {len(hits)} collision geometries; "
+                f"the model's: {sorted(names.values())}"
+            )
+        return hits[0]
+
+    def body(self, gid):
+        return self.plant.GetBodyFromFrameId(self.scene_graph.model_inspector().GetFrameId(gid))
+
+    def closest(self, g1, g2):
+        """``(point, normal from 1 to 2, gap)`` in world."""
+        qo = self.plant.get_geometry_query_input_port().Eval(self.context)
+        try:
+            r = qo.ComputeSignedDistancePairClosestPoints(g1, g2)
+        except RuntimeError as err:
+            raise ValueError(
+                f"Drake has no signed distance for this pair: {' '.join(str(err).split())[:200]}"
+            ) from None
+        pa = qo.GetPoseInWorld(g1) @ r.p_ACa
+        pb = qo.GetPoseInWorld(g2) @ r.p_BCb
+        point, normal = 0.5 * (pa + pb), -np.asarray(r.nhat_BA_W)
+        if not np.all(np.isfinite(normal)):  # touching: the pair has no direction; geometry 1's normal
+            normal = self._outward(qo, g1, point)
+        return point, normal, float(r.distance)
+
+    def _outward(self, qo, gid, point):
+        for d in qo.ComputeSignedDistanceToPoint(np.asarray(point), 1e-6):
+            if d.id_G == gid:
+                return np.asarray(d.grad_W) / np.linalg.norm(d.grad_W)
+        raise ValueError("Drake gives no normal at the contact point of the touching pair")
+
+    def point_jacobian(self, body, point):
+        dk = _drake()
+        frame = body.body_frame()
+        p_B = frame.CalcPoseInWorld(self.context).inverse() @ np.asarray(point)
+        world = self.plant.world_frame()
+        return self.plant.CalcJacobianTranslationalVelocity(
+            self.context, dk.JacobianWrtVariable.kV, frame, p_B, world, world
+        )
+
+    def gap_row(self, g1, g2):
+        point, normal, gap = self.closest(g1, g2)
+        J = normal @ (self.point_jacobian(self.body(g2), point) - self.point_jacobian(self.body(g1), point))
+        return point, normal, gap, J
+
+
+def _set(plant, context, name, value, size):
+    arr = np.asarray(value, dtype=float).ravel()
+    if arr.size != size:
+        raise ValueError(f"{name} has {arr.size} values; the model has {size}")
+    getattr(plant, "SetPositions" if name == "qpos" else "SetVelocities")(context, arr)
+
+
+def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
+    """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
+    p = _Plant(model_path)
+    plant, ctx = p.plant, p.context
+    if qpos is not None:
+        _set(plant, ctx, "qpos", qpos, plant.num_positions())
+    g1, g2 = (p.geometry(name) for name in pair)
+    point, normal, gap, J = p.gap_row(g1, g2)
+    M = plant.CalcMassMatrix(ctx)
+    m_eff, v, qv = approach(J, M, qvel, speed)
+    tau_g = plant.CalcGravityGeneralizedForces(ctx)
+    tau_f = np.zeros(plant.num_velocities())
+    for name, force in (forces or {}).items():
+        body = plant.GetBodyByName(str(name))
+        f = np.asarray(force, dtype=float)
+        com = body.CalcCenterOfMassInBodyFrame(ctx)
+        world = plant.world_frame()
+        _drk = _drake()
+        Jc = plant.CalcJacobianTranslationalVelocity(
+            ctx, _drk.JacobianWrtVariable.kV, body.body_frame(), com, world, world
+        )
+        tau_f += Jc.T @ f
+    _set(plant, ctx, "qvel", qv, plant.num_velocities())
+    tau_v = -plant.CalcBiasTerm(ctx)
+    parts = [pressing_accel(J, M, tau) for tau in (tau_g, tau_f, tau_v)]
+    return MechanismContact(
+        engine="drake", model=str(model_path), pair=tuple(pair), point=point, normal=normal, gap=gap,
+        jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
+        forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v,
+        qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv), forces=dict(forces or {}),
+    )  # fmt: skip
+
+
+def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None):
+    """``(e_n, exit_speed, contact_time)`` of the continuous plant with point contact from touchdown.
+
+    The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.
+    ``report``: the gap's sampling interval, s; ``forces``: {body: (fx, fy, fz)} constant, N, world
+    axes, at the bodies' centres of mass.
+    """
+    dk = _drake()
+    p = _Plant(model_path, point_contact=True)
+    g1, g2 = (p.geometry(name) for name in pair)
+    if qpos is not None:
+        _set(p.plant, p.context, "qpos", qpos, p.plant.num_positions())
+    _set(p.plant, p.context, "qvel", qvel, p.plant.num_velocities())
+    speed0 = -float(p.gap_row(g1, g2)[3] @ np.asarray(qvel, dtype=float))
+    sim = dk.Simulator(p.diagram, p.root)
+    pushes = []
+    for name, force in (forces or {}).items():
+        body = p.plant.GetBodyByName(str(name))
+        push = dk.ExternallyAppliedSpatialForce()
+        push.body_index = body.index()
+        push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
+        push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
+        pushes.append(push)
+    if pushes:
+        p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
+    dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
+    sim.get_mutable_integrator().set_target_accuracy(accuracy)
+    sim.Initialize()
+    times, gaps = [0.0], [p.closest(g1, g2)[2]]
+    n = int(math.ceil(duration / report))
+    for i in range(1, n + 1):
+        sim.AdvanceTo(i * report)
+        gap = p.closest(g1, g2)[2]
+        times.append(i * report)
+        gaps.append(gap)
+        if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
+            break
+    exit_speed, t_exit = rebound_speed(times, gaps)
+    return exit_speed / speed0, exit_speed, t_exit

@@ -1,0 +1,280 @@
+"""A contact of an MJCF (or URDF) model read with MuJoCo, and its drop in MuJoCo.
+
+``read_mujoco`` loads the model with MuJoCo's own compiler (``MjModel.from_xml_path`` reads MJCF
+and URDF), puts it at the configuration, finds the pair's contact and reads from the engine:
+
+- the contact point and normal (``mjContact.pos``, ``frame[:3]``, from geometry 1 to 2), and the
+  gap (``mj_geomDistance``);
+- the gap row ``J = n . (J_p(body 2) - J_p(body 1))`` at the contact point (``mj_jac``) and the
+  mass matrix (``mj_fullM``): ``m_eff = 1 / (J M^-1 J^T)``;
+- the generalized forces of gravity (``-qfrc_bias`` at zero velocity), of the named forces
+  (``J_com^T F``) and of the velocity (``qfrc_bias(v) - qfrc_bias(0)``);
+- the contact row as MuJoCo builds it: ``efc_diagA`` (from the bodies' ``body_invweight0`` at
+  ``qpos0``, ``mj_diagApprox``), ``efc_R``, and the contact's ``solref`` and ``solimp``.
+
+The contact exists at first touch only within a margin: the reader raises the two geometries'
+margin in its own copy of the model (the model file is not touched; ``diagA`` does not depend on
+the margin).  ``mujoco_drop`` runs the engine from the touchdown state and measures the rebound
+and how much ``J M^-1 J^T`` moves during the contact.
+
+Importing this module does not need MuJoCo.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import MechanismContact, approach, pressing_accel
+from .crossing import rebound_speed
+
+INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
+# Margin (m) added to the pair's geometries so that MuJoCo builds their contact row at first touch.
+ROW_MARGIN = 1e-3
+
+
+def _mujoco():
+    try:
+        import mujoco
+    except ImportError as err:  # pragma: no cover - depends on the machine
+        raise ImportError(INSTALL_HINT) from err
+    return mujoco
+
+
+def load_model(model):
+    """An ``MjModel`` from a file path (MJCF or URDF) or an MJCF string (starting with ``<``)."""
+    mj = _mujoco()
+    text = str(model)
+    try:
+        if text.lstrip().startswith("<"):
+            return mj.MjModel.from_xml_string(text)
+        return mj.MjModel.from_xml_path(text)
+    except ValueError as err:
+        raise ValueError(
+            f"model = {text[:80]!r}: MuJoCo cannot load it: {' '.join(str(err).split())}"
+        ) from None
+
+
+def geom_id(model, name):
+    """The id of the geometry called ``name``; ValueError naming the model's geometries otherwise."""
+    mj = _mujoco()
+    gid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_GEOM, str(name))
+    if gid < 0:
+        names = [mj.mj_id2name(model, mj.mjtObj.mjOBJ_GEOM, i) for i in range(model.ngeom)]
+        raise ValueError(
+            f"geometry {name!r} is not in the model; its named geometries: {[n for n in names if n]}"
+        )
+    return gid
+
+
+def set_state(model, data, qpos, qvel):
+    """Put ``qpos`` (default ``qpos0``) and ``qvel`` (default 0) into ``data``, checking their sizes."""
+    for name, value, size in (("qpos", qpos, model.nq), ("qvel", qvel, model.nv)):
+        if value is None:
+            continue
+        arr = np.asarray(value, dtype=float).ravel()
+        if arr.size != size:
+            raise ValueError(f"{name} has {arr.size} values; the model has {size}")
+        getattr(data, name)[:] = arr
+    if qpos is None:
+        data.qpos[:] = model.qpos0
+
+
+def _find_contact(data, g1, g2):
+    for i in range(data.ncon):
+        c = data.contact[i]
+        if {int(c.geom[0]), int(c.geom[1])} == {g1, g2}:
+            return i, (1.0 if int(c.geom[0]) == g1 else -1.0)
+    return None, 0.0
+
+
+def _gap_jacobian(model, data, g1, g2, point, normal):
+    mj = _mujoco()
+    rows = []
+    for g in (g1, g2):
+        jacp = np.zeros((3, model.nv))
+        mj.mj_jac(model, data, jacp, None, np.asarray(point, dtype=float), int(model.geom_bodyid[g]))
+        rows.append(jacp)
+    return np.asarray(normal) @ (rows[1] - rows[0])
+
+
+def mass_matrix(model, data):
+    """The dense joint-space mass matrix (armature included), after ``mj_forward``."""
+    mj = _mujoco()
+    M = np.zeros((model.nv, model.nv))
+    mj.mj_fullM(model, data, M)
+    return M
+
+
+def _forces_tau(model, data, forces):
+    mj = _mujoco()
+    tau = np.zeros(model.nv)
+    for body, force in (forces or {}).items():
+        bid = mj.mj_name2id(model, mj.mjtObj.mjOBJ_BODY, str(body))
+        if bid < 0:
+            raise ValueError(f"forces names body {body!r}, which is not in the model")
+        f = np.asarray(force, dtype=float)
+        if f.shape != (3,) or not np.all(np.isfinite(f)):
+            raise ValueError(f"forces[{body!r}] = {force!r} must be 3 finite numbers (N, world axes)")
+        jacp = np.zeros((3, model.nv))
+        mj.mj_jacBodyCom(model, data, jacp, None, bid)
+        tau += jacp.T @ f
+    return tau
+
+
+def contact_row(model, data, g1, g2):
+    """``(point, normal, gap, row)`` of the pair's contact at ``data``'s configuration.
+
+    ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact.
+    Raises ValueError when MuJoCo builds no contact between the two (contype/conaffinity, an
+    exclude, a parent-child filter) or when the pair is farther apart than 1 m.
+    """
+    mj = _mujoco()
+    mj.mj_forward(model, data)
+    fromto = np.zeros(6)
+    gap = float(mj.mj_geomDistance(model, data, g1, g2, 1.0, fromto))
+    if gap >= 1.0:
+        raise ValueError(
+            "the pair is more than 1 m apart at this configuration: give the configuration of touch"
+        )
+    saved = model.geom_margin[[g1, g2]].copy(), model.pair_margin.copy()
+    margin = max(gap, 0.0) + ROW_MARGIN
+    model.geom_margin[[g1, g2]] = np.maximum(saved[0], margin)
+    model.pair_margin[:] = np.maximum(saved[1], margin)
+    try:
+        mj.mj_forward(model, data)
+        i, sign = _find_contact(data, g1, g2)
+        if i is None:
+            raise ValueError(
+                "MuJoCo builds no contact between the pair (contype/conaffinity, an exclude or a "
+                "parent-child filter): add a <pair> for them to the model"
+            )
+        c = data.contact[i]
+        adr = int(c.efc_address)
+        row = {
+            "diagA": float(data.efc_diagA[adr]),
+            "R": float(data.efc_R[adr]),
+            "solref": tuple(float(x) for x in c.solref),
+            "solimp": tuple(float(x) for x in c.solimp),
+            "condim": int(c.dim),
+            "friction": tuple(float(x) for x in c.friction),
+            "geom_margin": float(max(saved[0])),
+            "geom_gap": float(max(model.geom_gap[[g1, g2]])),
+        }
+        return np.array(c.pos), sign * np.array(c.frame[:3]), gap, row
+    finally:
+        model.geom_margin[[g1, g2]] = saved[0]
+        model.pair_margin[:] = saved[1]
+        mj.mj_forward(model, data)
+
+
+def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
+    """``MechanismContact`` of ``pair`` in the MJCF/URDF ``model_path`` (see the module doc)."""
+    mj = _mujoco()
+    model = load_model(model_path)
+    data = mj.MjData(model)
+    g1, g2 = (geom_id(model, name) for name in pair)
+    if g1 == g2:
+        raise ValueError(f"pair = {tuple(pair)!r} names one geometry twice")
+    set_state(model, data, qpos, None)
+    point, normal, gap, row = contact_row(model, data, g1, g2)
+    J = _gap_jacobian(model, data, g1, g2, point, normal)
+    M = mass_matrix(model, data)
+    m_eff, v, qv = approach(J, M, qvel, speed)
+    tau_g = -np.array(data.qfrc_bias)  # at zero velocity: gravity only
+    tau_f = _forces_tau(model, data, forces)
+    data.qvel[:] = qv
+    mj.mj_forward(model, data)
+    tau_v = -(np.array(data.qfrc_bias) + tau_g)
+    parts = [pressing_accel(J, M, tau) for tau in (tau_g, tau_f, tau_v)]
+    return MechanismContact(
+        engine="mujoco", model=str(model_path), pair=tuple(pair), point=point, normal=normal, gap=gap,
+        jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
+        forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v, qpos=np.array(data.qpos),
+        qvel=np.array(qv), forces=dict(forces or {}), engine_row={**row, "JMinvJT": 1.0 / m_eff},
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class MechanismDrop:
+    """A drop of a mechanism in an engine from the touchdown state.
+
+    ``e_n`` Newton's restitution of the gap (NaN: no rebound within ``duration``); ``exit_speed``
+    m/s; ``contact_time`` s from touchdown to the rebound; ``inv_mass_range`` (min, max) of
+    ``J M^-1 J^T`` over the steps in contact and ``inv_mass_touch`` at touchdown, 1/kg;
+    ``steps`` in contact; ``timestep`` s.
+    """
+
+    e_n: float
+    exit_speed: float
+    contact_time: float
+    inv_mass_touch: float
+    inv_mass_range: tuple
+    steps: int
+    timestep: float
+
+    @property
+    def mass_change(self):
+        """Largest relative change of the effective mass over the contact (vs touchdown)."""
+        lo, hi = self.inv_mass_range
+        return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
+
+
+def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None):
+    """Run MuJoCo from the touchdown state ``(qpos, qvel)`` until the pair separates.
+
+    Parameters
+    ----------
+    model : path or MJCF string.
+    pair : (geometry 1, geometry 2).
+    qpos, qvel : touchdown configuration and joint velocity.
+    timestep : s (default the model's).
+    duration : longest time run, s.
+    forces : {body: (fx, fy, fz)} constant forces at the bodies' centres of mass, N, world axes.
+    pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
+    """
+    mj = _mujoco()
+    m = load_model(model)
+    g1, g2 = (geom_id(m, name) for name in pair)
+    if pair_solref is not None:
+        rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
+        if not rows:
+            raise ValueError("pair_solref needs a <pair> of the two geometries in the model")
+        m.pair_solref[rows] = np.asarray(pair_solref, dtype=float)
+    if timestep is not None:
+        m.opt.timestep = float(timestep)
+    d = mj.MjData(m)
+    set_state(m, d, qpos, qvel)
+    for body, force in (forces or {}).items():
+        d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)
+    h = float(m.opt.timestep)
+    nmax = int(math.ceil(duration / h))
+    gaps, inv_masses = [], []
+    inv_touch = math.nan
+    for _ in range(nmax):
+        mj.mj_step1(m, d)  # positions and velocities of this step's start: the sample
+        gap = float(mj.mj_geomDistance(m, d, g1, g2, 1.0, None))
+        gaps.append(gap)
+        i, sign = _find_contact(d, g1, g2)
+        if i is not None:
+            c = d.contact[i]
+            J = _gap_jacobian(m, d, g1, g2, c.pos, sign * np.array(c.frame[:3]))
+            inv = float(J @ np.linalg.solve(mass_matrix(m, d), J))
+            inv_touch = inv if math.isnan(inv_touch) else inv_touch
+            inv_masses.append(inv)
+        if len(gaps) > 3 and gap > 0.0 and min(gaps) < 0.0 and gaps[-2] >= 0.0:
+            break
+        mj.mj_step2(m, d)
+    t = np.arange(len(gaps)) * h
+    speed0 = -float(_gap_rate_at_start(m, qpos, qvel, g1, g2))
+    exit_speed, t_exit = rebound_speed(t, gaps)
+    rng = (min(inv_masses), max(inv_masses)) if inv_masses else (math.nan, math.nan)
+    return MechanismDrop(exit_speed / speed0, exit_speed, t_exit, inv_touch, rng, len(inv_masses), h)
+
+
+def _gap_rate_at_start(m, qpos, qvel, g1, g2):
+    mj = _mujoco()
+    d = mj.MjData(m)
+    set_state(m, d, qpos, qvel)
+    point, normal, _, _ = contact_row(m, d, g1, g2)
+    return float(_gap_jacobian(m, d, g1, g2, point, normal) @ d.qvel)

@@ -1,0 +1,338 @@
+"""From a robot model to tuned contact parameters: ``tune`` and ``contactalpha tune``.
+
+``tune`` reads the pair's contact from the model (``read_contact``: MuJoCo for MJCF, Drake for SDF
+or URDF, whichever is installed), solves the engine's contact law for Newton's e_N at the
+contact's effective mass, load and approach speed (``adapters``' ``law_damping``, the law's exact
+inverse), corrects MuJoCo's parameters for its own contact row (``mujoco_row``), writes them
+beside the model (``write``) and, with ``check=True``, drops the tuned model in the engine from
+the touchdown state: the delivered e_N, and how much the effective mass moves over the contact
+(a warning above ``MASS_CHANGE_WARN``).
+"""
+
+import importlib.util
+import math
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from contactalpha.adapters.base import refine as secant
+from contactalpha.adapters.mujoco_soft import IMPEDANCE
+from contactalpha.scene.parameters import contact_parameters
+from contactalpha.validation import check_range
+
+from . import write
+from .drake_model import drake_drop, read_drake
+from .mujoco_model import load_model, mujoco_drop, read_mujoco
+from .mujoco_row import current_stiffness, law_scene, mujoco_tuning, solref_for
+
+# Relative change of the effective mass over the contact above which ``tune`` warns: the law is
+# solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
+MASS_CHANGE_WARN = 0.01
+# Gap samples per undamped contact time in a Drake check.
+DRAKE_SAMPLES = 1000
+# |delivered - target| at which refining on the engine's drop stops.
+REFINE_TOL = 2e-4
+
+
+class MassChangeWarning(UserWarning):
+    """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
+
+
+@dataclass(frozen=True)
+class Reader:
+    """A model reader: ``name``, the Python ``module`` it needs, file ``suffixes``, ``read`` call."""
+
+    name: str
+    module: str
+    suffixes: tuple
+    read: object
+
+
+READERS = (
+    Reader("mujoco", "mujoco", (".xml", ".mjcf", ".urdf"), read_mujoco),
+    Reader("drake", "pydrake", (".sdf", ".urdf"), read_drake),
+)
+
+
+def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, forces=None):
+    """``MechanismContact`` of ``pair`` in ``model`` read by ``reader`` (default: the first that reads it).
+
+    Parameters
+    ----------
+    model : path of an MJCF, URDF or SDF file.
+    pair : (geometry 1, geometry 2) names; the normal points from 1 to 2.
+    reader : "mujoco" or "drake" (``READERS``), or None.
+    qpos : joint positions (the engine's coordinates; default the model's own).
+    qvel, speed : the approach: joint velocities, or the closing speed of the contact point, m/s.
+    forces : {body: (fx, fy, fz)} constant forces at bodies' centres of mass, N, world axes.
+    """
+    path = Path(model)
+    if not path.is_file():
+        raise ValueError(f"model = {str(model)!r} is not a file")
+    pair = tuple(str(g) for g in pair)
+    if len(pair) != 2:
+        raise ValueError(f"pair = {pair!r} must name two geometries")
+    names = tuple(r.name for r in READERS)
+    if reader is not None and reader not in names:
+        raise ValueError(f"reader = {reader!r} is outside the valid choices {names}")
+    fits = [r for r in READERS if (reader is None or r.name == reader) and path.suffix.lower() in r.suffixes]
+    if not fits:
+        raise ValueError(
+            f"model = {str(model)!r}: no reader for {path.suffix!r} files "
+            "(mujoco: MJCF/URDF, drake: SDF/URDF)"
+        )
+    ready = [r for r in fits if importlib.util.find_spec(r.module) is not None]
+    if not ready:
+        raise ImportError(f"reading {path.suffix} models needs {' or '.join(r.module for r in fits)}")
+    return ready[0].read(path, pair, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """What ``tune`` found and wrote.
+
+    ``contact`` (MechanismContact), ``engine``, ``parameters`` (the engine's names and units),
+    ``notes`` (text lines), ``output`` (the written path or None), ``delivered`` (the e_N of the
+    engine's own drop with ``check``, else NaN), ``mass_change`` (relative change of m_eff over
+    that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``).
+    """
+
+    contact: object
+    engine: str
+    parameters: dict
+    notes: list
+    output: object = None
+    delivered: float = math.nan
+    mass_change: float = math.nan
+    details: object = None
+    drop: object = field(default=None, repr=False)
+
+
+def _mujoco_tune(contact, target, stiffness, impedance):
+    k = current_stiffness(contact) if stiffness is None else stiffness
+    t = mujoco_tuning(contact, target, k, impedance)
+    row = contact.engine_row
+    params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
+              "friction": row["friction"], "margin": (row["geom_margin"],),
+              "gap": (row["geom_gap"],)}  # fmt: skip
+    notes = [
+        f"stiffness {k:.9g} N/m along the normal" + (" (the model's own)" if stiffness is None else ""),
+        f"MuJoCo's row: diagA = {row['diagA']:.9g} where J M^-1 J^T = {1 / contact.effective_mass:.9g}; "
+        f"solimp d = {t.impedance:.6g} acts as d_e = {t.effective_impedance:.9g}",
+        f"law mujoco_soft at d_e: zeta = {t.zeta:.12g}, xi = {t.xi:.9g}",
+        f"free-body mapping (exact only where diagA = J M^-1 J^T): solref = "
+        f"({t.free_body['solref'][0]:.9g}, {t.free_body['solref'][1]:.9g})",
+    ]
+    if row["condim"] > 1:
+        notes.append(
+            f"condim {row['condim']}: the correction is exact for the normal row "
+            "(condim 1 or an elliptic cone)"
+        )
+    return params, notes, t
+
+
+def _write_mujoco(contact, output, params):
+    attrs = {name: value for name, value in params.items()}
+    attrs["condim"] = str(int(params["condim"][0]))
+    compiled = None
+    if Path(contact.model).suffix.lower() == ".urdf":
+        compiled = _compiled_mjcf(contact.model, output)
+    return write.write_mjcf(contact.model, output, contact.pair, attrs, compiled_xml=compiled)
+
+
+def _compiled_mjcf(model, output):
+    import mujoco
+
+    m = load_model(model)
+    tmp = Path(output).with_suffix(".compiled.tmp.xml")
+    try:
+        mujoco.mj_saveLastXML(str(tmp), m)
+        return tmp.read_text()
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _front_door(contact, target, stiffness, engine):
+    """The engine's block of ``contact_parameters`` at the contact's m_eff, load and speed."""
+    scene = law_scene(contact, _need(stiffness, engine))
+    cp = contact_parameters(
+        e_N=target, mass=scene.mass, stiffness=scene.stiffness, approach_speed=scene.approach_speed,
+        accel=scene.accel, engine=engine,
+    )  # fmt: skip
+    return cp, cp.engines[engine]
+
+
+def _drake_tune(contact, target, stiffness, impedance):
+    cp, params = _front_door(contact, target, stiffness, "drake")
+    notes = [f"law {cp.law}: alpha = {cp.damping:.12g} at xi = {cp.xi:.9g}; each geometry gets 2k "
+             "and d (Drake combines k1 k2/(k1 + k2), (k2 d1 + k1 d2)/(k1 + k2))"]  # fmt: skip
+    return params, notes, cp
+
+
+def _write_drake(contact, output, params):
+    keep = {k: params[k] for k in ("point_contact_stiffness", "hunt_crossley_dissipation")}
+    return write.write_drake(contact.model, output, contact.pair, keep)
+
+
+def _pybullet_tune(contact, target, stiffness, impedance):
+    cp, params = _front_door(contact, target, stiffness, "pybullet")
+    notes = [f"law {cp.law}: zeta = {cp.damping:.12g} at xi = {cp.xi:.9g} (continuous law at m_eff; "
+             "Bullet's own step and its multibody solver are not modelled: check with a drop)"]  # fmt: skip
+    return params, notes, cp
+
+
+def _write_pybullet(contact, output, params, notes):
+    return write.write_pybullet(contact.model, output, contact.pair, params, notes)
+
+
+def _need(stiffness, engine):
+    if stiffness is None:
+        raise ValueError(f"engine {engine!r} needs the contact stiffness: give stiffness (N/m)")
+    return float(check_range("stiffness", stiffness, 0.0, math.inf, lo_open=True, hi_open=True))
+
+
+@dataclass(frozen=True)
+class Tuner:
+    """An engine ``tune`` can write for: its ``reader``, output ``suffix``, ``solve`` and ``write`` calls."""
+
+    name: str
+    reader: str
+    suffix: str
+    solve: object
+    write: object
+    drop: bool
+
+
+TUNERS = (
+    Tuner("mujoco", "mujoco", ".xml", _mujoco_tune, lambda c, o, p, n: _write_mujoco(c, o, p), True),
+    Tuner("drake", "drake", ".sdf", _drake_tune, lambda c, o, p, n: _write_drake(c, o, p), True),
+    Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, False),
+)
+TUNER_NAMES = tuple(t.name for t in TUNERS)
+
+
+def _tuner(engine, model):
+    if engine is None:
+        engine = "drake" if Path(model).suffix.lower() in (".sdf", ".urdf") else "mujoco"
+    for t in TUNERS:
+        if t.name == engine:
+            return t
+    raise ValueError(f"engine = {engine!r} is outside the valid choices {TUNER_NAMES}")
+
+
+def default_output(model, engine=None):
+    """``MODEL_tuned.xml`` (or .sdf, .urdf, .py) beside the model."""
+    t = _tuner(engine, model)
+    suffix = Path(model).suffix if t.name == "drake" else t.suffix
+    return Path(model).with_name(Path(model).stem + "_tuned" + suffix)
+
+
+def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
+         impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False):  # fmt: skip
+    """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
+
+    Parameters
+    ----------
+    model : path of the MJCF, URDF or SDF file (never overwritten).
+    pair : (geometry 1, geometry 2).
+    e_n : target Newton's restitution, in (0, 1).
+    speed, qvel : the approach (one of them): closing speed of the contact point (m/s), or joint
+        velocities (the engine's coordinates).
+    qpos : configuration at touchdown (default the model's).
+    engine : "mujoco", "drake" or "pybullet" (default: mujoco for MJCF, drake for SDF/URDF).
+    stiffness : contact stiffness along the normal, N/m (MuJoCo's default: the model's own, seen
+        through its contact row; required for the others).
+    forces : {body: (fx, fy, fz)} constant forces, N, at bodies' centres of mass, world axes.
+    impedance : MuJoCo's constant solimp d.
+    output : path written (None: nothing written).
+    check : drop the tuned model in the engine from touchdown (MuJoCo, Drake; needs ``output``
+        for Drake) and report the delivered e_N and the effective mass's change.
+    timestep : MuJoCo's step for the check, s (default the model's).
+    refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
+        (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
+        leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
+
+    Returns
+    -------
+    Tuning
+    """
+    target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
+    t = _tuner(engine, model)
+    if output is not None:
+        write.check_output(model, output)
+    reader = t.reader if t.reader is not None else None
+    contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
+    params, notes, details = t.solve(contact, target, stiffness, impedance)
+    if not contact.at_touch:
+        notes.append(
+            f"the pair is {contact.gap:.3g} m apart at this configuration: "
+            "values are at it, not at first touch"
+        )
+    written = t.write(contact, output, params, notes) if output is not None else None
+    result = Tuning(contact, t.name, params, notes, written, details=details)
+    if refine:
+        if t.name != "mujoco" or output is None:
+            raise ValueError("refine works with engine 'mujoco' and an output file")
+        result = _refined(result, target, timestep)
+    if check and t.drop:
+        result = _checked(result, timestep, refined=refine)
+    return result
+
+
+def _refined(result, target, timestep):
+    c, tuning = result.contact, result.details
+
+    def delivered(zeta):
+        solref = solref_for(tuning, zeta)
+        return mujoco_drop(result.output, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces,
+                           pair_solref=solref).e_n  # fmt: skip
+
+    ref = secant(delivered, target, tuning.zeta, REFINE_TOL)
+    if not math.isfinite(ref.damping):
+        raise ValueError(
+            f"refining on MuJoCo's drop failed ({ref.status}); the law's answer is {tuning.zeta!r}"
+        )
+    params = {**result.parameters, "solref": solref_for(tuning, ref.damping)}
+    _write_mujoco(c, result.output, params)
+    notes = [*result.notes, f"refined on MuJoCo's drop from touchdown: zeta {tuning.zeta:.9g} -> "
+             f"{ref.damping:.9g} ({ref.status}; the law's value delivered {ref.e_n_start:.6g})"]  # fmt: skip
+    return Tuning(c, result.engine, params, notes, result.output, details=tuning)
+
+
+def _checked(result, timestep, refined=False):
+    c = result.contact
+    if result.engine == "mujoco":
+        source = result.output if result.output is not None else _in_memory_mjcf(result)
+        drop = mujoco_drop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
+        change = drop.mass_change
+    else:
+        if result.output is None:
+            raise ValueError("check with engine 'drake' needs output (the tuned model file)")
+        period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
+        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
+                             report=period / DRAKE_SAMPLES)  # fmt: skip
+        drop, change = None, math.nan
+    delivered = drop.e_n if drop is not None else e
+    notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
+    if np.isfinite(change):
+        notes.append(f"effective mass moves by {change:.3g} (relative) over the contact")
+        if change > MASS_CHANGE_WARN:
+            warnings.warn(
+                f"the effective mass moves by {change:.3g} over the contact (above {MASS_CHANGE_WARN}): "
+                + ("refined on this drop, it holds for this touchdown state only" if refined
+                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"),
+                MassChangeWarning, stacklevel=3,
+            )  # fmt: skip
+    return Tuning(result.contact, result.engine, result.parameters, notes, result.output, delivered, change,
+                  result.details, drop)  # fmt: skip
+
+
+def _in_memory_mjcf(result):
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / ("tuned" + Path(result.contact.model).suffix.replace(".urdf", ".xml"))
+        _write_mujoco(result.contact, out, result.parameters)
+        return out.read_text()

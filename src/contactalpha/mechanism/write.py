@@ -1,0 +1,145 @@
+"""Tuned parameters written back beside the user's model: never over it.
+
+- MJCF: the model with a ``<contact><pair>`` for the two geometries (``solref``, ``solimp``, and
+  the geometries' own ``condim``, ``friction``, ``margin`` and ``gap`` as MuJoCo combines them),
+  replacing an earlier ``<pair>`` of the same two.  A URDF read by MuJoCo is written as the MJCF
+  MuJoCo compiles from it (``mj_saveLastXML``) with the pair added.
+- SDF or URDF for Drake: ``<drake:proximity_properties>`` in each of the two ``<collision>``
+  elements (Drake has no per-pair parameters; ``internal::CombinePointContactParameters``
+  combines the two geometries', so each gets ``2k`` and the dissipation ``d``).
+- PyBullet: a short Python script of ``changeDynamics`` calls (each body ``2k`` and ``c/2``).
+
+A relative asset folder or include of the model is made absolute when the output lies in another
+folder, so the written file loads from where it is.
+"""
+
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from contactalpha.io import write_text_atomic
+
+DRAKE_NS = "http://drake.mit.edu"
+ET.register_namespace("drake", DRAKE_NS)
+
+
+def check_output(model, output):
+    """The output path; ValueError when it is the model file itself (never overwritten)."""
+    out = Path(output)
+    if out.exists() and Path(model).exists() and out.resolve() == Path(model).resolve():
+        raise ValueError(f"output = {str(output)!r} is the model file itself; give another path (-o)")
+    return out
+
+
+def _absolute_assets(root, source_dir, out_dir):
+    if Path(source_dir).resolve() == Path(out_dir).resolve():
+        return
+    compiler = root.find("compiler")
+    if compiler is None:
+        compiler = ET.Element("compiler")
+        root.insert(0, compiler)
+    for key in ("meshdir", "texturedir", "assetdir"):
+        value = compiler.get(key)
+        if value is not None and not os.path.isabs(value):
+            compiler.set(key, str((Path(source_dir) / value).resolve()))
+    if compiler.get("meshdir") is None and compiler.get("assetdir") is None:
+        compiler.set("assetdir", str(Path(source_dir).resolve()))
+    for inc in root.iter("include"):
+        f = inc.get("file")
+        if f and not os.path.isabs(f):
+            inc.set("file", str((Path(source_dir) / f).resolve()))
+
+
+def _fmt(values):
+    return " ".join(repr(float(v)) for v in values)
+
+
+def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None):
+    """Write the MJCF with a ``<pair>`` of ``pair`` carrying ``attributes`` (name -> tuple or str).
+
+    ``compiled_xml``: the MJCF text to start from instead of the file (a URDF's compiled model).
+    """
+    out = check_output(model_path, output)
+    root = ET.fromstring(compiled_xml) if compiled_xml is not None else ET.parse(model_path).getroot()
+    if root.tag != "mujoco":
+        raise ValueError(f"model = {str(model_path)!r} is not MJCF (its root is <{root.tag}>)")
+    _absolute_assets(root, Path(model_path).parent, out.parent)
+    contact = root.find("contact")
+    if contact is None:
+        contact = ET.SubElement(root, "contact")
+    for old in list(contact.findall("pair")):
+        if {old.get("geom1"), old.get("geom2")} == set(pair):
+            contact.remove(old)
+    elem = ET.SubElement(contact, "pair", {"geom1": pair[0], "geom2": pair[1]})
+    for name, value in attributes.items():
+        elem.set(name, value if isinstance(value, str) else _fmt(value))
+    ET.indent(root)
+    write_text_atomic(out, ET.tostring(root, encoding="unicode") + "\n")
+    return out
+
+
+def _collision(root, name):
+    found = [c for c in root.iter("collision") if c.get("name") in (name, name.split("::")[-1])]
+    if len(found) != 1:
+        raise ValueError(f"geometry {name!r}: {len(found)} <collision> elements carry that name (need one)")
+    return found[0]
+
+
+def write_drake(model_path, output, pair, per_geometry):
+    """Write the SDF/URDF with ``<drake:proximity_properties>`` (``per_geometry``: tag -> value) on both."""
+    out = check_output(model_path, output)
+    tree = ET.parse(model_path)
+    root = tree.getroot()
+    for name in pair:
+        col = _collision(root, name)
+        tag = f"{{{DRAKE_NS}}}proximity_properties"
+        props = col.find(tag)
+        if props is None:
+            props = ET.SubElement(col, tag)
+        for key, value in per_geometry.items():  # the geometry's other properties (friction) stay
+            elem = props.find(f"{{{DRAKE_NS}}}{key}")
+            if elem is None:
+                elem = ET.SubElement(props, f"{{{DRAKE_NS}}}{key}")
+            elem.text = repr(float(value))
+    _absolute_uris(root, Path(model_path).parent, out.parent)
+    ET.indent(root)
+    write_text_atomic(out, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
+    return out
+
+
+def _absolute_uris(root, source_dir, out_dir):
+    if Path(source_dir).resolve() == Path(out_dir).resolve():
+        return
+    for elem in root.iter():
+        for key in ("filename",):
+            value = elem.get(key)
+            if value and "://" not in value and not os.path.isabs(value):
+                elem.set(key, str((Path(source_dir) / value).resolve()))
+        if elem.tag == "uri" and elem.text and "://" not in elem.text and not os.path.isabs(elem.text):
+            elem.text = str((Path(source_dir) / elem.text.strip()).resolve())
+
+
+PYBULLET_SCRIPT = '''"""contactalpha tune: PyBullet contact parameters for {pair0} / {pair1} of {model}.
+
+{notes}
+"""
+
+import pybullet as pb
+
+
+def apply(body_a, link_a, body_b, link_b, client=0):
+    """Set the tuned stiffness and damping on both sides of the contact (after loading the model)."""
+    for body, link in ((body_a, link_a), (body_b, link_b)):
+        pb.changeDynamics(body, link, contactStiffness={k!r}, contactDamping={c!r}, physicsClientId=client)
+'''
+
+
+def write_pybullet(model_path, output, pair, params, notes):
+    """Write a Python script applying ``params`` (per-body ``contactStiffness``, ``contactDamping``)."""
+    out = check_output(model_path, output)
+    text = PYBULLET_SCRIPT.format(
+        pair0=pair[0], pair1=pair[1], model=model_path, notes="\n".join(notes),
+        k=float(params["contactStiffness"]), c=float(params["contactDamping"]),
+    )  # fmt: skip
+    write_text_atomic(out, text)
+    return out

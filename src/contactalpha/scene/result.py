@@ -1,0 +1,149 @@
+"""The one answer of the front door: ``ContactParameters``, for every law, one scene or many.
+
+``contact_parameters`` returns this class whatever the law, the engine and the input's shape.
+
+**One scene or a batch.**  A call with plain numbers gives plain Python values in every field
+(``float``, ``str``, ``bool``); a call with any array input gives numpy arrays of the scenes'
+broadcast shape in every per-scene field (``xi``, ``damping``, ..., ``ok``, ``reason``, and every
+number in ``engines``; a tuple such as MuJoCo's ``solref`` is a tuple of arrays).  ``law``,
+``damping_name``, ``physical_unit`` and ``engine`` are one string for the whole call.
+
+**Units.**  The stiffness given is physical on every path: N/m for the n = 1 laws, N/m^1.5 for
+the Hertz laws (``ContactLaw.stiffness_unit``).  Engine-specific units (MuJoCo's per-unit-mass
+``solref``) appear only inside that engine's block of ``engines``.
+
+**No answer.**  One scene whose target no damping reaches raises (the message says why); in a
+batch such a row gets NaN in every number, ``ok = False`` and the reason, and the other rows are
+what a batch without it gives.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contactalpha.adapters.engine_conventions import UNIT_NOTES
+from contactalpha.adapters.registry import adapter
+from contactalpha.laws import get_law
+
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Everything ``contact_parameters`` derives for one contact or a batch of them (SI units).
+
+    Fields mean the same for every law; for a batch each per-scene field is an array.
+
+    Attributes
+    ----------
+    law : name of the contact law (``contactalpha.laws.LAWS``).
+    xi : load factor of the scene (``ContactLaw.load_factor``; the paper's influence factor
+        for Hunt-Crossley), in [0, 1).
+    damping_name : name of the law's dimensionless damping: "alpha", "zeta" or "beta".
+    damping : the law's dimensionless damping that delivers the target restitution.
+    physical_damping : the law's physical damping coefficient (``ContactLaw.physical_damping``
+        with the physical mass and stiffness; ``ContactLaw.damping_physical`` says which), in
+        ``physical_unit``: d = alpha / v_minus (s/m) for both Hunt-Crossley laws, c = 2 zeta
+        sqrt(k m) (N s/m) for the spring-dashpots, eta = beta sqrt(m k) (N s/m^1.25) for Tsuji.
+    physical_unit : the unit of ``physical_damping``.
+    eps, e_n : Stronge's energetic and Newton's kinematic restitution that ``damping`` delivers
+        (one impact integrated; the requested one to the evaluator's accuracy).
+    end_state : how that impact ends: separation, nonseparation, creep, no_restitution.
+    ok : True where the scene has an answer (a single scene without one raises instead).
+    reason : why a scene has no answer ("" where ``ok``).
+    accel : relative acceleration of the load, m/s^2.
+    delta_star : the law's length scale (undamped, unloaded maximum compression), m.
+    source : where ``damping`` comes from: "table" (a shipped table), "closed form" or "solver".
+    engines : ``{engine: {parameter: value}}`` for every registered engine of the law, keyed by
+        the engine ("opensim", "exudyn", "mujoco", "drake", "pybullet"), each block in that
+        engine's own names and units (per geometry for a pair, as ``adapters`` document).
+    e_n_half_speed, e_n_twice_speed : Newton's e_N that the same ``physical_damping`` delivers at
+        half and at twice the approach speed (NaN where the load's xi rounds to 1 there): the
+        engine's constant holds at this approach speed only.
+    engine : the engine asked for (``contact_parameters(..., engine=NAME)``), else None.
+    """
+
+    law: str
+    xi: object
+    damping_name: str
+    damping: object
+    physical_damping: object
+    physical_unit: str
+    eps: object
+    e_n: object
+    end_state: object
+    ok: object
+    reason: object
+    accel: object
+    delta_star: object
+    source: object
+    engines: dict
+    e_n_half_speed: object
+    e_n_twice_speed: object
+    engine: str | None = None
+
+    @property
+    def alpha(self):
+        """``damping`` under its historic name (zeta or beta for those laws)."""
+        return self.damping
+
+    @property
+    def alpha_source(self):
+        """``source`` under its historic name."""
+        return self.source
+
+    @property
+    def block(self):
+        """The asked engine's block (``engines[engine]``); ValueError when no engine was asked for."""
+        if self.engine is None:
+            raise ValueError("no engine was asked for: give contact_parameters(..., engine=NAME)")
+        return self.engines[self.engine]
+
+
+def format_parameters(cp: ContactParameters) -> str:
+    """One scene's ``ContactParameters`` as aligned text lines, every number with its unit."""
+    law = get_law(cp.law)
+    lines = [
+        f"law             {law.name}: {law.formula}",
+        f"xi              {cp.xi:.15g}   (load factor)",
+        f"{cp.damping_name:15s} {cp.damping:.15g}   ({cp.source}; dimensionless)",
+        f"damping         {cp.physical_damping:.15g} {cp.physical_unit}   ({law.damping_physical})",
+        f"end state       {cp.end_state}",
+        f"eps             {cp.eps:.15g}",
+        f"e_N             {cp.e_n:.15g}",
+        f"accel           {cp.accel:.15g} m/s^2",
+        f"delta_star      {cp.delta_star:.15g} m",
+        f"the same damping delivers e_N = {cp.e_n_half_speed:.6g} at half and {cp.e_n_twice_speed:.6g} at "
+        "twice this approach speed: it holds at this speed only",
+    ]
+    for engine, values in cp.engines.items():
+        lines.extend(block_lines(engine, values))
+        lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
+    return "\n".join(lines)
+
+
+def block_lines(engine, params):
+    """``engine.name  value  unit`` lines of an engine's block (units from the adapter's ``units``)."""
+    units = getattr(adapter(engine), "units", {})
+    lines = []
+    for name, value in params.items():
+        values = value if isinstance(value, tuple) else (value,)
+        shown = ", ".join("nan" if isinstance(v, float) and math.isnan(v) else f"{v:.15g}" for v in values)
+        lines.append(f"{engine + '.' + name:32s} {shown}   {units.get(name, '')}".rstrip())
+    return lines
+
+
+def as_plain_data(cp: ContactParameters) -> dict:
+    """The fields as plain data (``--json``): arrays as lists, tuples as lists."""
+    from dataclasses import fields
+
+    def plain(value):
+        if isinstance(value, dict):
+            return {k: plain(v) for k, v in value.items()}
+        if isinstance(value, (tuple, list)):
+            return [plain(v) for v in value]
+        if isinstance(value, np.ndarray):
+            return value.tolist()
+        return value
+
+    return {f.name: plain(getattr(cp, f.name)) for f in fields(cp)}

@@ -1,0 +1,71 @@
+"""m_eff and the free acceleration read from the model files against hand-derived values (1e-9)."""
+
+import hand
+import pytest
+from cases import CASES
+
+from contactalpha.mechanism.tune import read_contact
+
+HAND = {
+    "pendulum": lambda: hand.pendulum(20.0),
+    "capsule": hand.capsule,
+    "leg": hand.leg,
+    "box": hand.box,
+}
+TOL = 1e-9
+
+
+def _check(contact, case):
+    m_eff, accel = HAND[case.name]()
+    assert contact.effective_mass == pytest.approx(m_eff, rel=TOL, abs=0)
+    assert contact.accel == pytest.approx(accel, rel=TOL, abs=TOL)
+    assert contact.approach_speed == pytest.approx(0.8, rel=1e-12)
+    assert abs(contact.gap) < 1e-12
+    assert abs(contact.velocity_accel) < 1e-12  # no Coriolis term along these approaches
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_mujoco_reads_hand_values(mujoco, case):
+    contact = read_contact(case.path(".xml"), case.pair, qvel=case.qvel_mujoco, forces=case.forces)
+    assert contact.engine == "mujoco"
+    _check(contact, case)
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_drake_reads_hand_values(pydrake, case):
+    contact = read_contact(case.path(".sdf"), case.pair, qvel=case.qvel_drake, forces=case.forces)
+    assert contact.engine == "drake"
+    _check(contact, case)
+
+
+def test_leg_push_and_contact_point(mujoco):
+    """A named force on the hip adds J M^-1 J_hip^T F; the contact point is the foot's lowest point."""
+    case = CASES[2]
+    contact = read_contact(case.path(".xml"), case.pair, qvel=case.qvel_mujoco, forces={"hip": (0, 0, -30.0)})
+    m_eff, accel = hand.leg(30.0)
+    assert contact.accel == pytest.approx(accel, rel=TOL)
+    assert contact.forces_accel == pytest.approx(accel - hand.leg()[1], rel=1e-9)
+    g = hand.LEG
+    import math
+
+    x = -g["l1"] * math.sin(g["q1"]) - g["l2"] * math.sin(g["q1"] + g["q2"])
+    assert contact.point == pytest.approx([x, 0.0, 0.0], abs=1e-12)
+    assert contact.normal == pytest.approx([0.0, 0.0, 1.0], abs=1e-12)
+
+
+def test_velocity_term_agrees_between_engines(mujoco, pydrake):
+    """The Coriolis part at a swinging leg: MuJoCo's and Drake's dynamics give the same value."""
+    case = CASES[2]
+    qvel = (-0.8, 1.0, -2.0)
+    a = read_contact(case.path(".xml"), case.pair, qvel=qvel)
+    b = read_contact(case.path(".sdf"), case.pair, qvel=qvel)
+    assert abs(a.velocity_accel) > 0.1
+    assert a.velocity_accel == pytest.approx(b.velocity_accel, rel=1e-9)
+
+
+def test_speed_gives_least_energy_velocity(mujoco):
+    """Given a contact-point speed, the joint velocity is -v m_eff M^-1 J^T: closing at v."""
+    case = CASES[3]
+    contact = read_contact(case.path(".xml"), case.pair, speed=1.25)
+    assert contact.approach_speed == 1.25
+    assert -(contact.jacobian @ contact.qvel) == pytest.approx(1.25, rel=1e-12)
