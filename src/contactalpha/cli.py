@@ -25,6 +25,11 @@ def _number(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+def _step(text):
+    """A step in s, or the word "default" (the engine's own default step)."""
+    return text if text == "default" else _number(text)
+
+
 # Every float literal that starts with a minus: argparse's own pattern (-1, -.5) misses -1e-3,
 # -inf and -nan and reads them as unknown options.
 NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
@@ -202,6 +207,20 @@ def build_parser():
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
     f.add_argument(
+        "--timestep",
+        type=_step,
+        nargs="?",
+        const="default",
+        help="with --engine: the engine's step, s (alone: its default step); the answer is then for the "
+        "mean over a uniformly random touchdown phase at that step, with the range one drop sees",
+    )
+    f.add_argument(
+        "--verify",
+        type=int,
+        metavar="N",
+        help="with --timestep: run the installed engine at N touchdown phases, measured against predicted",
+    )
+    f.add_argument(
         "--law",
         help="contact law (contactalpha.laws.LAWS; default hunt_crossley, n = 3/2); "
         "--stiffness is then that law's physical stiffness (N/m for n = 1, N/m^1.5 for n = 3/2)",
@@ -303,6 +322,7 @@ def _print_engine(args, value, restitution):
     params, notes = engine_block(
         args.engine, value, args.mass, args.stiffness, args.speed, accel,
         restitution=restitution, radius=args.radius, refine=args.refine,
+        timestep=args.timestep, verify=args.verify,
     )  # fmt: skip
     if args.json:
         print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
@@ -322,6 +342,8 @@ def _params(args, parser):
         raise ValueError("give --engine or --law, not both: an engine's block uses its own law")
     if args.engine is not None:
         return _print_engine(args, value, restitution)
+    if args.timestep is not None or args.verify is not None:
+        raise ValueError("--timestep and --verify need --engine: the step is an engine's")
     target = {"eps": value} if restitution == "energetic" else {"e_N": value}
     cp = contact_parameters(
         law=args.law,

@@ -69,3 +69,28 @@ def test_speed_gives_least_energy_velocity(mujoco):
     contact = read_contact(case.path(".xml"), case.pair, speed=1.25)
     assert contact.approach_speed == 1.25
     assert -(contact.jacobian @ contact.qvel) == pytest.approx(1.25, rel=1e-12)
+
+
+@pytest.mark.parametrize("reader", ["mujoco", "drake"])
+def test_urdf_leg_reads_hand_values(mujoco, pydrake, reader):
+    """The same leg in URDF, through MuJoCo's compiler and through Drake's parser."""
+    case = CASES[2]
+    contact = read_contact(case.path(".urdf"), case.pair, reader=reader, qvel=case.qvel_mujoco)
+    assert contact.engine == reader
+    _check(contact, case)
+
+
+def test_urdf_tuned_for_mujoco_is_the_compiled_mjcf_with_the_pair(mujoco, tmp_path):
+    from contactalpha.mechanism.tune import tune
+
+    case = CASES[2]
+    out = tmp_path / "leg_tuned.xml"
+    got = tune(
+        case.path(".urdf"), case.pair, 0.6, engine="mujoco", qvel=case.qvel_mujoco, stiffness=1e6, output=out
+    )
+    text = out.read_text()
+    assert text.startswith("<mujoco") and text.count("<pair") == 1
+    again = read_contact(out, case.pair, qvel=case.qvel_mujoco)
+    # MuJoCo writes its compiled MJCF with 6 significant digits (poses, masses): m_eff to ~1e-6
+    assert again.effective_mass == pytest.approx(hand.leg()[0], rel=1e-5)
+    assert again.engine_row["solref"] == pytest.approx(got.parameters["solref"], rel=1e-12)

@@ -164,7 +164,8 @@ def piecewise_reference(s, p, v, a):
     [
         # fast enough that the contact point appears inside the last free step at some phases:
         # e_N jumps there (by 0.31) without a change of the steps that start below the surface
-        ("pybullet", {"mass": 2.0, "stiffness_ball": 4e5, "damping_ball": 0.0}, 2.5),
+        ("pybullet", {"mass": 2.0, "stiffness_ball": 4e5, "damping_ball": 0.0, "stiffness_ground": pm.UNSET_STIFFNESS,
+                      "damping_ground": pm.UNSET_DAMPING, "breaking": pm.breaking_threshold(0.05)}, 2.5),
         # Drake counts contact at z = 0: touchdown exactly at a step's start is the limit from phase 1
         ("drake", {"mass": 0.5, "stiffness_ball": 2e4, "dissipation_ball": 0.2, "stiffness_ground": 2e4,
                    "dissipation_ground": 0.2}, 0.5),

@@ -13,8 +13,8 @@ def test_every_stepper_names_its_capabilities():
     assert len(set(STEPPER_NAMES)) == len(STEPPERS)
     for s in STEPPERS:
         assert s.timestep > 0 and s.integrators and s.source
-        assert 0 <= s.damping_slot < len(s.slots)
-        assert s.stiffness_slot is None or 0 <= s.stiffness_slot < len(s.slots)
+        assert s.damping_slots and all(0 <= k < len(s.slots) for k in s.damping_slots)
+        assert all(0 <= k < len(s.slots) for k in s.stiffness_slots)
 
 
 def test_pack_fills_defaults_and_names_bad_slots():

@@ -37,11 +37,11 @@ from contactalpha.adapters.contract import Samples, law_damping
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.laws.law import MUJOCO_IMPEDANCE
+from contactalpha.stepping.mujoco_map import TIMESTEP
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'MuJoCo is an optional engine: pip install -e ".[engines]" (PyPI package "mujoco")'
-# MuJoCo's default timestep, s, and the law's default impedance (MuJoCo's default solimp[0]).
-TIMESTEP = 0.002
+# The law's default impedance (MuJoCo's default solimp[0]); MuJoCo's default step is the map's.
 IMPEDANCE = MUJOCO_IMPEDANCE
 # solimp's width, midpoint and power: MuJoCo's defaults; with solimp[0] = solimp[1] = d they do
 # not matter (the impedance is d at every penetration).

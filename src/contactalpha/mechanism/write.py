@@ -3,7 +3,8 @@
 - MJCF: the model with a ``<contact><pair>`` for the two geometries (``solref``, ``solimp``, and
   the geometries' own ``condim``, ``friction``, ``margin`` and ``gap`` as MuJoCo combines them),
   replacing an earlier ``<pair>`` of the same two.  A URDF read by MuJoCo is written as the MJCF
-  MuJoCo compiles from it (``mj_saveLastXML``) with the pair added.
+  MuJoCo compiles from it (``mj_saveLastXML``) with the pair added; MuJoCo writes that file with
+  6 significant digits, so its poses and inertias (and m_eff) differ from the URDF's by ~1e-6.
 - SDF or URDF for Drake: ``<drake:proximity_properties>`` in each of the two ``<collision>``
   elements (Drake has no per-pair parameters; ``internal::CombinePointContactParameters``
   combines the two geometries', so each gets ``2k`` and the dissipation ``d``).

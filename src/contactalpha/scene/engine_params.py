@@ -11,11 +11,11 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
 from .parameters import contact_parameters
-from .result import block_lines
+from .result import block_lines, stepped_lines
 
 
 def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False):  # fmt: skip
+                 radius=None, refine=False, timestep=None, verify=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -30,10 +30,20 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Sphere radius, m.
     refine : bool
         Refine on the engine's own drops (stepping engines; needs the engine).
+    timestep : float or "default", optional
+        The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
+        predicted mean and range); ``verify`` N then runs the engine at N phases.
     """
     a = adapter(engine)
     refine = check_flag("refine", refine)
     key = "e_N" if restitution == "kinematic" else "eps"
+    if timestep is not None or verify is not None:
+        if refine:
+            raise ValueError("give --refine or --timestep, not both: the step's answer needs no engine run")
+        cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
+                                radius=radius, engine=engine, timestep=timestep, verify=verify,
+                                **{key: target})  # fmt: skip
+        return cp.block, stepped_lines(cp.stepped)
     if not refine:
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
                                 radius=radius, engine=engine, **{key: target})  # fmt: skip

@@ -31,6 +31,7 @@ from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
+from . import stepped
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
 
@@ -97,6 +98,8 @@ def contact_parameters(
     radius: float | None = None,
     law: str | None = None,
     engine: str | None = None,
+    timestep: float | str | None = None,
+    verify: int | None = None,
 ) -> ContactParameters:
     """Contact parameters of one impact, or of a batch, in SI units, from the scene and a restitution.
 
@@ -127,6 +130,15 @@ def contact_parameters(
         pybullet): solve for that engine's law and keep only its block in ``engines`` (the numbers
         ``contactalpha params --engine NAME`` prints).  Give ``law`` or ``engine``, not both
         (unless ``law`` is the engine's).
+    timestep : float or "default", optional
+        The engine's step, s ("default": the engine's own default, e.g. MuJoCo's 2 ms): the answer
+        is then for the mean over a uniformly random touchdown phase at that step, through the
+        engine's discrete map (``contactalpha.stepping``, docs/stepping.md); ``engines[engine]``
+        holds those parameters and ``stepped`` the predicted mean, minimum and maximum.  Needs
+        ``engine`` and a load; one scene only.  Without it the answer is the continuous law's.
+    verify : int, optional
+        With ``timestep``: run the installed engine at this many touchdown phases and report the
+        measured mean, minimum and maximum in ``stepped.verify``.
 
     Returns
     -------
@@ -144,6 +156,9 @@ def contact_parameters(
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
+    if timestep is not None or verify is not None:
+        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return _at_step(*scene, law, engine, timestep, verify)
     law = _law_of(law, engine)
     if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
         return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law), engine)
@@ -189,9 +204,24 @@ def contact_parameters(
             e_n_half_speed=e_n_half,
             e_n_twice_speed=e_n_twice,
             engine=None,
+            stepped=None,
         ),
         engine,
     )
+
+
+def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine, timestep, verify):
+    """``contact_parameters`` at an engine's step (``scene.stepped``)."""
+    if timestep is None:
+        raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
+    if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
+        raise ValueError("timestep= takes one scene; call contact_parameters once per scene")
+    cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
+                            radius=radius, law=law, engine=engine)  # fmt: skip
+    value, restitution = _target(eps, e_n)
+    args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
+    cp = stepped.at_step(cp, args[0], timestep, *args[1:], value, restitution)
+    return cp if verify is None else stepped.verify(cp, verify, *args[1:])
 
 
 def _law_of(law, engine):

@@ -61,6 +61,9 @@ class ContactParameters:
         half and at twice the approach speed (NaN where the load's xi rounds to 1 there): the
         engine's constant holds at this approach speed only.
     engine : the engine asked for (``contact_parameters(..., engine=NAME)``), else None.
+    stepped : with ``timestep=``, what the engine delivers at its step over a uniformly random
+        touchdown phase (``scene.stepped.SteppedAnswer``; ``engines[engine]`` then holds the
+        parameters for the phase mean), else None.
     """
 
     law: str
@@ -81,6 +84,7 @@ class ContactParameters:
     e_n_half_speed: object
     e_n_twice_speed: object
     engine: str | None = None
+    stepped: object = None
 
     @property
     def alpha(self):
@@ -119,7 +123,39 @@ def format_parameters(cp: ContactParameters) -> str:
     for engine, values in cp.engines.items():
         lines.extend(block_lines(engine, values))
         lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
+    if cp.stepped is not None:
+        lines.extend(stepped_lines(cp.stepped))
     return "\n".join(lines)
+
+
+def stepped_lines(ans):
+    """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
+    name = "e_N" if ans.restitution == "kinematic" else "eps"
+    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase:"]
+    if ans.status == "ok":
+        lines += [
+            f"  {ans.engine} damping   {ans.damping:.15g}   (its own parameter; zeta {ans.law_damping:.15g})",
+            f"  mean {name}      {ans.mean:.15g}   (target {ans.target:.15g})",
+            f"  one drop        {ans.minimum:.6g} to {ans.maximum:.6g}   (std {ans.std:.3g}; "
+            f"{ans.steps_min}-{ans.steps_max} steps in contact)",
+        ]
+    else:
+        lines += [
+            f"  {ans.status}: no damping delivers it; the nearest mean {name} met is {ans.nearest:.6g}",
+            f"  the largest step found that reaches the target: {ans.timestep_reachable:.6g} s",
+            "  (the block above is the continuous law's)",
+        ]
+    lines.append(
+        f"  the continuous law's parameters would deliver {ans.continuous_mean:.6g} "
+        f"({ans.continuous_minimum:.6g} to {ans.continuous_maximum:.6g}) at this step"
+    )
+    if ans.verify:
+        v = ans.verify
+        lines.append(
+            f"  verified in {ans.engine} {v['version']} at {v['phases']} phases: mean {v['mean']:.6g}, "
+            f"{v['minimum']:.6g} to {v['maximum']:.6g} ({v['seconds']:.3g} s)"
+        )
+    return lines
 
 
 def block_lines(engine, params):
@@ -135,7 +171,7 @@ def block_lines(engine, params):
 
 def as_plain_data(cp: ContactParameters) -> dict:
     """The fields as plain data (``--json``): arrays as lists, tuples as lists."""
-    from dataclasses import fields
+    from dataclasses import fields, is_dataclass
 
     def plain(value):
         if isinstance(value, dict):
@@ -144,6 +180,8 @@ def as_plain_data(cp: ContactParameters) -> dict:
             return [plain(v) for v in value]
         if isinstance(value, np.ndarray):
             return value.tolist()
+        if is_dataclass(value):
+            return {f.name: plain(getattr(value, f.name)) for f in fields(value)}
         return value
 
     return {f.name: plain(getattr(cp, f.name)) for f in fields(cp)}

@@ -33,8 +33,8 @@ with the ``relaxation_time`` tau (default 0.1 s), and a near-rigid regularisatio
 that takes over when ``h sqrt(k/m)`` exceeds about 2 pi.  It is not this map.
 
 Parameters ``p`` (float64, the engine's own units), slots named below: each geometry's values, as
-``AddContactMaterial`` takes them (the registry solves for the ball's ``hunt_crossley_dissipation``
-with the ground's given).  A whole drop through this map is ``stepping.drop.drop_drake``.  Importing this module does
+``AddContactMaterial`` takes them (the registry's inverse gives both geometries the same
+``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.  Importing this module does
 not need Drake.
 """
 

@@ -40,7 +40,7 @@ class StepInverse:
     Attributes
     ----------
     damping : the engine's own damping parameter (NaN when out of reach).
-    p : the engine's parameters with it (``damping`` slot set; zero damping when out of reach).
+    p : the engine's parameters with it (``damping`` slots set; zero damping when out of reach).
     stats : ``PhaseStats`` at ``p``: mean (the target within ``MEAN_TOL``), range, steps.
     status : "ok", "unreachable" (no damping delivers the target at this step) or "not_converged".
     nearest : the mean nearest the target that the damping scan met, when unreachable.
@@ -75,7 +75,7 @@ def damping_for(
     engine : str
         A name of ``registry.STEPPERS``.
     p : array
-        The engine's parameters (the damping slot's value is ignored).
+        The engine's parameters (the damping slots' values are ignored).
     timestep, approach_speed, accel : float
         Step (s), touchdown speed (m/s), load acceleration pressing in (m/s^2).
     target : float
@@ -92,11 +92,9 @@ def damping_for(
     p, h, v, a = check_scene(p, timestep, approach_speed, accel)
     target = float(check_range("target", target, 0.0, 1.0, lo_open=True, hi_open=True))
     check_restitution(restitution)
-    k = s.damping_slot
-
     def with_damping(c):
         q = p.copy()
-        q[k] = c
+        q[list(s.damping_slots)] = c
         return q
 
     top, st0 = _mean(engine, with_damping(0.0), h, v, a, restitution)
@@ -154,15 +152,18 @@ def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic"):
 
 
 def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
-    """The largest stiffness below ``p``'s at which some damping delivers the target at step ``h``."""
+    """The largest stiffness below ``p``'s at which some damping delivers the target at step ``h``.
+
+    The stiffness slots keep their ratios; the value returned is the first slot's.
+    """
     s = stepper(engine)
-    if s.stiffness_slot is None:
+    if not s.stiffness_slots:
         return None
-    k = s.stiffness_slot
+    k = list(s.stiffness_slots)
 
     def reaches(x):
         q = p.copy()
-        q[k] = x
+        q[k] = x * p[k] / p[k[0]]
         return _solved(engine, q, h, v, a, target, restitution)
 
-    return _largest(reaches, float(p[k]))
+    return _largest(reaches, float(p[k[0]]))

@@ -80,3 +80,14 @@ def pack(stiffness, damping, impedance, diag_ratio=1.0):
     p = np.empty(N_SLOTS)
     p[STIFFNESS], p[DAMPING], p[IMPEDANCE], p[DIAG_RATIO] = stiffness, damping, impedance, diag_ratio
     return p
+
+
+def from_block(block, mass, radius):
+    """``p`` from the MuJoCo block of ``contact_parameters`` (direct-mode ``solref``, ``solimp``)."""
+    del mass, radius  # per unit mass, and the map needs no geometry
+    return pack(-block["solref"][0], -block["solref"][1], block["solimp"][0])
+
+
+def law_damping(p):
+    """The law's damping ratio zeta = damping / (2 sqrt(stiffness)) of ``p``."""
+    return p[DAMPING] / (2.0 * math.sqrt(p[STIFFNESS]))

@@ -34,8 +34,8 @@ In the penetrating branch the impulse is ``lambda = -h (k z' + c w')`` with the 
 ``(z', w')``: an implicit spring-dashpot.  The speculative branch gives ``lambda = -(h k + c) z'``.
 
 Parameters ``p`` (float64, the engine's own units), slots named below: the ball's and the plane's
-values apart, as PyBullet's ``changeDynamics`` takes them (the registry solves for the ball's
-``contactDamping``; a plane left unset keeps Bullet's defaults).  A whole drop through this map is
+values apart, as PyBullet's ``changeDynamics`` takes them (the registry's inverse gives both
+bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).  A whole drop through this map is
 ``stepping.drop.drop_pybullet``.  Importing this module does
 not need PyBullet.
 """
@@ -71,8 +71,6 @@ BREAKING = 5  # the manifold's contact breaking threshold, m (``breaking_thresho
 SLOP = 6  # the solver's linear slop, m
 N_PARAMS = 7
 SLOT_NAMES = ("mass", "stiffness_ball", "damping_ball", "stiffness_ground", "damping_ground", "breaking", "slop")
-# The radius (m) that the default breaking threshold assumes (``DropScene``'s).
-DEFAULT_RADIUS = 0.05
 
 
 def breaking_threshold(radius, factor=BREAKING_FACTOR):
@@ -89,16 +87,6 @@ def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_gr
     p[BREAKING] = breaking_threshold(radius)
     p[SLOP] = LINEAR_SLOP
     return p
-
-
-def defaults(radius=DEFAULT_RADIUS):
-    """Slot values a caller may leave out: the plane unset (Bullet's values), threshold and slop."""
-    return {
-        "stiffness_ground": UNSET_STIFFNESS,
-        "damping_ground": UNSET_DAMPING,
-        "breaking": breaking_threshold(radius),
-        "slop": LINEAR_SLOP,
-    }
 
 
 def contact_time(p):

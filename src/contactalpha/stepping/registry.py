@@ -25,13 +25,18 @@ class Stepper:
     integrators : the engine's integrators the map reproduces.
     timestep : the engine's default step, s.
     slots : names of ``p``'s slots, in order (the map module's int constants).
-    damping_slot : the slot of the engine's own damping parameter (what the inverse solves for).
-    stiffness_slot : the slot of its stiffness (an unreachable target's remedy), or None.
+    damping_slots : the slots of the engine's own damping parameter (what the inverse solves for;
+        all of them take the same value, e.g. both bodies' values of a pair).
+    stiffness_slots : the slots of its stiffness (an unreachable target's remedy); may be empty.
     defaults : slot values used when a caller gives none (name -> value).
     contact_time : ``p -> s``, the contact's time scale (sizes step limits and step searches).
     drop : the interface's ``drop_<engine>(p, h, phase, v_in, accel, max_steps)``; its e_N and
         status agree with the generic ``drop.run_drop`` on the same map (tests/stepping).
     source : where the map was read from (files and functions of the engine's source).
+    from_block : ``(block, mass, radius) -> p`` from the engine's block of ``contact_parameters``
+        (``adapters``' ``parameters``), or None where the front door does not step this engine.
+    law_damping : ``p -> the law's dimensionless damping`` that the adapter's ``parameters``
+        turn back into the engine's block, or None likewise.
     """
 
     name: str
@@ -39,12 +44,14 @@ class Stepper:
     integrators: tuple
     timestep: float
     slots: tuple
-    damping_slot: int
-    stiffness_slot: int | None
+    damping_slots: tuple
+    stiffness_slots: tuple
     defaults: dict
     contact_time: Callable
     drop: Callable
     source: str
+    from_block: Callable | None = None
+    law_damping: Callable | None = None
 
     def pack(self, **values):
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
@@ -69,11 +76,13 @@ STEPPERS = (
         integrators=mujoco_map.INTEGRATORS,
         timestep=mujoco_map.TIMESTEP,
         slots=mujoco_map.SLOT_NAMES,
-        damping_slot=mujoco_map.DAMPING,
-        stiffness_slot=mujoco_map.STIFFNESS,
+        damping_slots=(mujoco_map.DAMPING,),
+        stiffness_slots=(mujoco_map.STIFFNESS,),
         defaults={"diag_ratio": 1.0},
         contact_time=mujoco_map.contact_time,
         drop=drop_mujoco,
+        from_block=mujoco_map.from_block,
+        law_damping=mujoco_map.law_damping,
         source="MuJoCo src/engine: engine_core_constraint.c (mj_diagApprox, getimpedance, "
         "mj_makeImpedance, mj_referenceConstraint), engine_collision_driver.c (con->exclude), "
         "engine_forward.c (mj_EulerSkip, mj_implicitSkip, mj_advance)",
@@ -84,9 +93,9 @@ STEPPERS = (
         integrators=pybullet_map.INTEGRATORS,
         timestep=pybullet_map.TIMESTEP,
         slots=pybullet_map.SLOT_NAMES,
-        damping_slot=pybullet_map.DAMPING_BALL,
-        stiffness_slot=pybullet_map.STIFFNESS_BALL,
-        defaults=pybullet_map.defaults(),
+        damping_slots=(pybullet_map.DAMPING_BALL, pybullet_map.DAMPING_GROUND),
+        stiffness_slots=(pybullet_map.STIFFNESS_BALL, pybullet_map.STIFFNESS_GROUND),
+        defaults={"slop": pybullet_map.LINEAR_SLOP},
         contact_time=pybullet_map.contact_time,
         drop=drop_pybullet,
         source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
@@ -102,8 +111,8 @@ STEPPERS = (
         integrators=drake_map.APPROXIMATIONS,
         timestep=drake_map.TIMESTEP,
         slots=drake_map.SLOT_NAMES,
-        damping_slot=drake_map.DISSIPATION_BALL,
-        stiffness_slot=drake_map.STIFFNESS_BALL,
+        damping_slots=(drake_map.DISSIPATION_BALL, drake_map.DISSIPATION_GROUND),
+        stiffness_slots=(drake_map.STIFFNESS_BALL, drake_map.STIFFNESS_GROUND),
         defaults={},
         contact_time=drake_map.contact_time,
         drop=drop_drake,

@@ -62,7 +62,7 @@ def step_for_tolerance(engine, p, approach_speed, accel, target, tol, restitutio
     engine : str
         A name of ``registry.STEPPERS``.
     p : array
-        The engine's parameters (the damping slot is solved for at every step).
+        The engine's parameters (the damping slots are solved for at every step).
     approach_speed, accel : float
         Touchdown speed (m/s), load acceleration pressing in (m/s^2).
     target : float

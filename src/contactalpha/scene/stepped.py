@@ -1,0 +1,141 @@
+"""The front door at an engine's own step: parameters for the mean over the touchdown phase.
+
+``contact_parameters(..., engine=NAME, timestep=h)`` first solves the continuous law as without a
+step, then, through the engine's discrete map (``contactalpha.stepping``): what those parameters
+deliver at ``h`` (the phase mean, its range), the engine's own damping whose phase mean is the
+target (``stepping.inverse``), and what that delivers.  The engine's block of ``engines`` then
+holds the stepped parameters; the law's ``damping`` and ``physical_damping`` stay the continuous
+law's.  ``SteppedAnswer`` carries the rest; ``verify`` runs the installed engine at N phases.
+"""
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from contactalpha.adapters.contract import DropScene
+from contactalpha.adapters.registry import adapter
+from contactalpha.stepping.delivered import over_phase
+from contactalpha.stepping.inverse import damping_for
+from contactalpha.stepping.registry import stepper
+from contactalpha.validation import check_count, check_scalar
+
+from .law_scene import EngineScene
+
+# The word that asks for the engine's default step.
+DEFAULT_STEP = "default"
+# Radius of the sphere an engine's verification drop uses when the scene gives none, m.
+VERIFY_RADIUS = 0.05
+
+
+@dataclass(frozen=True)
+class SteppedAnswer:
+    """What the engine delivers at its step, over a uniformly random touchdown phase.
+
+    Attributes
+    ----------
+    engine, timestep : the engine and its step, s.
+    restitution : "kinematic" (e_N) or "energetic" (eps): what ``target`` and the statistics are.
+    target : the restitution asked for.
+    damping : the engine's own damping for the phase mean (``engines[engine]`` holds its block).
+    law_damping : the same as the law's dimensionless damping (zeta for MuJoCo).
+    mean, minimum, maximum, std : the restitution over the phase with it (NaN when unreachable).
+    steps_min, steps_max : steps in contact.
+    status : "ok", "unreachable" or "not_converged" (``stepping.inverse``).
+    nearest : when unreachable, the mean nearest the target the step can deliver.
+    timestep_reachable : when unreachable, the largest step that reaches the target, s.
+    continuous_mean, continuous_minimum, continuous_maximum : what the continuous law's
+        parameters deliver at this step (the error the step makes without this correction).
+    verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
+        installed engine, or None.
+    """
+
+    engine: str
+    timestep: float
+    restitution: str
+    target: float
+    damping: float
+    law_damping: float
+    mean: float
+    minimum: float
+    maximum: float
+    std: float
+    steps_min: int
+    steps_max: int
+    status: str
+    nearest: float
+    timestep_reachable: float
+    continuous_mean: float
+    continuous_minimum: float
+    continuous_maximum: float
+    verify: dict | None = None
+
+
+def resolve_timestep(engine, timestep):
+    """The step in s: ``timestep``, or the engine's default for ``"default"``; ValueError otherwise."""
+    s = stepper(engine)
+    if isinstance(timestep, str):
+        if timestep != DEFAULT_STEP:
+            raise ValueError(f"timestep = {timestep!r} is neither a step in s nor {DEFAULT_STEP!r}")
+        return s.timestep
+    return check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
+
+
+def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius, target, restitution):
+    """``cp`` with the engine's block for the phase mean at ``timestep`` and ``stepped`` filled."""
+    if engine is None:
+        raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
+    s = stepper(engine)
+    if s.from_block is None or s.law_damping is None:
+        raise ValueError(f"engine = {engine!r} has a step map but no front door at its step yet")
+    h = resolve_timestep(engine, timestep)
+    if accel <= 0.0:
+        raise ValueError("timestep needs a load pressing the bodies together: accel or force > 0")
+    p0 = s.from_block(cp.engines[engine], mass, radius)
+    before = over_phase(engine, p0, h, approach_speed, accel)
+    start = float(p0[s.damping_slots[0]])
+    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution, start=start)
+    mean, lo, hi = inv.stats.of(restitution) if inv.status == "ok" else (math.nan,) * 3
+    b_mean, b_lo, b_hi = before.of(restitution)
+    ok = inv.status == "ok"
+    zeta = float(s.law_damping(inv.p)) if ok else math.nan
+    engines = dict(cp.engines)
+    if ok:
+        a = adapter(engine)
+        settings = replace(a.settings, timestep=h)
+        engines[engine] = a.parameters(zeta, EngineScene(mass, stiffness, approach_speed, radius), settings)
+    answer = SteppedAnswer(
+        engine=engine, timestep=h, restitution=restitution, target=float(target),
+        damping=float(inv.damping), law_damping=zeta,
+        mean=float(mean), minimum=float(lo), maximum=float(hi),
+        std=float(inv.stats.std if restitution == "kinematic" else inv.stats.eps_std) if ok else math.nan,
+        steps_min=inv.stats.steps_min, steps_max=inv.stats.steps_max, status=inv.status,
+        nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
+        continuous_mean=float(b_mean), continuous_minimum=float(b_lo), continuous_maximum=float(b_hi),
+    )  # fmt: skip
+    return replace(cp, engines=engines, stepped=answer)
+
+
+def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):
+    """``cp`` with ``stepped.verify``: the installed engine's drop at ``phases`` touchdown phases.
+
+    The engine runs the block of ``cp.engines`` (the stepped parameters) at the stepped answer's
+    step, the whole load as gravity; e_N per phase is read by the adapter.
+    """
+    ans = cp.stepped
+    if ans is None or ans.status != "ok":
+        raise ValueError("verify needs a stepped answer that reached the target (give timestep=)")
+    phases = check_count("phases", phases, 1, 100_000)
+    a = adapter(ans.engine)
+    settings = replace(a.settings, timestep=ans.timestep, phases=phases)
+    scene = DropScene(mass, stiffness, approach_speed, gravity=accel, force=0.0,
+                      radius=VERIFY_RADIUS if radius is None else radius)  # fmt: skip
+    model = a.build_drop(scene, cp.engines[ans.engine], settings)
+    samples = a.run(model, scene, settings)
+    a.measure(samples, scene)
+    e = np.asarray(samples.extra["e_n_phases"], dtype=float)
+    measured = {
+        "phases": phases, "mean": float(e.mean()), "minimum": float(e.min()), "maximum": float(e.max()),
+        "seconds": float(samples.seconds), "version": a.version(),
+    }  # fmt: skip
+    return replace(cp, stepped=replace(ans, verify=measured))
