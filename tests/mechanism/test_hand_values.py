@@ -22,6 +22,9 @@ def _check(contact, case):
     assert contact.approach_speed == pytest.approx(0.8, rel=1e-12)
     assert abs(contact.gap) < 1e-12
     assert abs(contact.velocity_accel) < 1e-12  # no Coriolis term along these approaches
+    assert contact.point == pytest.approx(hand.contact_points()[case.name], abs=1e-12)
+    normal = [1.0, 0.0, 0.0] if case.name == "pendulum" else [0.0, 0.0, 1.0]
+    assert contact.normal == pytest.approx(normal, abs=1e-12)
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)

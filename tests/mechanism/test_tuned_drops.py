@@ -138,3 +138,13 @@ def test_pybullet_script_sets_both_bodies(pybullet, mujoco, tmp_path):
             assert info[8] == pytest.approx(got.parameters["contactDamping"], rel=1e-12)
     finally:
         pybullet.disconnect(client)
+
+
+def test_tune_check_in_drake(pydrake, tmp_path):
+    """``check=True`` with Drake: the tuned SDF dropped on the continuous plant."""
+    case = CASES[3]
+    k = _stiffness(case, ".sdf", case.qvel_drake)
+    out = tmp_path / "b.sdf"
+    got = tune(case.path(".sdf"), case.pair, 0.6, qvel=case.qvel_drake, stiffness=k, output=out, check=True)
+    assert got.engine == "drake"
+    assert got.delivered == pytest.approx(0.6, abs=TOL)

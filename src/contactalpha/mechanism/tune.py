@@ -163,7 +163,8 @@ def _write_mujoco(contact, output, params):
     compiled = None
     if Path(contact.model).suffix.lower() == ".urdf":
         compiled = _compiled_mjcf(contact.model, output)
-    return write.write_mjcf(contact.model, output, contact.pair, attrs, compiled_xml=compiled)
+    return write.write_mjcf(contact.model, output, contact.pair, attrs, compiled_xml=compiled,
+                            stamp=_stamp(contact))  # fmt: skip
 
 
 def _compiled_mjcf(model, output):
@@ -197,7 +198,11 @@ def _drake_tune(contact, target, stiffness, impedance, timestep, discrete):
 
 def _write_drake(contact, output, params):
     keep = {k: params[k] for k in ("point_contact_stiffness", "hunt_crossley_dissipation")}
-    return write.write_drake(contact.model, output, contact.pair, keep)
+    return write.write_drake(contact.model, output, contact.pair, keep, stamp=_stamp(contact))
+
+
+def _stamp(contact):
+    return f"tune of {Path(contact.model).name}, pair {contact.pair[0]} / {contact.pair[1]}"
 
 
 def _pybullet_tune(contact, target, stiffness, impedance, timestep, discrete):
