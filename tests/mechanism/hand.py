@@ -85,3 +85,18 @@ def box():
     sxn = np.cross(s, [0.0, 0.0, 1.0])
     i_world = R @ np.diag(b["inertia"]) @ R.T
     return 1.0 / (1.0 / b["m"] + sxn @ np.linalg.solve(i_world, sxn)), G
+
+
+def contact_points():
+    """Where each pair touches, world axes: the tip's wall side, the capsule's lower end, the foot's
+    lowest point, the box's lowest corner."""
+    p, c, g, b = PEND, CAPS, LEG, BOX
+    R = box_rotation()
+    corners = [R @ x for x in make_models.box_corners(b["half"])]
+    low = min(corners, key=lambda x: x[2])
+    return {
+        "pendulum": np.array([-p["r"], 0.0, 1.0 - p["L"]]),
+        "capsule": np.array([-c["hl"] * math.sin(c["beta"]), 0.0, 0.0]),
+        "leg": np.array([-g["l1"] * math.sin(g["q1"]) - g["l2"] * math.sin(g["q1"] + g["q2"]), 0.0, 0.0]),
+        "box": np.array([low[0], low[1], 0.0]),
+    }

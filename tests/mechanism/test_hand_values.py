@@ -22,6 +22,9 @@ def _check(contact, case):
     assert contact.approach_speed == pytest.approx(0.8, rel=1e-12)
     assert abs(contact.gap) < 1e-12
     assert abs(contact.velocity_accel) < 1e-12  # no Coriolis term along these approaches
+    assert contact.point == pytest.approx(hand.contact_points()[case.name], abs=1e-12)
+    normal = [1.0, 0.0, 0.0] if case.name == "pendulum" else [0.0, 0.0, 1.0]
+    assert contact.normal == pytest.approx(normal, abs=1e-12)
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
@@ -69,3 +72,28 @@ def test_speed_gives_least_energy_velocity(mujoco):
     contact = read_contact(case.path(".xml"), case.pair, speed=1.25)
     assert contact.approach_speed == 1.25
     assert -(contact.jacobian @ contact.qvel) == pytest.approx(1.25, rel=1e-12)
+
+
+@pytest.mark.parametrize("reader", ["mujoco", "drake"])
+def test_urdf_leg_reads_hand_values(mujoco, pydrake, reader):
+    """The same leg in URDF, through MuJoCo's compiler and through Drake's parser."""
+    case = CASES[2]
+    contact = read_contact(case.path(".urdf"), case.pair, reader=reader, qvel=case.qvel_mujoco)
+    assert contact.engine == reader
+    _check(contact, case)
+
+
+def test_urdf_tuned_for_mujoco_is_the_compiled_mjcf_with_the_pair(mujoco, tmp_path):
+    from contactalpha.mechanism.tune import tune
+
+    case = CASES[2]
+    out = tmp_path / "leg_tuned.xml"
+    got = tune(
+        case.path(".urdf"), case.pair, 0.6, engine="mujoco", qvel=case.qvel_mujoco, stiffness=1e6, output=out
+    )
+    text = out.read_text()
+    assert text.startswith("<mujoco") and text.count("<pair") == 1
+    again = read_contact(out, case.pair, qvel=case.qvel_mujoco)
+    # MuJoCo writes its compiled MJCF with 6 significant digits (poses, masses): m_eff to ~1e-6
+    assert again.effective_mass == pytest.approx(hand.leg()[0], rel=1e-5)
+    assert again.engine_row["solref"] == pytest.approx(got.parameters["solref"], rel=1e-12)

@@ -117,3 +117,17 @@ def test_cli_errors_are_one_line(tmp_path, capsys, argv, message):
     err = capsys.readouterr().err
     assert code == 2
     assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_written_files_keep_comments_and_carry_a_stamp(tmp_path):
+    src = tmp_path / "m.xml"
+    src.write_text(MJCF.replace("<worldbody>", "<!-- the user's note --><worldbody>"))
+    text = write_mjcf(src, tmp_path / "t.xml", ("a", "b"), {}, stamp="tune of m.xml").read_text()
+    assert "<!-- the user's note -->" in text and "tune of m.xml (contactalpha" in text
+
+
+def test_malformed_model_is_a_value_error(tmp_path):
+    src = tmp_path / "m.sdf"
+    src.write_text("<sdf><model>")
+    with pytest.raises(ValueError, match="not well-formed XML"):
+        write_drake(src, tmp_path / "t.sdf", ("a", "b"), {})

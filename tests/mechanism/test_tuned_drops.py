@@ -6,6 +6,7 @@ left byte for byte.  Drake: the tuned SDF's proximity properties on the continuo
 """
 
 import hashlib
+import math
 import re
 import warnings
 
@@ -87,3 +88,63 @@ def test_cli_tune_refine_and_mass_warning(mujoco, tmp_path, capsys):
     text = capsys.readouterr().out
     delivered = float(text.split("own drop delivers e_N = ")[1].split()[0])
     assert delivered == pytest.approx(0.6, abs=5e-4)
+
+
+@pytest.mark.parametrize("case", [CASES[2], CASES[3]], ids=lambda c: c.name)
+def test_discrete_answer_at_a_coarse_step(mujoco, case, tmp_path):
+    """40 steps per contact: the phase-mean inverse of MuJoCo's step map (issue 33's ``stepping``)
+    with the row's diagA m_eff; MuJoCo's own drops of the mechanism follow the map phase by phase."""
+    import numpy as np
+
+    from contactalpha.stepping import kernels
+    from contactalpha.stepping.drop import run_drop
+
+    h = math.pi / case.omega / 40
+    k = _stiffness(case, ".xml", case.qvel_mujoco)
+    out = tmp_path / "tuned.xml"
+    got = tune(case.path(".xml"), case.pair, 0.6, qvel=case.qvel_mujoco, stiffness=k, output=out, timestep=h)
+    step = got.details.discrete
+    assert abs(step.continuous.mean - 0.6) > 1e-3  # the continuous answer misses at this step
+    assert step.inverse.status == "ok" and step.inverse.stats.mean == pytest.approx(0.6, abs=1e-6)
+    assert got.parameters["solref"][1] == pytest.approx(-step.inverse.damping, rel=1e-15)
+    c = got.contact
+    phases = (np.arange(16) + 0.5) / 16
+    engine = [mujoco_drop(str(out), case.pair, c.qpos, c.qvel, timestep=h, phase=f).e_n for f in phases]
+    by_map = [
+        run_drop(kernels.MUJOCO, step.inverse.p, h, f, c.approach_speed, c.accel, 10**6)[0] for f in phases
+    ]
+    assert np.max(np.abs(np.array(engine) - by_map)) < 1.5e-3
+    assert np.mean(engine) == pytest.approx(0.6, abs=2e-3)
+
+
+def test_pybullet_script_sets_both_bodies(pybullet, mujoco, tmp_path):
+    """The written script runs and puts 2k and c/2 on both sides (PyBullet's pair rule k/2, 2c)."""
+    import runpy
+
+    case = CASES[2]
+    out = tmp_path / "leg_tuned.py"
+    got = tune(case.path(".urdf"), case.pair, 0.6, engine="pybullet", qvel=case.qvel_mujoco, stiffness=1e5,
+               output=out)  # fmt: skip
+    assert got.parameters["pair_stiffness"] == 1e5
+    script = runpy.run_path(str(out))
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(case.path(".urdf"), useFixedBase=True, physicsClientId=client)
+        floor, shank = 0, 3  # links: ground, hip, thigh, shank
+        script["apply"](body, floor, body, shank, client)
+        for link in (floor, shank):
+            info = pybullet.getDynamicsInfo(body, link, physicsClientId=client)
+            assert info[9] == pytest.approx(got.parameters["contactStiffness"], rel=1e-12)
+            assert info[8] == pytest.approx(got.parameters["contactDamping"], rel=1e-12)
+    finally:
+        pybullet.disconnect(client)
+
+
+def test_tune_check_in_drake(pydrake, tmp_path):
+    """``check=True`` with Drake: the tuned SDF dropped on the continuous plant."""
+    case = CASES[3]
+    k = _stiffness(case, ".sdf", case.qvel_drake)
+    out = tmp_path / "b.sdf"
+    got = tune(case.path(".sdf"), case.pair, 0.6, qvel=case.qvel_drake, stiffness=k, output=out, check=True)
+    assert got.engine == "drake"
+    assert got.delivered == pytest.approx(0.6, abs=TOL)

@@ -160,6 +160,8 @@ def contact_row(model, data, g1, g2):
             "friction": tuple(float(x) for x in c.friction),
             "geom_margin": float(max(saved[0])),
             "geom_gap": float(max(model.geom_gap[[g1, g2]])),
+            "timestep": float(model.opt.timestep),
+            "integrator": mj.mjtIntegrator(model.opt.integrator).name.removeprefix("mjINT_").lower(),
         }
         return np.array(c.pos), sign * np.array(c.frame[:3]), gap, row
     finally:
@@ -220,7 +222,9 @@ class MechanismDrop:
         return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
 
 
-def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None):
+def mujoco_drop(
+    model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None, phase=0.0
+):
     """Run MuJoCo from the touchdown state ``(qpos, qvel)`` until the pair separates.
 
     Parameters
@@ -232,6 +236,9 @@ def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=
     duration : longest time run, s.
     forces : {body: (fx, fy, fz)} constant forces at the bodies' centres of mass, N, world axes.
     pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
+    phase : in [0, 1): the first step starts ``phase`` of a step before touchdown, on the free
+        motion (``stepping.flight.touchdown_state``'s convention: the stored velocity is that of
+        half a step later, as semi-implicit Euler stores it).
     """
     mj = _mujoco()
     m = load_model(model)
@@ -247,6 +254,8 @@ def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=
     set_state(m, d, qpos, qvel)
     for body, force in (forces or {}).items():
         d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)
+    speed0 = -float(_gap_rate_at_start(m, d.qpos, d.qvel, g1, g2))
+    _back_in_time(m, d, float(phase) * float(m.opt.timestep))
     h = float(m.opt.timestep)
     nmax = int(math.ceil(duration / h))
     gaps, inv_masses = [], []
@@ -266,10 +275,22 @@ def mujoco_drop(model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=
             break
         mj.mj_step2(m, d)
     t = np.arange(len(gaps)) * h
-    speed0 = -float(_gap_rate_at_start(m, qpos, qvel, g1, g2))
     exit_speed, t_exit = rebound_speed(t, gaps)
     rng = (min(inv_masses), max(inv_masses)) if inv_masses else (math.nan, math.nan)
     return MechanismDrop(exit_speed / speed0, exit_speed, t_exit, inv_touch, rng, len(inv_masses), h)
+
+
+def _back_in_time(m, d, tc):
+    """Move ``d`` back by ``tc`` on its free motion; store the velocity half a step later."""
+    mj = _mujoco()
+    mj.mj_forward(m, d)
+    qacc = np.array(d.qacc_smooth)
+    h = float(m.opt.timestep)
+    mean = np.array(d.qvel) - 0.5 * tc * qacc
+    qpos = np.array(d.qpos)
+    mj.mj_integratePos(m, qpos, mean, -tc)
+    d.qpos[:] = qpos
+    d.qvel[:] = d.qvel - tc * qacc + 0.5 * h * qacc
 
 
 def _gap_rate_at_start(m, qpos, qvel, g1, g2):

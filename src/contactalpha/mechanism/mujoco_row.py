@@ -43,9 +43,15 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.mujoco_soft import IMPEDANCE, direct_mode
 from contactalpha.laws import get_law
 from contactalpha.scene.parameters import contact_parameters
+from contactalpha.stepping.delivered import over_phase
+from contactalpha.stepping.inverse import damping_for
+from contactalpha.stepping.registry import stepper
 
 # The law MuJoCo's soft contact applies (``adapters.mujoco_soft``).
 MUJOCO_LAW = "mujoco_soft"
+# |phase mean - target| of the continuous answer at the model's step above which ``tune`` gives
+# the discrete answer (the step's own phase-mean inverse) instead.
+DISCRETE_TOL = 1e-3
 
 
 def effective_impedance(impedance, inv_mass, diag_approx):
@@ -63,7 +69,8 @@ class MuJoCoTuning:
     ``solref``/``solimp`` deliver the target through MuJoCo's own row (``diagA``); ``free_body``
     holds the solref the free-body mapping gives (exact only where ``diagA = J M^-1 J^T``).
     ``impedance`` is solimp's d, ``effective_impedance`` d_e, ``zeta`` the law's damping ratio at
-    d_e, ``xi`` the load factor, ``stiffness`` k (N/m), ``seen`` (k_s, b_s) per unit mass.
+    d_e, ``xi`` the load factor, ``stiffness`` k (N/m), ``seen`` (k_s, b_s) per unit mass;
+    ``discrete`` the ``DiscreteAnswer`` at MuJoCo's step (set by ``tune``), or None.
     """
 
     solref: tuple
@@ -75,6 +82,7 @@ class MuJoCoTuning:
     xi: float
     stiffness: float
     seen: tuple
+    discrete: object = None
 
 
 def law_scene(contact, stiffness):
@@ -148,3 +156,38 @@ def current_stiffness(contact):
     K = -ref[0] / (d * d) if ref[0] <= 0.0 else 1.0 / (d * d * ref[0] ** 2 * ref[1] ** 2)
     d_e = effective_impedance(d, 1.0 / contact.effective_mass, row["diagA"])
     return contact.effective_mass * d_e * d * K
+
+
+@dataclass(frozen=True)
+class DiscreteAnswer:
+    """MuJoCo's step for the contact.
+
+    ``continuous`` (``PhaseStats`` of the continuous answer at the step), ``inverse``
+    (``stepping.inverse.StepInverse``: the damping whose phase mean is the target), ``timestep``
+    s, and ``diag_ratio`` = diagA m_eff (the map's mechanism slot).
+    """
+
+    continuous: object
+    inverse: object
+    timestep: float
+    diag_ratio: float
+
+
+def discrete_answer(contact, tuning, target, timestep):
+    """The phase-mean inverse of MuJoCo's step map for the contact (``stepping``), or None.
+
+    The map is a body on a plane with the row's ``diag_ratio = diagA m_eff``; the stiffness and
+    impedance stay those of ``tuning``.  None where the map does not apply: no pressing load (the
+    map needs one), or an integrator it does not reproduce (``contact.engine_row["integrator"]``).
+    """
+    s = stepper("mujoco")
+    integrator = contact.engine_row.get("integrator", "euler")
+    if contact.accel <= 0.0 or integrator not in tuple(i.lower() for i in s.integrators):
+        return None
+    ratio = contact.engine_row["diagA"] * contact.effective_mass
+    p = s.pack(stiffness=-tuning.solref[0], damping=-tuning.solref[1], impedance=tuning.impedance,
+               diag_ratio=ratio)  # fmt: skip
+    v, a = contact.approach_speed, contact.accel
+    stats = over_phase("mujoco", p, timestep, v, a)
+    inverse = damping_for("mujoco", p, timestep, v, a, target, start=-tuning.solref[1])
+    return DiscreteAnswer(stats, inverse, float(timestep), ratio)

@@ -12,7 +12,7 @@ the touchdown state: the delivered e_N, and how much the effective mass moves ov
 import importlib.util
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +25,7 @@ from contactalpha.validation import check_range
 from . import write
 from .drake_model import drake_drop, read_drake
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
-from .mujoco_row import current_stiffness, law_scene, mujoco_tuning, solref_for
+from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
@@ -110,9 +110,11 @@ class Tuning:
     drop: object = field(default=None, repr=False)
 
 
-def _mujoco_tune(contact, target, stiffness, impedance):
+def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
+    h = contact.engine_row["timestep"] if timestep is None else float(timestep)
+    step = discrete_answer(contact, t, target, h) if discrete is not False else None
     row = contact.engine_row
     params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
               "friction": row["friction"], "margin": (row["geom_margin"],),
@@ -125,12 +127,34 @@ def _mujoco_tune(contact, target, stiffness, impedance):
         f"free-body mapping (exact only where diagA = J M^-1 J^T): solref = "
         f"({t.free_body['solref'][0]:.9g}, {t.free_body['solref'][1]:.9g})",
     ]
+    if step is not None:
+        st, inv = step.continuous, step.inverse
+        notes.append(
+            f"at MuJoCo's step {h:g} s the law's answer delivers a phase mean {st.mean:.6g} "
+            f"(one drop: {st.minimum:.6g} to {st.maximum:.6g}; {st.steps_min}-{st.steps_max} steps)"
+        )
+        use = discrete is True or abs(st.mean - target) > DISCRETE_TOL
+        if use and inv.status == "ok":
+            params["solref"] = (t.solref[0], -inv.damping)
+            notes.append(
+                f"discrete answer (phase-mean inverse of MuJoCo's step): solref[1] = "
+                f"{-inv.damping:.9g}; one drop sees {inv.stats.minimum:.6g} to {inv.stats.maximum:.6g}"
+            )
+        elif use:
+            notes.append(
+                f"no damping reaches e_N {target} at this step ({inv.status}); "
+                f"largest step that reaches it: {inv.timestep_reachable:.3g} s"
+            )
+    elif discrete is not False:
+        notes.append(
+            "MuJoCo's step map does not apply (no pressing load, or its integrator): continuous answer"
+        )
     if row["condim"] > 1:
         notes.append(
             f"condim {row['condim']}: the correction is exact for the normal row "
             "(condim 1 or an elliptic cone)"
         )
-    return params, notes, t
+    return params, notes, (t if step is None else replace(t, discrete=step))
 
 
 def _write_mujoco(contact, output, params):
@@ -139,7 +163,8 @@ def _write_mujoco(contact, output, params):
     compiled = None
     if Path(contact.model).suffix.lower() == ".urdf":
         compiled = _compiled_mjcf(contact.model, output)
-    return write.write_mjcf(contact.model, output, contact.pair, attrs, compiled_xml=compiled)
+    return write.write_mjcf(contact.model, output, contact.pair, attrs, compiled_xml=compiled,
+                            stamp=_stamp(contact))  # fmt: skip
 
 
 def _compiled_mjcf(model, output):
@@ -164,7 +189,7 @@ def _front_door(contact, target, stiffness, engine):
     return cp, cp.engines[engine]
 
 
-def _drake_tune(contact, target, stiffness, impedance):
+def _drake_tune(contact, target, stiffness, impedance, timestep, discrete):
     cp, params = _front_door(contact, target, stiffness, "drake")
     notes = [f"law {cp.law}: alpha = {cp.damping:.12g} at xi = {cp.xi:.9g}; each geometry gets 2k "
              "and d (Drake combines k1 k2/(k1 + k2), (k2 d1 + k1 d2)/(k1 + k2))"]  # fmt: skip
@@ -173,10 +198,14 @@ def _drake_tune(contact, target, stiffness, impedance):
 
 def _write_drake(contact, output, params):
     keep = {k: params[k] for k in ("point_contact_stiffness", "hunt_crossley_dissipation")}
-    return write.write_drake(contact.model, output, contact.pair, keep)
+    return write.write_drake(contact.model, output, contact.pair, keep, stamp=_stamp(contact))
 
 
-def _pybullet_tune(contact, target, stiffness, impedance):
+def _stamp(contact):
+    return f"tune of {Path(contact.model).name}, pair {contact.pair[0]} / {contact.pair[1]}"
+
+
+def _pybullet_tune(contact, target, stiffness, impedance, timestep, discrete):
     cp, params = _front_door(contact, target, stiffness, "pybullet")
     notes = [f"law {cp.law}: zeta = {cp.damping:.12g} at xi = {cp.xi:.9g} (continuous law at m_eff; "
              "Bullet's own step and its multibody solver are not modelled: check with a drop)"]  # fmt: skip
@@ -229,8 +258,10 @@ def default_output(model, engine=None):
     return Path(model).with_name(Path(model).stem + "_tuned" + suffix)
 
 
-def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
-         impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False):  # fmt: skip
+def tune(
+    model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
+    impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
+):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
     Parameters
@@ -249,7 +280,10 @@ def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, sti
     output : path written (None: nothing written).
     check : drop the tuned model in the engine from touchdown (MuJoCo, Drake; needs ``output``
         for Drake) and report the delivered e_N and the effective mass's change.
-    timestep : MuJoCo's step for the check, s (default the model's).
+    timestep : MuJoCo's step, s (default the model's): the discrete answer's and the check's.
+    discrete : MuJoCo: None uses the phase-mean inverse of MuJoCo's step map (``stepping``) where
+        the continuous answer's phase mean at the step misses the target by more than
+        ``DISCRETE_TOL``; True always, False never.
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
@@ -264,7 +298,7 @@ def tune(model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, sti
         write.check_output(model, output)
     reader = t.reader if t.reader is not None else None
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
-    params, notes, details = t.solve(contact, target, stiffness, impedance)
+    params, notes, details = t.solve(contact, target, stiffness, impedance, timestep, discrete)
     if not contact.at_touch:
         notes.append(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "

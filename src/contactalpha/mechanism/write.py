@@ -3,7 +3,8 @@
 - MJCF: the model with a ``<contact><pair>`` for the two geometries (``solref``, ``solimp``, and
   the geometries' own ``condim``, ``friction``, ``margin`` and ``gap`` as MuJoCo combines them),
   replacing an earlier ``<pair>`` of the same two.  A URDF read by MuJoCo is written as the MJCF
-  MuJoCo compiles from it (``mj_saveLastXML``) with the pair added.
+  MuJoCo compiles from it (``mj_saveLastXML``) with the pair added; MuJoCo writes that file with
+  6 significant digits, so its poses and inertias (and m_eff) differ from the URDF's by ~1e-6.
 - SDF or URDF for Drake: ``<drake:proximity_properties>`` in each of the two ``<collision>``
   elements (Drake has no per-pair parameters; ``internal::CombinePointContactParameters``
   combines the two geometries', so each gets ``2k`` and the dissipation ``d``).
@@ -18,9 +19,26 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from contactalpha.io import write_text_atomic
+from contactalpha.provenance import history_line
 
 DRAKE_NS = "http://drake.mit.edu"
 ET.register_namespace("drake", DRAKE_NS)
+
+
+def _parse(path=None, text=None):
+    """The root element, with the file's comments kept; ValueError naming the file if it is not XML."""
+    parser = ET.XMLParser(target=ET.TreeBuilder(insert_comments=True))
+    try:
+        if text is not None:
+            return ET.fromstring(text, parser=parser)
+        return ET.parse(path, parser=parser).getroot()
+    except ET.ParseError as err:
+        raise ValueError(f"model = {str(path)!r} is not well-formed XML: {err}") from None
+
+
+def _stamp(root, what):
+    """A first comment in ``root``: what was tuned, when, by which version."""
+    root.insert(0, ET.Comment(f" {history_line(what)} "))
 
 
 def check_output(model, output):
@@ -54,13 +72,13 @@ def _fmt(values):
     return " ".join(repr(float(v)) for v in values)
 
 
-def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None):
+def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None, stamp="tuned"):
     """Write the MJCF with a ``<pair>`` of ``pair`` carrying ``attributes`` (name -> tuple or str).
 
     ``compiled_xml``: the MJCF text to start from instead of the file (a URDF's compiled model).
     """
     out = check_output(model_path, output)
-    root = ET.fromstring(compiled_xml) if compiled_xml is not None else ET.parse(model_path).getroot()
+    root = _parse(model_path, compiled_xml)
     if root.tag != "mujoco":
         raise ValueError(f"model = {str(model_path)!r} is not MJCF (its root is <{root.tag}>)")
     _absolute_assets(root, Path(model_path).parent, out.parent)
@@ -73,6 +91,7 @@ def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None):
     elem = ET.SubElement(contact, "pair", {"geom1": pair[0], "geom2": pair[1]})
     for name, value in attributes.items():
         elem.set(name, value if isinstance(value, str) else _fmt(value))
+    _stamp(root, stamp)
     ET.indent(root)
     write_text_atomic(out, ET.tostring(root, encoding="unicode") + "\n")
     return out
@@ -85,11 +104,10 @@ def _collision(root, name):
     return found[0]
 
 
-def write_drake(model_path, output, pair, per_geometry):
+def write_drake(model_path, output, pair, per_geometry, *, stamp="tuned"):
     """Write the SDF/URDF with ``<drake:proximity_properties>`` (``per_geometry``: tag -> value) on both."""
     out = check_output(model_path, output)
-    tree = ET.parse(model_path)
-    root = tree.getroot()
+    root = _parse(model_path)
     for name in pair:
         col = _collision(root, name)
         tag = f"{{{DRAKE_NS}}}proximity_properties"
@@ -102,6 +120,7 @@ def write_drake(model_path, output, pair, per_geometry):
                 elem = ET.SubElement(props, f"{{{DRAKE_NS}}}{key}")
             elem.text = repr(float(value))
     _absolute_uris(root, Path(model_path).parent, out.parent)
+    _stamp(root, stamp)
     ET.indent(root)
     write_text_atomic(out, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
     return out

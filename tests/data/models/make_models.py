@@ -1,6 +1,8 @@
 # ruff: noqa: E501  (model text: one XML element a line)
 """Write the four mechanism test models, in MJCF (MuJoCo) and SDF (Drake), at first touch.
 
+The leg also in URDF, which both MuJoCo and Drake read.
+
 Run from the repository root: ``python tests/data/models/make_models.py``.  The numbers here are
 the ones ``tests/mechanism/hand.py`` derives its values from; each model's default configuration
 (``qpos0``, the SDF's poses) puts its pair exactly at first touch.
@@ -261,8 +263,40 @@ def sdf():
     )
 
 
+def _urdf_inertial(m, inertia, z):
+    return (f'<inertial><origin xyz="0 0 {f(z)}"/><mass value="{f(m)}"/><inertia ixx="{f(inertia)}" '
+            f'iyy="{f(inertia)}" izz="{f(inertia)}" ixy="0" ixz="0" iyz="0"/></inertial>')
+
+
+def urdf():
+    """The leg in URDF (MuJoCo and Drake both read it): a floor box on a link welded to the world."""
+    g = LEG
+    yield "leg", f"""<?xml version="1.0"?>
+<robot name="two_link_leg">
+  <link name="world"/>
+  <link name="ground">
+    <collision name="floor"><origin xyz="0 0 -0.5"/><geometry><box size="4 4 1"/></geometry></collision>
+  </link>
+  <joint name="ground_weld" type="fixed"><parent link="world"/><child link="ground"/></joint>
+  <link name="hip">{_urdf_inertial(g['M0'], g['I0'], 0.0)}</link>
+  <joint name="slide" type="prismatic"><parent link="world"/><child link="hip"/>
+    <origin xyz="0 0 {f(leg_height())}"/><axis xyz="0 0 1"/><limit lower="-10" upper="10" effort="0" velocity="100"/></joint>
+  <link name="thigh">{_urdf_inertial(g['m1'], g['I1'], -g['l1'] / 2)}</link>
+  <joint name="hip_joint" type="continuous"><parent link="hip"/><child link="thigh"/>
+    <origin rpy="0 {f(g['q1'])} 0"/><axis xyz="0 1 0"/></joint>
+  <link name="shank">{_urdf_inertial(g['m2'], g['I2'], -g['l2'] / 2)}
+    <collision name="foot"><origin xyz="0 0 {f(-g['l2'])}"/><geometry><sphere radius="{f(g['r'])}"/></geometry></collision>
+  </link>
+  <joint name="knee" type="continuous"><parent link="thigh"/><child link="shank"/>
+    <origin xyz="0 0 {f(-g['l1'])}" rpy="0 {f(g['q2'])} 0"/><axis xyz="0 1 0"/></joint>
+</robot>
+"""
+
+
 if __name__ == "__main__":
     for name, text in mjcf():
         (HERE / f"{name}.xml").write_text(text)
     for name, text in sdf():
         (HERE / f"{name}.sdf").write_text(text)
+    for name, text in urdf():
+        (HERE / f"{name}.urdf").write_text(text)
