@@ -19,7 +19,7 @@ REACHED = ("ok", "unchanged")
 
 
 def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False, timestep=None, verify=None):  # fmt: skip
+                 radius=None, refine=False, timestep=None, verify=None, progress=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -37,6 +37,8 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
     timestep : float or "default", optional
         The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
         predicted mean and range); ``verify`` N then runs the engine at N phases.
+    progress : callable, optional
+        Told of each drop of the refinement (``contactalpha.progress.Progress``).
 
     Raises
     ------
@@ -63,7 +65,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
             notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
         return cp.block, notes
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
-    params, ref, got = a.calibrate(scene, target)
+    params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:
         raise unreachable_on_drops(a, scene, target, ref)
     return params, [
