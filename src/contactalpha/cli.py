@@ -327,6 +327,7 @@ def _print_engine(args, value, restitution):
         args.engine, value, args.mass, args.stiffness, args.speed, accel,
         restitution=restitution, radius=args.radius, refine=args.refine,
         timestep=args.timestep, verify=args.verify,
+        progress=lambda text: print(f"contactalpha: {text} ...", file=sys.stderr, flush=True),
     )  # fmt: skip
     if args.json:
         print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))

@@ -19,7 +19,7 @@ REACHED = ("ok", "unchanged")
 
 
 def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False, timestep=None, verify=None):  # fmt: skip
+                 radius=None, refine=False, timestep=None, verify=None, progress=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -34,6 +34,8 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Sphere radius, m.
     refine : bool
         Refine on the engine's own drops (stepping engines; needs the engine).
+    progress : callable, optional
+        ``progress(text)`` hears the slow stages (the scans for what would reach an unreachable target).
     timestep : float or "default", optional
         The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
         predicted mean and range); ``verify`` N then runs the engine at N phases.
@@ -65,7 +67,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     params, ref, got = a.calibrate(scene, target)
     if ref.status not in REACHED:
-        raise unreachable_on_drops(a, scene, target, ref)
+        raise unreachable_on_drops(a, scene, target, ref, progress=progress)
     return params, [
         f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
         f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "

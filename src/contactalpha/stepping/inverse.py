@@ -126,7 +126,7 @@ def damping_for(
     return StepInverse(root, q, st, status, math.nan, math.nan, math.nan)
 
 
-def _largest(reaches, x0):
+def largest_reaching(reaches, x0):
     """The largest x < x0 on a geometric scan with ``reaches(x)`` True, refined by bisection; NaN if none."""
     prev, x = x0, x0 * SHRINK
     for _ in range(SHRINK_TRIALS):
@@ -148,7 +148,7 @@ def _solved(engine, p, h, v, a, target, restitution):
 
 def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic"):
     """The largest step below ``h`` at which some damping delivers the target phase mean (NaN if none)."""
-    return _largest(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
+    return largest_reaching(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
 
 
 def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
@@ -166,4 +166,4 @@ def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
         q[k] = x * p[k] / p[k[0]]
         return _solved(engine, q, h, v, a, target, restitution)
 
-    return _largest(reaches, float(p[k[0]]))
+    return largest_reaching(reaches, float(p[k[0]]))
