@@ -10,7 +10,7 @@ import os
 import re
 import sys
 
-from contactalpha.adapters.registry import ENGINE_NAMES
+from contactalpha.adapters.registry import ENGINE_NAMES, adapter
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
@@ -330,7 +330,8 @@ def _print_engine(args, value, restitution):
         progress=lambda text: print(f"contactalpha: {text} ...", file=sys.stderr, flush=True),
     )  # fmt: skip
     if args.json:
-        print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
+        units = getattr(adapter(args.engine), "units", {})
+        print(json_text({"engine": args.engine, "parameters": params, "units": units, "notes": notes}, indent=1))
     else:
         print(format_block(args.engine, params, notes))
     return 0
@@ -361,7 +362,8 @@ def _params(args, parser):
         **target,
     )
     data = as_plain_data(cp) | {
-        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
+        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
+        "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
     print(json_text(data, indent=1) if args.json else format_parameters(cp))
     return 0
