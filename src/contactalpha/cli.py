@@ -331,7 +331,8 @@ def _print_engine(args, value, restitution):
     )  # fmt: skip
     if args.json:
         units = getattr(adapter(args.engine), "units", {})
-        print(json_text({"engine": args.engine, "parameters": params, "units": units, "notes": notes}, indent=1))
+        data = {"engine": args.engine, "parameters": params, "units": units, "notes": notes}
+        print(json_text(data, indent=1))
     else:
         print(format_block(args.engine, params, notes))
     return 0
