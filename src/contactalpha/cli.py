@@ -206,6 +206,7 @@ def build_parser():
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
+    f.add_argument("--quiet", action="store_true", help="no progress lines on stderr (--refine prints them)")
     f.add_argument(
         "--timestep",
         type=_step,
@@ -322,13 +323,15 @@ def _print_engine(args, value, restitution):
     from contactalpha.scene.engine_params import engine_block, format_block
     from contactalpha.scene.parameters import scene_accel
 
+    from contactalpha.progress import Progress
+
     accel = scene_accel(args.mass, args.accel, args.force)
-    params, notes = engine_block(
-        args.engine, value, args.mass, args.stiffness, args.speed, accel,
-        restitution=restitution, radius=args.radius, refine=args.refine,
-        timestep=args.timestep, verify=args.verify,
-        progress=lambda text: print(f"contactalpha: {text} ...", file=sys.stderr, flush=True),
-    )  # fmt: skip
+    with Progress(f"contactalpha: refining on {args.engine}'s drops") as progress:
+        params, notes = engine_block(
+            args.engine, value, args.mass, args.stiffness, args.speed, accel,
+            restitution=restitution, radius=args.radius, refine=args.refine,
+            timestep=args.timestep, verify=args.verify, progress=None if args.quiet else progress,
+        )  # fmt: skip
     if args.json:
         units = getattr(adapter(args.engine), "units", {})
         data = {"engine": args.engine, "parameters": params, "units": units, "notes": notes}

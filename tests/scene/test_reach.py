@@ -88,8 +88,8 @@ def test_mujoco_at_a_coarse_step_says_what_reaches_the_target_and_that_does(caps
     with pytest.warns(Warning):  # the coarse contact's own warning
         assert cli.main([*argv, "--stiffness", "5e5"]) == reach.EXIT_UNREACHABLE
     err = capsys.readouterr().err
-    progress, verdict = err.splitlines()[:-1], err.splitlines()[-1]  # progress lines, then one verdict
-    assert all(line.endswith("...") for line in progress) and verdict.startswith("contactalpha: unreachable:")
+    verdicts = [line for line in err.splitlines() if line.startswith("contactalpha: unreachable:")]
+    assert len(verdicts) == 1  # beside it, at most the progress lines of a slow machine
     stiffness = float(re.search(r"a stiffness <= ([0-9.e+]+) N/m", err).group(1))
     assert stiffness < 5e5
     # The stiffness it names does reach the target on MuJoCo's own drops.

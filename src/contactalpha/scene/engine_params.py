@@ -34,11 +34,12 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Sphere radius, m.
     refine : bool
         Refine on the engine's own drops (stepping engines; needs the engine).
-    progress : callable, optional
-        ``progress(text)`` hears the slow stages (the scans for what would reach an unreachable target).
     timestep : float or "default", optional
         The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
         predicted mean and range); ``verify`` N then runs the engine at N phases.
+    progress : callable, optional
+        Told of each drop of the refinement and of the scans for what would reach an unreachable
+        target (``contactalpha.progress.Progress``).
 
     Raises
     ------
@@ -65,7 +66,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
             notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
         return cp.block, notes
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
-    params, ref, got = a.calibrate(scene, target)
+    params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:
         raise unreachable_on_drops(a, scene, target, ref, progress=progress)
     return params, [
