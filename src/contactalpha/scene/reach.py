@@ -15,6 +15,7 @@ import math
 from dataclasses import fields, replace
 
 from contactalpha.adapters.base import DELIVERED_TOL
+from contactalpha.stepping.inverse import largest_passing
 
 # Exit status of `contactalpha params` when no damping reaches the target.
 EXIT_UNREACHABLE = 3
@@ -41,19 +42,8 @@ class UnreachableTarget(ValueError):
 
 
 def _largest(reaches, x0):
-    """The largest x below ``x0`` on a geometric scan with ``reaches(x)``, refined by bisection; NaN if none."""
-    prev, x = x0, x0 * SHRINK
-    for _ in range(TRIALS):
-        if reaches(x):
-            break
-        prev, x = x, x * SHRINK
-    else:
-        return math.nan
-    lo, hi = x, prev
-    for _ in range(BISECTIONS):
-        mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if reaches(mid) else (lo, mid)
-    return lo
+    """``stepping.inverse.largest_passing`` with this module's scan."""
+    return largest_passing(reaches, x0, SHRINK, TRIALS, BISECTIONS)
 
 
 def remedies(adapter, scene, target, settings=None):
