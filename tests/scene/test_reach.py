@@ -12,7 +12,6 @@ from contactalpha.adapters.base import Delivered, Refinement
 from contactalpha.adapters.contract import DropScene
 from contactalpha.laws import get_law
 from contactalpha.scene import reach
-from contactalpha.stepping.inverse import BISECTIONS, SHRINK
 
 
 @dataclass(frozen=True)
@@ -43,7 +42,7 @@ def test_remedies_find_the_largest_stiffness_and_step_that_reach_the_target():
     # Closed form: 1 - h sqrt(k/m) >= target  <=>  k <= m ((1 - target)/h)^2,  h <= (1 - target)/omega.
     k_star = 0.5 * ((1.0 - target) / 0.01) ** 2
     h_star = (1.0 - target) / math.sqrt(2e3 / 0.5)
-    resolution = SHRINK ** (0.5**BISECTIONS)  # the scan's last bracket, as a ratio
+    resolution = reach.SHRINK ** (0.5**reach.BISECTIONS)  # the scan's last bracket, as a ratio
     assert resolution * k_star <= found["stiffness"] <= k_star
     assert resolution * h_star <= found["timestep"] <= h_star
     # A stiffness whose rest penetration m a / k exceeds the radius is no remedy: for e_N = 0.95 the

@@ -298,6 +298,8 @@ def check_table_shapes(path, names, arrays):
 def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
     """``(arrays, meta)`` of a table file written by ``table_build``; refuse a different format version."""
     path = Path(path)
+    if path.resolve() in SHIPPED_GRIDS:  # a table built elsewhere is not the package's: ship one
+        build_hint = f"{build_hint} and `snakemake -c2 ship` (config.yaml's grid), or reinstall the package"
     if not path.exists():
         raise FileNotFoundError(f"exact-alpha table {path} not found; build it with {build_hint}")
     try:

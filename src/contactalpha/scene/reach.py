@@ -7,8 +7,8 @@ one line and exits with ``EXIT_UNREACHABLE`` (its ``--help`` says so).  Two case
   delivers less than the target (the step's own dissipation), or the step is so coarse that the
   contact is unstable.  ``remedies`` finds the largest stiffness, and the largest step, at which
   zero damping delivers at least the target with a stable contact (damping then brings it down to
-  the target), by the step maps' geometric scan down from the scene's value and a few bisections
-  (``stepping.inverse.largest_reaching``);
+  the target), by a geometric scan down from the scene's value and a few bisections
+  (``stepping.inverse.largest_passing``);
 - Stronge's eps = 0 without a load: alpha grows without bound as eps -> 0; any load reaches it.
 """
 
@@ -16,10 +16,15 @@ import math
 from dataclasses import fields, replace
 
 from contactalpha.adapters.base import DELIVERED_TOL
-from contactalpha.stepping.inverse import largest_reaching
+from contactalpha.stepping.inverse import largest_passing
 
 # Exit status of `contactalpha params` when no damping reaches the target.
 EXIT_UNREACHABLE = 3
+# Scan of a remedy (engine drops, slow): factor per trial, trials at most (2^-12 of the start),
+# bisections after it.
+SHRINK = 2.0**-0.5
+TRIALS = 24
+BISECTIONS = 4
 
 
 class UnreachableTarget(ValueError):
@@ -36,6 +41,11 @@ class UnreachableTarget(ValueError):
         super().__init__(message)
         self.nearest = nearest
         self.remedies = dict(remedies or {})
+
+
+def _largest(reaches, x0):
+    """``stepping.inverse.largest_passing`` with this module's scan."""
+    return largest_passing(reaches, x0, SHRINK, TRIALS, BISECTIONS)
 
 
 def remedies(adapter, scene, target, settings=None, progress=None):
@@ -58,13 +68,13 @@ def remedies(adapter, scene, target, settings=None, progress=None):
     if progress is not None:
         progress(f"no damping reaches e_N = {target!r} on {adapter.name}'s drops: scanning the stiffness")
 
-    k = largest_reaching(lambda x: reaches(replace(scene, stiffness=x), settings), scene.stiffness)
+    k = _largest(lambda x: reaches(replace(scene, stiffness=x), settings), scene.stiffness)
     out = {"stiffness": k}
     step = adapter.timestep(settings)
     if step is not None and "timestep" in {f.name for f in fields(settings)}:
         if progress is not None:
             progress(f"scanning {adapter.name}'s step")
-        out["timestep"] = largest_reaching(lambda h: reaches(scene, replace(settings, timestep=h)), step)
+        out["timestep"] = _largest(lambda h: reaches(scene, replace(settings, timestep=h)), step)
     return out
 
 

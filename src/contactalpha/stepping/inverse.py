@@ -69,7 +69,9 @@ def _mean(engine, p, h, v, a, restitution):
     return st.of(restitution)[0], st
 
 
-def damping_for(engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True):
+def damping_for(
+    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True
+):
     """``StepInverse``: the damping slot of ``p`` whose phase-mean restitution is ``target``.
 
     Parameters
@@ -125,17 +127,20 @@ def damping_for(engine, p, timestep, approach_speed, accel, target, restitution=
     return StepInverse(root, q, st, status, math.nan, math.nan, math.nan)
 
 
-def largest_reaching(reaches, x0):
-    """The largest x < x0 on a geometric scan with ``reaches(x)`` True, refined by bisection; NaN if none."""
-    prev, x = x0, x0 * SHRINK
-    for _ in range(SHRINK_TRIALS):
+def largest_passing(reaches, x0, shrink=SHRINK, trials=SHRINK_TRIALS, bisections=BISECTIONS):
+    """The largest x < x0 with ``reaches(x)``: a geometric scan by ``shrink``, then bisection; NaN if none.
+
+    ``reaches`` need not be monotone: the answer passes, and the scan's rung above it fails.
+    """
+    prev, x = x0, x0 * shrink
+    for _ in range(trials):
         if reaches(x):
             break
-        prev, x = x, x * SHRINK
+        prev, x = x, x * shrink
     else:
         return math.nan
     lo, hi = x, prev
-    for _ in range(BISECTIONS):
+    for _ in range(bisections):
         mid = math.sqrt(lo * hi)
         lo, hi = (mid, hi) if reaches(mid) else (lo, mid)
     return lo
@@ -147,7 +152,7 @@ def _solved(engine, p, h, v, a, target, restitution):
 
 def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic"):
     """The largest step below ``h`` at which some damping delivers the target phase mean (NaN if none)."""
-    return largest_reaching(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
+    return largest_passing(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
 
 
 def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
@@ -165,4 +170,4 @@ def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
         q[k] = x * p[k] / p[k[0]]
         return _solved(engine, q, h, v, a, target, restitution)
 
-    return largest_reaching(reaches, float(p[k[0]]))
+    return largest_passing(reaches, float(p[k[0]]))
