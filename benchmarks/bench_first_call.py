@@ -1,46 +1,60 @@
-"""Benchmark of the first call on a cold numba cache (issue 25, item 4).
+"""Benchmark of the first call of every contact law, cold and after ``contactalpha warmup``.
 
-Run: ``python benchmarks/bench_first_call.py`` (``--repeat N`` alternating rounds, default 2).
-Each measurement is a fresh Python process with an empty ``NUMBA_CACHE_DIR``: the wall time of
-``import contactalpha`` and of the first call, for ``ca.alpha(0.5, 0.2)`` (the default model,
-through the table) and ``ca.contact_parameters(...)`` (a 2 kg foot, through the table), each
+Run: ``python benchmarks/bench_first_call.py`` (``--page`` also fills the first-call block of
+docs/performance.md; ``--no-baseline`` skips the old path; ``--repeat N``, default 1).
 
-- as shipped: the Python twins of the kernels answer the first calls (``engine/firstcall.py``);
-- baseline, the old path: the same call inside ``firstcall.compiled_only()``, which compiles
-  the kernels first, as every call did before (measured in the same run, rounds alternating).
+Each measurement is a fresh Python process: the wall time of ``import contactalpha`` and of the
+first ``contact_parameters(..., law=NAME)`` call, for one scene and for a batch of 1,000 scenes
+(a 0.5 kg ball, random e_N and masses), for every law of ``contactalpha.laws.LAWS``:
 
-Prints the machine, its load, and the best and median of each, and the ratio baseline / new.
+- cold: an empty ``NUMBA_CACHE_DIR``: the kernels' Python twins answer (``engine/firstcall.py``);
+- warm: a ``NUMBA_CACHE_DIR`` filled once by ``contactalpha warmup`` (its time is reported apart,
+  as the compile time): the compiled kernels load from disk;
+- baseline, the old path: cold, inside ``firstcall.compiled_only()``, which compiles every kernel
+  at its first call as every first call did before (measured in the same run).
+
+Prints the machine, its load before and after, a table, and the ratio baseline / cold.
 """
 
 import argparse
 import os
 import platform
+import re
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
-SRC = Path(__file__).resolve().parents[1] / "src"
-CALLS = {
-    "alpha": "ca.alpha(0.5, 0.2)",
-    "contact_parameters": "ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81)",
-}
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src"
+PAGE = ROOT / "docs" / "performance.md"
+START, END = "<!-- first-call:start -->", "<!-- first-call:end -->"
+BATCH = 1000
 PROGRAM = """
 import contextlib
 import time
 t0 = time.perf_counter()
+import numpy as np
 import contactalpha as ca
 from contactalpha.engine import firstcall
 t1 = time.perf_counter()
+rng = np.random.default_rng(1)
+n = {n}
+scene = dict(approach_speed=0.5, accel=9.81, law={law!r}, stiffness={stiffness!r})
 with {context}:
-    value = {call}
+    if n:
+        ca.contact_parameters(e_N=rng.uniform(0.2, 0.9, n), mass=rng.uniform(0.1, 2.0, n), **scene)
+    else:
+        ca.contact_parameters(e_N=0.5, mass=0.5, **scene)
 t2 = time.perf_counter()
 print(t1 - t0, t2 - t1)
 """
 
 
 def cpu_name():
+    """The CPU's model name."""
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
             if line.startswith("model name"):
@@ -50,43 +64,99 @@ def cpu_name():
     return platform.processor() or "unknown cpu"
 
 
-def cold_run(call, baseline):
-    """(import seconds, first-call seconds) in a fresh process with an empty numba cache."""
+def first_call(law, n, cache, baseline=False):
+    """(import seconds, first-call seconds) of ``law`` on ``n`` scenes (0: one) in a fresh process."""
+    stiffness = 1.0e8 if law.exponent == 1.5 else 1.0e5
     context = "firstcall.compiled_only()" if baseline else "contextlib.nullcontext()"
-    with tempfile.TemporaryDirectory() as cache:
-        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(SRC)}
-        out = subprocess.run(
-            [sys.executable, "-c", PROGRAM.format(context=context, call=call)],
-            env=env,
-            capture_output=True,
-            text=True,
-            check=True,
-        )
+    code = PROGRAM.format(n=n, law=law.name, stiffness=stiffness, context=context)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     imp, first = map(float, out.stdout.split())
     return imp, first
 
 
+def warm_cache(cache):
+    """Fill ``cache`` by ``contactalpha warmup``; its wall time, s."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
+    start = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "contactalpha", "warmup"], env=env, capture_output=True, check=True)
+    return time.perf_counter() - start
+
+
+def measure(repeat, baseline):
+    """Rows ``(law, scenes, cold, warm, baseline)`` of median first-call seconds, and the warm-up's s."""
+    sys.path.insert(0, str(SRC))
+    from contactalpha.laws import LAWS
+
+    rows = []
+    with tempfile.TemporaryDirectory() as warm:
+        warmup_s = warm_cache(warm)
+        for law in LAWS:
+            for n in (0, BATCH):
+                times = {"cold": [], "warm": [], "baseline": []}
+                for _ in range(repeat):
+                    with tempfile.TemporaryDirectory() as cold:
+                        times["cold"].append(first_call(law, n, cold)[1])
+                    times["warm"].append(first_call(law, n, warm)[1])
+                    if baseline:
+                        with tempfile.TemporaryDirectory() as cold:
+                            times["baseline"].append(first_call(law, n, cold, baseline=True)[1])
+                med = {k: statistics.median(v) if v else float("nan") for k, v in times.items()}
+                rows.append((law.name, n or 1, med["cold"], med["warm"], med["baseline"]))
+                print(f"{law.name:22s} {n or 1:6d} {med['cold']:8.2f} {med['warm']:8.2f} {med['baseline']:9.2f}",
+                      flush=True)  # fmt: skip
+    return rows, warmup_s
+
+
+def table(rows, warmup_s, load_before, load_after):
+    """The markdown block for docs/performance.md."""
+    lines = [
+        f"Measured on {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"{platform.system()}; load average {load_before:.1f} before and {load_after:.1f} after (the "
+        "machine was shared with other sessions' jobs while it ran: on a quiet machine every time is "
+        "lower). Wall time of the first `contact_parameters(..., law=NAME)` call in a fresh process "
+        f"(import excluded), median; `contactalpha warmup` took {warmup_s:.1f} s (the compile time).",
+        "",
+        "| law | scenes | cold cache, s | after `warmup`, s | old path (compile first), s | old / cold |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, n, cold, warm, base in rows:
+        ratio = f"{base / cold:.1f}x" if base == base else "-"
+        base_s = f"{base:.2f}" if base == base else "-"
+        lines.append(f"| `{name}` | {n:,} | {cold:.2f} | {warm:.2f} | {base_s} | {ratio} |")
+    return "\n".join(lines)
+
+
+def fill_page(block, page=PAGE):
+    """Put ``block`` between the first-call markers of ``page``."""
+    text = page.read_text()
+    pattern = re.compile(re.escape(START) + ".*?" + re.escape(END), flags=re.S)
+    if not pattern.search(text):
+        raise ValueError(f"{page} has no {START} ... {END} block")
+    page.write_text(pattern.sub(lambda _: f"{START}\n{block}\n{END}", text))
+
+
 def main(argv=None):
+    """Run the benchmark and print its table (``--page``: also into docs/performance.md)."""
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--repeat", type=int, default=2, help="alternating rounds (default 2)")
+    p.add_argument("--repeat", type=int, default=1, help="fresh processes per measurement (default 1)")
+    p.add_argument("--no-baseline", action="store_true", help="skip the old path (it compiles every kernel)")
+    p.add_argument("--page", action="store_true", help="fill the first-call block of docs/performance.md")
     args = p.parse_args(argv)
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores, {platform.platform()}")
-    print(f"load average before: {os.getloadavg()[0]:.2f}")
-    print(f"{'call':20s} {'path':10s} {'import s':>9s} {'first call s (best, median)':>28s}")
-    for name, call in CALLS.items():
-        times = {"new": [], "baseline": []}
-        for _ in range(args.repeat):
-            for path in times:
-                times[path].append(cold_run(call, baseline=path == "baseline"))
-        for path, runs in times.items():
-            firsts = [f for _, f in runs]
-            imp = min(i for i, _ in runs)
-            print(f"{name:20s} {path:10s} {imp:9.2f} {min(firsts):14.2f} {statistics.median(firsts):12.2f}")
-        ratio = statistics.median(f for _, f in times["baseline"]) / statistics.median(
-            f for _, f in times["new"]
-        )
-        print(f"{name:20s} baseline / new (median first call): {ratio:.1f}x")
-    print(f"load average after: {os.getloadavg()[0]:.2f}")
+    load_before = os.getloadavg()[0]
+    print(f"load average before: {load_before:.2f}")
+    print(f"{'law':22s} {'scenes':>6s} {'cold s':>8s} {'warm s':>8s} {'old path':>9s}")
+    rows, warmup_s = measure(args.repeat, not args.no_baseline)
+    load_after = os.getloadavg()[0]
+    print(f"warmup: {warmup_s:.1f} s; load average after: {load_after:.2f}")
+    base = [b / c for _, _, c, _, b in rows if b == b]
+    if base:
+        print(f"old path / cold, median over laws and sizes: {statistics.median(base):.1f}x")
+    block = table(rows, warmup_s, load_before, load_after)
+    if args.page:
+        fill_page(block)
+    print(block)
 
 
 if __name__ == "__main__":

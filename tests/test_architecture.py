@@ -11,6 +11,7 @@ RANKS = {
     "validation": 0,
     "io": 0,
     "provenance": 0,
+    "progress": 0,
     "plotting": 0,
     "engine": 1,
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2

@@ -136,7 +136,7 @@ class Adapter:
         samples = self.run(model, scene, settings)
         return self.summary(self.measure(samples, scene), samples, settings)
 
-    def calibrate(self, scene, target, start=None, settings=None):
+    def calibrate(self, scene, target, start=None, settings=None, progress=None):
         """Parameters that deliver the target e_N in the engine, refined from the law's damping ``start``.
 
         Parameters
@@ -149,6 +149,8 @@ class Adapter:
         settings : optional
             The engine's settings; ``settings.tol`` (default ``DELIVERED_TOL``) is the tolerance on
             the delivered e_N.
+        progress : callable, optional
+            Called with a line naming each drop in the engine as it starts (``contactalpha.progress``).
 
         Returns
         -------
@@ -166,7 +168,15 @@ class Adapter:
                 )
             start = float(sol.damping)
         tol = getattr(settings, "tol", DELIVERED_TOL)
-        ref = refine(lambda p: self.delivered(scene, p, settings).e_n, target, start, tol)
+        drops = [0]
+
+        def e_n_of(damping):
+            drops[0] += 1
+            if progress is not None:
+                progress(f"{self.name} drop {drops[0]}, {self.law.damping} = {damping:.6g}")
+            return self.delivered(scene, damping, settings).e_n
+
+        ref = refine(e_n_of, target, start, tol)
         found = math.isfinite(ref.damping)
         got = self.delivered(scene, ref.damping if found else start, settings)
         self.check_delivered(got, settings)

@@ -28,8 +28,8 @@ The parts of the contract:
 - ``timestep(settings)``: the engine's fixed step in s, or None for an error-controlled one;
 - ``delivered(scene, damping, settings=None)``: the e_N the engine delivers with the law's damping
   (``adapters.base.Delivered``: the mean over touchdown phases for a stepping engine);
-- ``calibrate(scene, target, start=None, settings=None)``: the parameters refined on the engine's
-  own drops, ``(parameters, Refinement, Delivered)``.
+- ``calibrate(scene, target, start=None, settings=None, progress=None)``: the parameters refined
+  on the engine's own drops, ``(parameters, Refinement, Delivered)``; ``progress`` hears of each drop.
 
 ``missing_parts`` names whatever part an object lacks or whose signature differs from the
 Protocol's (its parameters, in order, with a default where the Protocol has one; any further
@@ -132,8 +132,11 @@ class EngineAdapter(Protocol):
     def delivered(self, scene, damping, settings=None):
         """``Delivered``: the e_N the engine delivers with the law's ``damping`` in ``scene``."""
 
-    def calibrate(self, scene, target, start=None, settings=None):
-        """``(parameters, Refinement, Delivered)``: parameters refined on the engine's own drops."""
+    def calibrate(self, scene, target, start=None, settings=None, progress=None):
+        """``(parameters, Refinement, Delivered)``: parameters refined on the engine's own drops.
+
+        ``progress`` (optional) is called with a line as each drop in the engine starts.
+        """
 
 
 # The contract's parts: attributes (data) and methods (callables).

@@ -59,14 +59,19 @@ def measure_steps(z, v, accel, h, approach_speed):
         ``e_n`` from the flight parabola after the first free step (see the module docstring);
         ``eps`` from the energy identity with the deepest sampled deformation; ``t_*`` in steps
         times ``h`` from the first state.  No free step after the deepest point: "nonseparation"
-        with e_N = 0.
+        with e_N = 0.  Only the first impact counts: a later bounce inside the samples (a deeper
+        one, say) is never mistaken for it.
     """
     z = np.asarray(z, dtype=float)
     v = np.asarray(v, dtype=float)
-    i_max = int(np.argmin(z))
-    d_max = -float(z[i_max])
     dv = np.diff(v)
     free = (np.abs(dv + accel * h) <= FREE_STEP_RTOL * max(accel * h, abs(approach_speed))) & (z[:-1] > 0.0)
+    inside = np.nonzero(z < 0.0)[0]
+    k0 = int(inside[0]) if inside.size else 0
+    leaves = np.nonzero(free[k0:] & (v[k0 + 1 :] > 0.0))[0]
+    end = k0 + int(leaves[0]) + 2 if leaves.size else z.size  # up to the first free state after it
+    i_max = int(np.argmin(z[:end]))
+    d_max = -float(z[i_max])
     after = np.nonzero(free[i_max:] & (v[i_max + 1 :] > 0.0))[0]
     w_c = 0.5 * approach_speed**2 + accel * d_max
     if after.size == 0:

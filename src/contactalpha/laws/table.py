@@ -43,6 +43,7 @@ from contactalpha.engine.table import (
     packed_matrix,
     packed_vector,
 )
+from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.threads import run_rows
 from contactalpha.io import json_text, write_atomic
 
@@ -112,6 +113,7 @@ def damping_from_packed(e, xi, flat):
     return np.exp(L) * (1.0 - e) / e
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def damping_rows(e, xi, flat, kinematic, out, start, stop):
     """The packed table's ``p`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""

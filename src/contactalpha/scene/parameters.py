@@ -33,6 +33,7 @@ from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
+from .reach import eps_zero_without_load
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
@@ -153,6 +154,8 @@ def contact_parameters(
         Naming the value and its valid range, for bad or non-physical input (also a load so
         large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
         for a batch, naming the argument and its first bad index.
+    scene.reach.UnreachableTarget
+        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would.
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
@@ -176,7 +179,7 @@ def contact_parameters(
         return _only(law_contact_parameters(law, value, restitution, m, k, v, a, sphere), engine)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
-        raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")
+        raise eps_zero_without_load()
     alpha, source = _alpha(value, xi, restitution)
     r = impact(alpha, xi)
     if r.status != "ok":

@@ -93,8 +93,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         raise ValueError("timestep needs a load pressing the bodies together: accel or force > 0")
     p0 = s.from_block(cp.engines[engine], mass, radius)
     before = over_phase(engine, p0, h, approach_speed, accel)
-    start = float(p0[s.damping_slots[0]])
-    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution, start=start)
+    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution)
     mean, lo, hi = inv.stats.of(restitution) if inv.status == "ok" else (math.nan,) * 3
     b_mean, b_lo, b_hi = before.of(restitution)
     ok = inv.status == "ok"

@@ -70,13 +70,23 @@ def check_restitution(restitution):
 
 
 def check_scene(p, timestep, approach_speed, accel):
-    """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0."""
+    """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0, ``v_in >= accel h / 2``.
+
+    A drop starts on its flight parabola up to a step before touchdown; slower than ``accel h / 2``
+    that parabola would start below the surface (the flight lasts less than a step).
+    """
     p = np.ascontiguousarray(check_range("p", p, -math.inf, math.inf), dtype=float)
     if p.ndim != 1:
         raise ValueError(f"p has shape {p.shape}; valid: a 1-D array of the engine's parameters")
     h = check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
     v = check_scalar("approach_speed", approach_speed, 0.0, math.inf, lo_open=True, hi_open=True)
     a = check_scalar("accel", accel, 0.0, math.inf, lo_open=True, hi_open=True)
+    if v < 0.5 * a * h:
+        raise ValueError(
+            f"approach_speed = {v!r} is below accel * timestep / 2 = {0.5 * a * h!r}: a drop this slow "
+            "under this load flies less than a step before touchdown, so its touchdown phase is not "
+            "defined; give a smaller timestep or a faster approach"
+        )
     return p, h, v, a
 
 

@@ -10,10 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import math
-
 from . import drake_map, kernels, mujoco_map, pybullet_map
-from .drop import drop_mujoco
+from .drop import drop_drake, drop_mujoco, drop_pybullet
 
 
 @dataclass(frozen=True)
@@ -92,29 +90,35 @@ STEPPERS = (
     Stepper(
         name="pybullet",
         code=kernels.PYBULLET,
-        integrators=("semi-implicit Euler",),
+        integrators=pybullet_map.INTEGRATORS,
         timestep=pybullet_map.TIMESTEP,
         slots=pybullet_map.SLOT_NAMES,
         damping_slots=(pybullet_map.DAMPING_BALL, pybullet_map.DAMPING_GROUND),
         stiffness_slots=(pybullet_map.STIFFNESS_BALL, pybullet_map.STIFFNESS_GROUND),
         defaults={"slop": pybullet_map.LINEAR_SLOP},
-        contact_time=lambda p: math.pi * math.sqrt(p[pybullet_map.MASS] / pybullet_map.pair_values(p)[0]),
-        drop=pybullet_map.drop_pybullet,
-        source="bullet3: btMultiBodyConstraintSolver::setupMultiBodyContactConstraint, "
-        "btManifoldResult (combined stiffness and damping), btMultiBodyDynamicsWorld (pybullet_map)",
+        contact_time=pybullet_map.contact_time,
+        drop=drop_pybullet,
+        source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
+        "(setupMultiBodyContactConstraint, resolveSingleConstraintRowGeneric), btMultiBodyDynamicsWorld.cpp "
+        "(solveConstraints, integrateMultiBodyTransforms); src/BulletCollision/CollisionDispatch: "
+        "btConvexPlaneCollisionAlgorithm.cpp, btManifoldResult.cpp (calculateCombinedContactStiffness, "
+        "calculateCombinedContactDamping), btCollisionDispatcher.cpp (getNewManifold); "
+        "examples/SharedMemory/PhysicsServerCommandProcessor.cpp (m_linearSlop)",
     ),
     Stepper(
         name="drake",
         code=kernels.DRAKE,
-        integrators=("tamsi", "lagged", "similar"),  # discrete_contact_approximation
+        integrators=drake_map.APPROXIMATIONS,
         timestep=drake_map.TIMESTEP,
         slots=drake_map.SLOT_NAMES,
         damping_slots=(drake_map.DISSIPATION_BALL, drake_map.DISSIPATION_GROUND),
         stiffness_slots=(drake_map.STIFFNESS_BALL, drake_map.STIFFNESS_GROUND),
         defaults={},
-        contact_time=lambda p: math.pi * math.sqrt(p[drake_map.MASS] / drake_map.pair_values(p)[0]),
-        drop=drake_map.drop_drake,
-        source="drake: DiscreteUpdateManager, SapHuntCrossleyConstraint, TamsiSolver (drake_map)",
+        contact_time=drake_map.contact_time,
+        drop=drop_drake,
+        source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
+        "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
+        "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
 )
 STEPPER_NAMES = tuple(s.name for s in STEPPERS)
