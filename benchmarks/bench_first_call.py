@@ -13,10 +13,12 @@ first ``contact_parameters(..., law=NAME)`` call, for one scene and for a batch 
 - baseline, the old path: cold, inside ``firstcall.compiled_only()``, which compiles every kernel
   at its first call as every first call did before (measured in the same run).
 
-Prints the machine, its load before and after, a table, and the ratio baseline / cold.
+Prints the machine, its load before and after, a table of wall and CPU seconds (on a loaded machine
+the CPU time is the better guess of a quiet machine's wall time), and the ratio baseline / cold.
 """
 
 import argparse
+import math
 import os
 import platform
 import re
@@ -35,11 +37,11 @@ BATCH = 1000
 PROGRAM = """
 import contextlib
 import time
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 import numpy as np
 import contactalpha as ca
 from contactalpha.engine import firstcall
-t1 = time.perf_counter()
+t1, c1 = time.perf_counter(), time.process_time()
 rng = np.random.default_rng(1)
 n = {n}
 scene = dict(approach_speed=0.5, accel=9.81, law={law!r}, stiffness={stiffness!r})
@@ -48,8 +50,8 @@ with {context}:
         ca.contact_parameters(e_N=rng.uniform(0.2, 0.9, n), mass=rng.uniform(0.1, 2.0, n), **scene)
     else:
         ca.contact_parameters(e_N=0.5, mass=0.5, **scene)
-t2 = time.perf_counter()
-print(t1 - t0, t2 - t1)
+t2, c2 = time.perf_counter(), time.process_time()
+print(t1 - t0, t2 - t1, c2 - c1)
 """
 
 
@@ -65,14 +67,17 @@ def cpu_name():
 
 
 def first_call(law, n, cache, baseline=False):
-    """(import seconds, first-call seconds) of ``law`` on ``n`` scenes (0: one) in a fresh process."""
+    """(first-call wall s, its CPU s) of ``law`` on ``n`` scenes (0: one) in a fresh process.
+
+    The CPU time (all the process's threads) is what a quiet machine's wall time would be, about.
+    """
     stiffness = 1.0e8 if law.exponent == 1.5 else 1.0e5
     context = "firstcall.compiled_only()" if baseline else "contextlib.nullcontext()"
     code = PROGRAM.format(n=n, law=law.name, stiffness=stiffness, context=context)
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    imp, first = map(float, out.stdout.split())
-    return imp, first
+    _, wall, cpu = map(float, out.stdout.split())
+    return wall, cpu
 
 
 def warm_cache(cache):
@@ -83,8 +88,15 @@ def warm_cache(cache):
     return time.perf_counter() - start
 
 
+def _medians(runs):
+    """(median wall, median CPU) of ``runs`` of (wall, CPU); NaNs for none."""
+    if not runs:
+        return math.nan, math.nan
+    return tuple(statistics.median(x) for x in zip(*runs, strict=True))
+
+
 def measure(repeat, baseline):
-    """Rows ``(law, scenes, cold, warm, baseline)`` of median first-call seconds, and the warm-up's s."""
+    """Rows ``(law, scenes, cold, warm, baseline)`` of median (wall, CPU) first-call s; the warm-up's s."""
     sys.path.insert(0, str(SRC))
     from contactalpha.laws import LAWS
 
@@ -96,15 +108,15 @@ def measure(repeat, baseline):
                 times = {"cold": [], "warm": [], "baseline": []}
                 for _ in range(repeat):
                     with tempfile.TemporaryDirectory() as cold:
-                        times["cold"].append(first_call(law, n, cold)[1])
-                    times["warm"].append(first_call(law, n, warm)[1])
+                        times["cold"].append(first_call(law, n, cold))
+                    times["warm"].append(first_call(law, n, warm))
                     if baseline:
                         with tempfile.TemporaryDirectory() as cold:
-                            times["baseline"].append(first_call(law, n, cold, baseline=True)[1])
-                med = {k: statistics.median(v) if v else float("nan") for k, v in times.items()}
+                            times["baseline"].append(first_call(law, n, cold, baseline=True))
+                med = {k: _medians(v) for k, v in times.items()}
                 rows.append((law.name, n or 1, med["cold"], med["warm"], med["baseline"]))
-                print(f"{law.name:22s} {n or 1:6d} {med['cold']:8.2f} {med['warm']:8.2f} {med['baseline']:9.2f}",
-                      flush=True)  # fmt: skip
+                cells = " ".join(f"{w:6.2f}/{c:5.2f}" for w, c in med.values())
+                print(f"{law.name:22s} {n or 1:6d} {cells}", flush=True)
     return rows, warmup_s
 
 
@@ -117,13 +129,18 @@ def table(rows, warmup_s, load_before, load_after):
         "lower). Wall time of the first `contact_parameters(..., law=NAME)` call in a fresh process "
         f"(import excluded), median; `contactalpha warmup` took {warmup_s:.1f} s (the compile time).",
         "",
-        "| law | scenes | cold cache, s | after `warmup`, s | old path (compile first), s | old / cold |",
+        "Each cell is wall / CPU seconds; the CPU time is about what a quiet machine's wall time is.",
+        "",
+        "| law | scenes | cold cache | after `warmup` | old path (compile first) | old / cold (CPU) |",
         "|---|---|---|---|---|---|",
     ]
+
+    def cell(wc):
+        return "-" if math.isnan(wc[0]) else f"{wc[0]:.2f} / {wc[1]:.2f}"
+
     for name, n, cold, warm, base in rows:
-        ratio = f"{base / cold:.1f}x" if base == base else "-"
-        base_s = f"{base:.2f}" if base == base else "-"
-        lines.append(f"| `{name}` | {n:,} | {cold:.2f} | {warm:.2f} | {base_s} | {ratio} |")
+        ratio = "-" if math.isnan(base[1]) else f"{base[1] / cold[1]:.1f}x"
+        lines.append(f"| `{name}` | {n:,} | {cell(cold)} | {cell(warm)} | {cell(base)} | {ratio} |")
     return "\n".join(lines)
 
 
@@ -146,13 +163,13 @@ def main(argv=None):
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores, {platform.platform()}")
     load_before = os.getloadavg()[0]
     print(f"load average before: {load_before:.2f}")
-    print(f"{'law':22s} {'scenes':>6s} {'cold s':>8s} {'warm s':>8s} {'old path':>9s}")
+    print(f"{'law':22s} {'scenes':>6s} cold, warm, old path: wall/CPU s")
     rows, warmup_s = measure(args.repeat, not args.no_baseline)
     load_after = os.getloadavg()[0]
     print(f"warmup: {warmup_s:.1f} s; load average after: {load_after:.2f}")
-    base = [b / c for _, _, c, _, b in rows if b == b]
+    base = [b[1] / c[1] for _, _, c, _, b in rows if not math.isnan(b[1])]
     if base:
-        print(f"old path / cold, median over laws and sizes: {statistics.median(base):.1f}x")
+        print(f"old path / cold (CPU), median over laws and sizes: {statistics.median(base):.1f}x")
     block = table(rows, warmup_s, load_before, load_after)
     if args.page:
         fill_page(block)

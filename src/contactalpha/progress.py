@@ -52,7 +52,8 @@ class Progress:
 
     def _print(self):
         stream = self.stream or sys.stderr
-        print(f"{self.label}: {self.stage} ({time.perf_counter() - self.start:.0f} s)", file=stream, flush=True)
+        seconds = time.perf_counter() - self.start
+        print(f"{self.label}: {self.stage} ({seconds:.0f} s)", file=stream, flush=True)
 
     def close(self):
         """Stop the timer: nothing more is printed."""
@@ -66,4 +67,3 @@ class Progress:
     def __exit__(self, *exc):
         self.close()
         return False
-

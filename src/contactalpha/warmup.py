@@ -83,7 +83,8 @@ def _laws():
             contact_parameters(**{key: EPS}, **scene, law=law.name)
             contact_parameters(**{key: _points(2, EPS)}, **batch, law=law.name)
             if law.fast is not None and law.fast.exact_inverse is not None:
-                law.fast_restitution(_points(2, 0.3), _points(2, XI), "kinematic" if key == "e_N" else "energetic")
+                restitution = "kinematic" if key == "e_N" else "energetic"
+                law.fast_restitution(_points(2, 0.3), _points(2, XI), restitution)
 
 
 def _scene():

@@ -1,9 +1,9 @@
-"""Every law's first call on a cold numba cache: its kernels run as Python twins, with the same bits.
+"""Every law's first call on a cold numba cache: its kernels run as Python twins, the same bits.
 
 A fresh process with an empty ``NUMBA_CACHE_DIR`` (and a twin budget no machine's load can use up)
-computes each registered law's exact inverse and impact (on the family's integrator) and its
-fast inverse on 200 points (run in threads once compiled); it compiles nothing, and every number equals the compiled
-kernels' (this process, ``compiled_only``), NaN for NaN.
+computes each registered law's exact inverse and impact (on the family's integrator) and its fast
+inverse on 200 points (run in threads once compiled).  It compiles nothing, and every number equals
+the compiled kernels' (this process, ``compiled_only``), NaN for NaN.
 """
 
 import json

@@ -1,5 +1,7 @@
-"""The parts of the adapter contract every engine shares: the law's damping, a drop's delivered
-restitution, and the refinement of the damping on the engine's own drops.
+"""The parts of the adapter contract every engine shares.
+
+They are the law's damping, a drop's delivered restitution, and the refinement of the damping on
+the engine's own drops.
 
 An adapter that derives from ``Adapter`` writes only what is its engine's own (``parameters``,
 ``build_drop``, ``run``, ``static_penetration``, ``version``, ``timestep``) and gets:
@@ -164,7 +166,8 @@ class Adapter:
             sol, xi = self.law_damping(scene, target, "kinematic", settings)
             if not sol.ok:
                 raise ValueError(
-                    f"no {self.law.damping} gives e_N {target!r} at xi = {xi!r} in {self.law.name}: {sol.status}"
+                    f"no {self.law.damping} gives e_N {target!r} at xi = {xi!r} in {self.law.name}: "
+                    f"{sol.status}"
                 )
             start = float(sol.damping)
         tol = getattr(settings, "tol", DELIVERED_TOL)

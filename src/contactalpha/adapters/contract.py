@@ -168,7 +168,7 @@ def signature_differs(method, part):
         return True
     if len(have) < len(want):
         return not any(p.kind is p.VAR_POSITIONAL for p in have)
-    for w, h in zip(want, have):
+    for w, h in zip(want, have[: len(want)], strict=True):
         if h.name != w.name or h.kind not in (h.POSITIONAL_ONLY, h.POSITIONAL_OR_KEYWORD):
             return True
         if w.default is not w.empty and h.default is h.empty:
@@ -179,8 +179,10 @@ def signature_differs(method, part):
 
 
 def missing_parts(adapter):
-    """Names of the contract's parts that ``adapter`` lacks (a method must be callable with the
-    Protocol's signature: ``signature_differs``)."""
+    """Names of the contract's parts that ``adapter`` lacks.
+
+    A method must be callable with the Protocol's signature (``signature_differs``).
+    """
     missing = [p for p in DATA_PARTS if getattr(adapter, p, None) is None]
     for p in METHOD_PARTS:
         method = getattr(adapter, p, None)

@@ -29,7 +29,6 @@ above touchdown and upward velocity at every step) and ``timestep`` (s; 0 for a 
 stepped, which is then measured as a continuous one).
 """
 
-
 import math
 import warnings
 
@@ -38,7 +37,7 @@ import numpy as np
 from contactalpha.adapters.base import DELIVERED_TOL, Adapter, Delivered
 from contactalpha.adapters.measure import MeasuredImpact
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
-from contactalpha.stepping.flight import touchdown_state
+from contactalpha.stepping.flight import touchdown_state  # noqa: F401  (the adapters import it here)
 
 # A contact spanning fewer steps than this is flagged: its rebound depends on the touchdown phase.
 MIN_CONTACT_STEPS = 20
@@ -133,7 +132,8 @@ class SteppingAdapter(Adapter):
         h = x["timestep"]
         if not h:
             return super().measure(samples, scene)
-        results = [measure_steps(z, v, scene.accel, h, scene.approach_speed) for z, v in zip(x["z"], x["v"])]
+        rows = zip(x["z"], x["v"], strict=True)
+        results = [measure_steps(z, v, scene.accel, h, scene.approach_speed) for z, v in rows]
         x["e_n_phases"] = np.array([r.e_n for r in results])
         x["contact_steps"] = np.array([round(r.t_end / h) for r in results])
         x["separated"] = np.array([r.separated for r in results])

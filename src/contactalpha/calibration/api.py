@@ -7,10 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
-from contactalpha.scene.ball import GRAVITY
 from contactalpha.adapters.engine_conventions import opensim_dissipation
 from contactalpha.adapters.registry import ADAPTERS
 from contactalpha.laws import get_law
+from contactalpha.scene.ball import GRAVITY
 from contactalpha.scene.engine_params import format_block
 from contactalpha.scene.parameters import LAW
 from contactalpha.validation import check_positive, check_range
@@ -138,13 +138,13 @@ def _fit_dict(f, weight, engines):
 
 def stiffness_from_moduli(radius, moduli, poisson=(0.0, 0.0)):
     """Hertz stiffness (N/m^1.5) of a ball of ``radius`` on a flat from both moduli (Pa) and Poissons."""
-    from contactalpha.studies.adequacy.report import hertz_stiffness
+    from contactalpha.scene.hertz import hertz_stiffness
 
     (e1, e2), (n1, n2) = moduli, poisson
     for name, nu in (("poisson[0]", n1), ("poisson[1]", n2)):
         check_range(name, nu, -1.0, 0.5, lo_open=True, hi_open=True)
-    inv = (1.0 - n1**2) / check_positive("moduli[0]", e1) + (1.0 - n2**2) / check_positive("moduli[1]", e2)
-    return float(hertz_stiffness(radius, 1.0 / inv))
+    e1, e2 = float(check_positive("moduli[0]", e1)), float(check_positive("moduli[1]", e2))
+    return float(hertz_stiffness(e1, float(n1), float(radius), modulus_2=e2, poisson_2=float(n2)))
 
 
 def engine_parameters(fit, setup, radius=None):

@@ -29,6 +29,7 @@ from numba import njit
 
 from contactalpha.engine.bspline import eval_1d_uniform, eval_2d_uniform
 from contactalpha.engine.codes import NOT_CONVERGED, OK
+from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.table import (
     EPS_MIN,
     G_COUNT,
@@ -43,7 +44,6 @@ from contactalpha.engine.table import (
     packed_matrix,
     packed_vector,
 )
-from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.threads import run_rows
 from contactalpha.io import json_text, write_atomic
 

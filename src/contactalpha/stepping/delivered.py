@@ -10,7 +10,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.validation import check_count, check_positive, check_range, check_scalar
+from contactalpha.validation import (  # check_restitution: for .inverse and .stepsize
+    check_count,
+    check_positive,
+    check_range,
+    check_restitution,  # noqa: F401
+    check_scalar,
+)
 
 from . import codes
 from .drop import run_drops
@@ -19,8 +25,6 @@ from .registry import stepper
 
 # A drop runs at most this many contact times (a slowly ringing capture comes to rest within it).
 REST_CONTACT_TIMES = 400
-# The restitutions a phase statistic or an inverse can speak of.
-RESTITUTIONS = ("kinematic", "energetic")
 
 
 @dataclass(frozen=True)
@@ -60,13 +64,6 @@ class PhaseStats:
         if restitution == "kinematic":
             return self.mean, self.minimum, self.maximum
         return self.eps_mean, self.eps_min, self.eps_max
-
-
-def check_restitution(restitution):
-    """``restitution`` if it is one of ``RESTITUTIONS``; ValueError naming the choices otherwise."""
-    if restitution not in RESTITUTIONS:
-        raise ValueError(f"restitution = {restitution!r} is outside the valid choices {RESTITUTIONS}")
-    return restitution
 
 
 def check_scene(p, timestep, approach_speed, accel):
