@@ -67,17 +67,28 @@ def main(argv=None):
     print(f"continuous answer: {base * 1e3:10.3f} ms/scene (baseline)")
     print(f"answer at 2 ms:    {stepped * 1e3:10.3f} ms/scene  ({1 / stepped:.0f} scenes/s; "
           f"{stepped / base:.0f} x the baseline)")  # fmt: skip
-    try:
-        import mujoco  # noqa: F401
-    except ImportError:
-        print("verify: MuJoCo is not installed")
-        return
-    start = time.perf_counter()
-    for m, k, v, e in todo[: max(2, n // 4)]:
-        contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine="mujoco",
-                           timestep=0.002, verify=128)  # fmt: skip
-    both = (time.perf_counter() - start) / max(2, n // 4)
-    print(f"verify (MuJoCo, 128 phases): {max(both - stepped, 0.0) * 1e3:.1f} ms/scene on top of the answer")
+    import importlib.util
+
+    # (engine, module, step, radius): each engine's verify at 128 phases, on a few of the scenes.
+    for engine, module, h, radius in [("mujoco", "mujoco", 0.002, None), ("drake", "pydrake", 0.001, None),
+                                      ("pybullet", "pybullet", 5e-4, 0.05)]:  # fmt: skip
+        if importlib.util.find_spec(module) is None:
+            print(f"verify ({engine}): not installed")
+            continue
+        few = todo[: max(2, n // 8)]
+        answer = verify = 0.0
+        for m, k, v, e in few:
+            kw = dict(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine=engine, timestep=h,
+                      radius=radius)  # fmt: skip
+            start = time.perf_counter()
+            cp = contact_parameters(**kw)
+            answer += time.perf_counter() - start
+            if cp.stepped.status == "ok":
+                start = time.perf_counter()
+                contact_parameters(**kw, verify=128)
+                verify += time.perf_counter() - start
+        print(f"verify ({engine}, {h:g} s, 128 phases): {max(verify - answer, 0.0) / len(few) * 1e3:.0f} "
+              f"ms/scene beside an answer of {answer / len(few) * 1e3:.0f} ms/scene")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -219,12 +219,26 @@ def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
         raise ValueError("timestep= takes one scene; call contact_parameters once per scene")
+    # A map that reads the geometry (PyBullet's breaking threshold) takes the radius even where the
+    # continuous law's parameters do not.
+    own = radius
+    if radius is not None and engine is not None and stepped.needs_radius(engine):
+        own = radius if _law_reads_radius(_law_of(law, engine)) else None
     cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                            radius=radius, law=law, engine=engine)  # fmt: skip
+                            radius=own, law=law, engine=engine)  # fmt: skip
     value, restitution = _target(eps, e_n)
     args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
     cp = stepped.at_step(cp, args[0], timestep, *args[1:], value, restitution)
     return cp if verify is None else stepped.verify(cp, verify, *args[1:])
+
+
+def _law_reads_radius(law):
+    """True when some engine of ``law`` reads the radius (``check_radius_used`` accepts one)."""
+    try:
+        check_radius_used(law, 1.0)
+    except ValueError:
+        return False
+    return True
 
 
 def _law_of(law, engine):

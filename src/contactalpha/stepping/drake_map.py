@@ -113,3 +113,15 @@ def step_drake(z, w, p, h, accel):
     """
     w_next = next_velocity_drake(z, w, p, h, accel)
     return z + h * w_next, w_next
+
+
+def from_block(block, mass, radius):
+    """``p`` from Drake's block of ``contact_parameters`` (each geometry's stiffness and dissipation)."""
+    del radius  # point contact: the map needs no geometry
+    k, d = float(block["point_contact_stiffness"]), float(block["hunt_crossley_dissipation"])
+    return make_params(mass, k, d, k, d)
+
+
+def law_damping(p, approach_speed):
+    """Hunt-Crossley's alpha = d v_minus of the pair's dissipation d in ``p``."""
+    return pair_values(p)[1] * approach_speed

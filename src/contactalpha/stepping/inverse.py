@@ -69,7 +69,9 @@ def _mean(engine, p, h, v, a, restitution):
     return st.of(restitution)[0], st
 
 
-def damping_for(engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True):
+def damping_for(
+    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True
+):
     """``StepInverse``: the damping slot of ``p`` whose phase-mean restitution is ``target``.
 
     Parameters

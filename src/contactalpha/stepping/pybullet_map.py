@@ -131,3 +131,21 @@ def step_pybullet(z, w, p, h, accel):
     lam = impulse_pybullet(z, w, p, h, accel)
     w_next = w - h * accel + lam / p[MASS]
     return z + h * w_next, w_next
+
+
+def from_block(block, mass, radius):
+    """``p`` from PyBullet's block of ``contact_parameters`` (each body's contactStiffness, contactDamping).
+
+    The contact breaking threshold needs the sphere's ``radius`` (m); ValueError without one.
+    """
+    if radius is None:
+        raise ValueError("PyBullet's step needs radius= (its contact breaking threshold is 0.02 sqrt(3) r)")
+    k, c = float(block["contactStiffness"]), float(block["contactDamping"])
+    return make_params(mass, k, c, k, c, radius)
+
+
+def law_damping(p, approach_speed):
+    """The spring-dashpot's damping ratio zeta = c / (2 sqrt(k m)) of the pair in ``p`` (any speed)."""
+    del approach_speed
+    k, c = pair_values(p)
+    return c / (2.0 * math.sqrt(k * p[MASS]))

@@ -35,8 +35,10 @@ class Stepper:
     source : where the map was read from (files and functions of the engine's source).
     from_block : ``(block, mass, radius) -> p`` from the engine's block of ``contact_parameters``
         (``adapters``' ``parameters``), or None where the front door does not step this engine.
-    law_damping : ``p -> the law's dimensionless damping`` that the adapter's ``parameters``
-        turn back into the engine's block, or None likewise.
+    law_damping : ``(p, approach_speed) -> the law's dimensionless damping`` that the adapter's
+        ``parameters`` turn back into the engine's block, or None likewise.
+    step_setting : the name of the step in the engine adapter's settings.
+    needs_radius : the map reads the sphere's radius (``from_block`` refuses None).
     """
 
     name: str
@@ -52,6 +54,8 @@ class Stepper:
     source: str
     from_block: Callable | None = None
     law_damping: Callable | None = None
+    step_setting: str = "timestep"
+    needs_radius: bool = False
 
     def pack(self, **values):
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
@@ -98,6 +102,9 @@ STEPPERS = (
         defaults={"slop": pybullet_map.LINEAR_SLOP},
         contact_time=pybullet_map.contact_time,
         drop=drop_pybullet,
+        from_block=pybullet_map.from_block,
+        law_damping=pybullet_map.law_damping,
+        needs_radius=True,
         source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
         "(setupMultiBodyContactConstraint, resolveSingleConstraintRowGeneric), btMultiBodyDynamicsWorld.cpp "
         "(solveConstraints, integrateMultiBodyTransforms); src/BulletCollision/CollisionDispatch: "
@@ -116,6 +123,9 @@ STEPPERS = (
         defaults={},
         contact_time=drake_map.contact_time,
         drop=drop_drake,
+        from_block=drake_map.from_block,
+        law_damping=drake_map.law_damping,
+        step_setting="time_step",
         source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
         "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
