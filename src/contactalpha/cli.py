@@ -116,7 +116,7 @@ EXAMPLES = {
     "warmup": ("contactalpha warmup  # once after installing: first calls then load compiled code",),
     "calibrate": (
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
-        "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
+        "contactalpha calibrate heights.csv --mass 0.05 --hypothesis all --json report.json --figures drop",
     ),
     "tune": tune_command.EXAMPLES,
 }
