@@ -8,7 +8,7 @@ import sys
 from snakemake.utils import validate
 
 from contactalpha.config import check_config, read_yaml
-from contactalpha.io import claim_workdir
+from contactalpha.io import ANOTHER_RUN, claim_workdir, other_run_alive
 
 # The job server is workflow machinery: it lives beside the scripts that use it.
 sys.path.insert(0, os.path.join(workflow.basedir, "workflow", "scripts"))
@@ -31,7 +31,10 @@ check_config(config, os.path.join(workflow.basedir, SCHEMA))
 # Resume after kill -9 with the same command: with no other run alive here, the killed run's
 # Snakemake lock and half-written temporaries are cleared (profiles/default sets rerun-incomplete).
 if workflow.is_main_process:
-    claim_workdir()
+    held, _ = claim_workdir()
+    # A second run here would get Snakemake's lock error and its advice to --unlock.
+    if not held and not workflow.dryrun and other_run_alive():
+        sys.exit(ANOTHER_RUN.format(workdir=os.getcwd()))
 
 ALL_TARGETS = []
 

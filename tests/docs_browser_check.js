@@ -18,6 +18,9 @@
       if (inside(n, "pre, .katex, script, style, .md-clipboard")) continue;
       if (RAW_TEX.test(n.nodeValue)) rawTex.push(n.nodeValue.trim().slice(0, 120));
     }
+    article.querySelectorAll(".katex-error").forEach(function (el) {
+      rawTex.push("KaTeX error: " + (el.getAttribute("title") || "") + " in " + el.textContent.slice(0, 80));
+    });
     var arith = article.querySelectorAll(".arithmatex");
     var unrendered = [];
     arith.forEach(function (el) {

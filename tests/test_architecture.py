@@ -11,6 +11,7 @@ RANKS = {
     "validation": 0,
     "io": 0,
     "provenance": 0,
+    "progress": 0,
     "plotting": 0,
     "engine": 1,
     "laws": 1,  # the contact-law family: beside the engine, which it wraps for n = 3/2
@@ -162,3 +163,11 @@ def test_the_check_sees_an_upward_import(tmp_path):
     targets = [t for t, _ in _imports("engine.kernel", fake)]
     assert targets == ["paper.surface.compute", "models.registry"]
     assert _rank("engine.kernel") < _rank(targets[0])
+
+
+def test_test_modules_have_unique_names():
+    # The test folders have no __init__.py: pytest imports each module by its basename, so two
+    # files of one name stop the whole run at collection.
+    tests = Path(__file__).resolve().parent
+    names = [p.name for p in tests.rglob("test_*.py")]
+    assert sorted({n for n in names if names.count(n) > 1}) == []

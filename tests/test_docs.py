@@ -116,13 +116,39 @@ def cli_commands(block):
 
 
 def _run_cli(argv):
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
             status = main(argv)
         except SystemExit as stop:
             status = stop.code
-    return status, out.getvalue()
+    sys.stderr.write(err.getvalue())
+    return status, out.getvalue(), err.getvalue()
+
+
+def _engine_modules():
+    """Top-level modules of the registered engines (optional: ``pip install -e ".[engines]"``)."""
+    from contactalpha.adapters.registry import ADAPTERS
+
+    return {a.module.split(".")[0] for a in ADAPTERS}
+
+
+def _missing_engine(err):
+    """The optional engine whose absence raised ``err`` (an ImportError or its cause), else None."""
+    while err is not None:
+        name = (getattr(err, "name", None) or "").split(".")[0]
+        if isinstance(err, ImportError) and name in _engine_modules():
+            return name
+        err = err.__cause__
+    return None
+
+
+def _skip_without_engine(name, where):
+    """A page's example needs an engine that is not installed: skip, except under CI=true."""
+    reason = f"{where} needs the optional engine {name!r}, which is not installed"
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"CI=true: {reason}")
+    pytest.skip(reason)
 
 
 def _module_available(name):
@@ -146,12 +172,20 @@ def run_page(path, workdir):
             (Path(workdir) / block.file).write_text(block.text, encoding="utf-8")
         elif block.lang == "python":
             with contextlib.chdir(workdir):
-                exec(compile(block.text, where, "exec"), namespace)  # noqa: S102
+                try:
+                    exec(compile(block.text, where, "exec"), namespace)  # noqa: S102
+                except ImportError as err:
+                    if _missing_engine(err) is None:
+                        raise
+                    _skip_without_engine(_missing_engine(err), where)
             ran += 1
         elif block.lang in SHELL_LANGS:
             for argv, expected in cli_commands(block):
                 with contextlib.chdir(workdir):
-                    status, out = _run_cli(argv)
+                    status, out, err = _run_cli(argv)
+                engine = next((m for m in _engine_modules() if f"No module named {m!r}" in err), None)
+                if status != 0 and (engine or "is an optional engine" in err):
+                    _skip_without_engine(engine or err.strip(), where)
                 assert status == 0, f"{where}: `contactalpha {shlex.join(argv)}` exited {status}"
                 if expected is not None:
                     assert out.strip("\n") == expected, f"{where}: the page shows another output"
@@ -307,3 +341,19 @@ def test_generated_blocks_have_their_markers_on_the_page_their_rule_fills(rules,
     assert body.count(report.PAGE_START) == 1 and body.count(report.PAGE_END) == 1
     assert body.index(report.PAGE_START) < body.index(report.PAGE_END)
     assert report.PAGE_START not in (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def test_an_example_that_needs_a_missing_engine_skips(tmp_path, monkeypatch):
+    """Without an optional engine its examples skip (README's pytest); under CI=true they fail."""
+    monkeypatch.setattr(sys.modules[__name__], "_engine_modules", lambda: {"no_such_engine_xyz"})
+    page = tmp_path / "page.md"
+    page.write_text("```python\nimport no_such_engine_xyz\n```\n", encoding="utf-8")
+    monkeypatch.setenv("CI", "false")
+    with pytest.raises(pytest.skip.Exception, match="no_such_engine_xyz"):
+        run_page(page, tmp_path)
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="CI=true"):
+        run_page(page, tmp_path)
+    page.write_text("```python\nimport no_such_module_at_all\n```\n", encoding="utf-8")
+    with pytest.raises(ImportError):  # any other missing module is a failure
+        run_page(page, tmp_path)

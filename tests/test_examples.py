@@ -93,6 +93,18 @@ def test_mujoco_drop_example_delivers_the_target_inside_mujoco(mujoco, capsys):
     assert -damping == pytest.approx(2 * zeta * math.sqrt(2.0e4 / 0.5), rel=1e-8)
 
 
+@pytest.mark.integration
+def test_domain_randomisation_gives_4096_scenes_and_three_deliver_their_target_in_mujoco(mujoco, capsys):
+    runpy.run_path(str(EXAMPLES / "domain_randomisation.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    assert re.search(r"^scenes\s+4096, with parameters 4096$", out, re.M)
+    checks = re.findall(r"target e_N = ([0-9.]+), MuJoCo delivers e_N = ([0-9.]+)", out)
+    assert len(checks) == 3
+    for target, delivered in checks:
+        # MuJoCo's own drop at 20,000 steps per period, with the batch's solref: within 1e-3.
+        assert float(delivered) == pytest.approx(float(target), abs=1e-3)
+
+
 def test_robot_model_tuning_hits_the_target_and_reads_the_leg(mujoco, capsys):
     runpy.run_path(str(EXAMPLES / "robot_model_tuning.py"), run_name="__main__")
     out = capsys.readouterr().out

@@ -10,11 +10,12 @@ import os
 import re
 import sys
 
-from contactalpha.adapters.registry import ENGINE_NAMES
+from contactalpha.adapters.registry import ENGINE_NAMES, adapter
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
 from contactalpha.mechanism import command as tune_command
+from contactalpha.scene.reach import EXIT_UNREACHABLE, UnreachableTarget
 from contactalpha.version import __version__
 
 
@@ -84,7 +85,6 @@ def stiffness_help():
 
 
 # Exit statuses of `params` (its -h prints them).
-EXIT_UNREACHABLE = 3
 PARAMS_EXIT = (
     "exit status: 0 parameters printed; 2 bad input (one line on stderr); "
     f"{EXIT_UNREACHABLE} no damping reaches the target (stderr names the nearest reachable target "
@@ -116,7 +116,7 @@ EXAMPLES = {
     "warmup": ("contactalpha warmup  # once after installing: first calls then load compiled code",),
     "calibrate": (
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
-        "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
+        "contactalpha calibrate heights.csv --mass 0.05 --hypothesis all --json report.json --figures drop",
     ),
     "tune": tune_command.EXAMPLES,
 }
@@ -206,6 +206,7 @@ def build_parser():
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"
     )
+    f.add_argument("--quiet", action="store_true", help="no progress lines on stderr (--refine prints them)")
     f.add_argument(
         "--timestep",
         type=_step,
@@ -258,7 +259,7 @@ def _print_advice(adv):
 
 
 def main(argv=None):
-    """Run the command line; returns the exit status (2 for bad input, 1 for a failed solve)."""
+    """Run the command line; the exit status: 2 bad input, 1 a failed solve, 3 an unreachable target."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -268,6 +269,10 @@ def main(argv=None):
         # stdout at devnull so that Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except UnreachableTarget as exc:
+        # No damping reaches the target: the nearest reachable one and the remedy, one line.
+        print(f"contactalpha: unreachable: {' '.join(str(exc).split())}", file=sys.stderr)
+        return EXIT_UNREACHABLE
     except (ValueError, RuntimeError, OSError, ImportError) as exc:
         # Bad input, a failed solve, a file that cannot be written, an optional engine not
         # installed (its message says how to install it): one line, never a traceback.
@@ -318,14 +323,19 @@ def _print_engine(args, value, restitution):
     from contactalpha.scene.engine_params import engine_block, format_block
     from contactalpha.scene.parameters import scene_accel
 
+    from contactalpha.progress import Progress
+
     accel = scene_accel(args.mass, args.accel, args.force)
-    params, notes = engine_block(
-        args.engine, value, args.mass, args.stiffness, args.speed, accel,
-        restitution=restitution, radius=args.radius, refine=args.refine,
-        timestep=args.timestep, verify=args.verify,
-    )  # fmt: skip
+    with Progress(f"contactalpha: refining on {args.engine}'s drops") as progress:
+        params, notes = engine_block(
+            args.engine, value, args.mass, args.stiffness, args.speed, accel,
+            restitution=restitution, radius=args.radius, refine=args.refine,
+            timestep=args.timestep, verify=args.verify, progress=None if args.quiet else progress,
+        )  # fmt: skip
     if args.json:
-        print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
+        units = getattr(adapter(args.engine), "units", {})
+        data = {"engine": args.engine, "parameters": params, "units": units, "notes": notes}
+        print(json_text(data, indent=1))
     else:
         print(format_block(args.engine, params, notes))
     return 0
@@ -356,7 +366,8 @@ def _params(args, parser):
         **target,
     )
     data = as_plain_data(cp) | {
-        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
+        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
+        "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
     print(json_text(data, indent=1) if args.json else format_parameters(cp))
     return 0

@@ -5,6 +5,7 @@ import math
 import os
 import re
 import socket
+import sys
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path, PurePath
@@ -174,6 +175,35 @@ def claim_workdir(workdir="."):
         path.unlink(missing_ok=True)
     removed += remove_stale_temporaries(workdir / "results", recursive=True)
     return True, removed
+
+
+def other_run_alive(workdir="."):
+    """True when another process holds ``workdir``'s ``RUN_LOCK``: a workflow run is alive there."""
+    import errno
+    import fcntl
+
+    lock = Path(workdir).resolve() / RUN_LOCK
+    if lock in _HELD or not lock.exists():
+        return False
+    fd = os.open(lock, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except OSError as err:
+        return err.errno in (errno.EWOULDBLOCK, errno.EAGAIN)
+    else:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        return False
+    finally:
+        os.close(fd)
+
+
+# What a second run in the same directory is told (Snakemake's own message advises --unlock,
+# which would let two runs write the same files).
+ANOTHER_RUN = (
+    "contactalpha: another workflow run is alive in this directory ({workdir}); wait for it to "
+    "finish (or stop it) and run the command again. Do not use --unlock: both runs would write "
+    "the same files."
+)
 
 
 def write_text_atomic(path, text):
@@ -389,4 +419,29 @@ def script_logger(name, path=None):
     for handler in handlers:
         handler.setFormatter(fmt)
         logger.addHandler(handler)
+    if path:
+        _log_uncaught(logger, handlers[-1])
     return logger
+
+
+def _log_uncaught(logger, file_handler):
+    """Write a script's uncaught exception, traceback included, to its log file too.
+
+    Snakemake shows a failed job's stderr in its own output only; the rule's log would end
+    mid-way with no word of the error.  The exception still reaches the previous hook
+    (Python's: the traceback on stderr, exit status 1).
+    """
+    import logging
+
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        if not issubclass(kind, KeyboardInterrupt):
+            record = logger.makeRecord(
+                logger.name, logging.ERROR, "", 0, "uncaught exception", None, (kind, value, tb)
+            )
+            file_handler.handle(record)
+            file_handler.flush()
+        previous(kind, value, tb)
+
+    sys.excepthook = hook

@@ -145,6 +145,15 @@ RANGES = {
 }
 # Types the scalar fast path accepts as they are; anything else takes the full check.
 PLAIN_FLOATS = (float, np.float64)
+# The two restitution coefficients a target may be given in: Stronge's energetic eps, Newton's e_N.
+RESTITUTIONS = ("energetic", "kinematic")
+
+
+def check_restitution(restitution):
+    """``restitution`` if it names one of ``RESTITUTIONS``; else a ``ValueError`` naming them."""
+    if restitution not in RESTITUTIONS:
+        raise ValueError(f"restitution = {restitution!r} is not one of {', '.join(map(repr, RESTITUTIONS))}")
+    return restitution
 
 
 def plain_in(name, value):

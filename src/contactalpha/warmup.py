@@ -9,7 +9,8 @@ the cache (``engine/jitcache.py`` keys it on the package sources, so an edit
 recompiles).  Its timings are the compile times the benchmarks report apart.
 
 Each entry point is called with a tiny valid input through its public or
-kernel-level function: its scalar path and its array path (one jitted row loop,
+kernel-level function (``laws``: every contact law, scalar and batched, both
+restitutions): its scalar path and its array path (one jitted row loop,
 whichever number of threads runs it: ``engine/threads.py``).  Values are not
 checked here: the tests do that.
 """
@@ -68,6 +69,24 @@ def _boundary():
     threshold.critical_speed(EPS, BALL.mass, BALL.stiffness, BALL.gravity)
 
 
+def _laws():
+    # Every contact law's first calls through the front door, scalar and batched, both
+    # restitutions (the batch takes the tables, the scalar the family's exact solver), and the
+    # closed-form forward map of the piecewise-linear laws.
+    from contactalpha.laws import LAWS
+    from contactalpha.scene.parameters import contact_parameters
+
+    scene = {"mass": 0.5, "stiffness": 1.0e6, "approach_speed": 0.5, "accel": 9.81}
+    batch = {name: _points(2, value) for name, value in scene.items()}
+    for law in LAWS:
+        for key in ("eps", "e_N"):
+            contact_parameters(**{key: EPS}, **scene, law=law.name)
+            contact_parameters(**{key: _points(2, EPS)}, **batch, law=law.name)
+            if law.fast is not None and law.fast.exact_inverse is not None:
+                restitution = "kinematic" if key == "e_N" else "energetic"
+                law.fast_restitution(_points(2, 0.3), _points(2, XI), restitution)
+
+
 def _scene():
     # The paper's ball (Sect. 6) for a few milliseconds: its kernel calls from Python.
     ball.simulate(dataclasses.replace(BALL, t_end=0.01), "exact")
@@ -81,6 +100,7 @@ ENTRY_POINTS = {
     "models": _models,
     "boundary": _boundary,
     "scene": _scene,
+    "laws": _laws,
     "scaling": lambda: influence_factor(BALL.mass, BALL.stiffness, BALL.approach_speed, BALL.gravity),
 }
 
@@ -90,7 +110,10 @@ ENTRY_POINTS = {
 # the separation boundary and the ball, which compile some of it again.  Measured on an empty
 # cache, the two at once on 2 cores: 15.3 and 13.1 s; other splits: 16.1/15.9 s (the boundary
 # with the lookups) and 17.5/13.5 s (the boundary and the ball with the impact kernel).
-PARTS = {"engine": ("impact", "solver", "tables"), "models": ("models", "boundary", "scene", "scaling")}
+PARTS = {
+    "engine": ("impact", "solver", "tables"),
+    "models": ("models", "boundary", "scene", "scaling", "laws"),
+}
 
 
 def warm_up(entry_points=None, progress=None):

@@ -6,8 +6,8 @@ Skipped with the reason when Exudyn is missing, except under CI=true (tests/conf
 import pytest
 
 from contactalpha import impact
-from contactalpha.scene.ball import Scene
 from contactalpha.adapters.engine_conventions import exudyn_alpha, exudyn_restitution_input
+from contactalpha.scene.ball import Scene
 from contactalpha.studies.engines.compute import exact_alpha
 
 # Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).

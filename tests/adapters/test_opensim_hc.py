@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from contactalpha import impact
-from contactalpha.scene.ball import Scene, simulate
 from contactalpha.adapters.engine_conventions import opensim_dissipation, opensim_stiffness
+from contactalpha.scene.ball import Scene, simulate
 from contactalpha.studies.engines.compute import exact_alpha
 
 # Heavy (workflow runs, compiles, real engines): run by `pytest -m integration` (.ci/run).

@@ -55,5 +55,5 @@ def test_params_damping_at_a_tiny_eps_is_the_onset_not_one_over_eps(capsys):
     cp = json.loads(capsys.readouterr().out)
     onset = ca.solve_alpha(0.0, cp["xi"])
     assert onset.ok
-    assert cp["alpha"] == pytest.approx(onset.alpha, rel=1e-6)
-    assert cp["damping"] == pytest.approx(onset.alpha * 1.4e8 / 1.0, rel=1e-6)
+    assert cp["damping_name"] == "alpha" and cp["damping"] == pytest.approx(onset.alpha, rel=1e-6)
+    assert cp["physical_damping"] == pytest.approx(onset.alpha / 1.0, rel=1e-6)  # d = alpha / v, s/m

@@ -89,3 +89,43 @@ def test_verify_runs_mujoco_and_it_agrees():
     assert v["phases"] == 128
     assert abs(v["mean"] - 0.5) < 1e-3
     assert abs(v["minimum"] - ans.minimum) < 2e-3 and abs(v["maximum"] - ans.maximum) < 2e-3
+
+
+@pytest.mark.parametrize(("engine", "radius", "h"), [("pybullet", 0.05, 5e-4), ("drake", None, "default")])
+def test_pybullet_and_drake_blocks_deliver_the_target_as_a_phase_mean(engine, radius, h):
+    from contactalpha.stepping import drake_map, pybullet_map
+
+    cp = contact_parameters(**SCENE, e_N=0.5, engine=engine, timestep=h, radius=radius)
+    ans, b = cp.stepped, cp.block
+    assert ans.status == "ok" and ans.mean == pytest.approx(0.5, abs=1e-6)
+    if engine == "pybullet":  # the block's per-body values, by hand into the map's slots
+        p = pybullet_map.make_params(0.5, b["contactStiffness"], b["contactDamping"], b["contactStiffness"],
+                                     b["contactDamping"], radius)  # fmt: skip
+    else:
+        k, d = b["point_contact_stiffness"], b["hunt_crossley_dissipation"]
+        p = drake_map.make_params(0.5, k, d, k, d)
+    e = at_phases(engine, p, ans.timestep, (np.arange(16384) + 0.5) / 16384, 0.5, 9.81)["e_n"]
+    assert e.mean() == pytest.approx(0.5, abs=5e-5)
+    assert abs(ans.continuous_mean - 0.5) > 0.05  # the continuous law's values miss at these steps
+
+
+def test_pybullet_at_its_default_step_is_out_of_reach_and_says_where_it_is_not():
+    cp = contact_parameters(**SCENE, e_N=0.5, engine="pybullet", timestep="default", radius=0.05)
+    ans = cp.stepped
+    assert ans.timestep == 1 / 240 and ans.status == "unreachable"
+    assert 0.0 < ans.timestep_reachable < 1 / 240
+    h = ans.timestep_reachable
+    again = contact_parameters(**SCENE, e_N=0.5, engine="pybullet", timestep=h, radius=0.05)
+    assert again.stepped.status == "ok"
+    with pytest.raises(ValueError, match="radius"):
+        contact_parameters(**SCENE, e_N=0.5, engine="pybullet", timestep="default")
+
+
+@pytest.mark.integration
+@pytest.mark.parametrize(("engine", "radius", "h"), [("pybullet", 0.05, 5e-4), ("drake", None, "default")])
+def test_verify_runs_pybullet_and_drake_and_they_agree(engine, radius, h):
+    pytest.importorskip("pybullet" if engine == "pybullet" else "pydrake")
+    cp = contact_parameters(**SCENE, e_N=0.5, engine=engine, timestep=h, radius=radius, verify=64)
+    v, ans = cp.stepped.verify, cp.stepped
+    assert abs(v["mean"] - 0.5) < 1e-3
+    assert abs(v["minimum"] - ans.minimum) < 2e-3 and abs(v["maximum"] - ans.maximum) < 2e-3

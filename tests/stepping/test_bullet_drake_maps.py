@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 from contactalpha.stepping import drake_map as dm
 from contactalpha.stepping import pybullet_map as pm
 from contactalpha.stepping.codes import CAPTURED, SEPARATED, STEP_LIMIT
+from contactalpha.stepping.drop import drop_drake, drop_pybullet
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "laws"))
 from scipy_reference import reference_impact  # noqa: E402
@@ -107,10 +108,10 @@ def test_maps_approach_the_continuous_law_at_first_order(law, damping, A):
         if law == "kelvin_voigt":
             p = pm.make_params(1.0, 2.0, damping, 2.0, damping, 1.0)  # pair k = 1, c = 2 zeta
             p[pm.SLOP] = 0.0
-            e, _ = scaled_drop(pm.drop_pybullet, p, h, A)
+            e, _ = scaled_drop(drop_pybullet, p, h, A)
         else:
             p = dm.make_params(1.0, 2.0, damping, 2.0, damping)  # pair k = 1, d = alpha / v_in
-            e, _ = scaled_drop(dm.drop_drake, p, h, A)
+            e, _ = scaled_drop(drop_drake, p, h, A)
         errors.append(abs(e - e_ref))
     assert errors[-1] < 2e-4  # measured 7.6e-5 (KV, the science's 0.348) and 1.3e-4 (HC)
     for coarse, fine in zip(errors, errors[1:]):
@@ -119,13 +120,63 @@ def test_maps_approach_the_continuous_law_at_first_order(law, damping, A):
 
 def test_drop_statuses():
     p = dm.make_params(1.0, 2.0, 0.0, 2.0, 0.0)
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 10**6)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 10**6)
     assert status == SEPARATED and 0.9 < e < 1.0 and n > 100
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 20)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 0.1, 20)
     assert status == STEP_LIMIT and math.isnan(e)
     p = dm.make_params(1.0, 2.0, 50.0, 2.0, 50.0)
-    e, n, status = dm.drop_drake(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
+    e, n, status = drop_drake(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
     assert status == CAPTURED and e == 0.0
     p = pm.make_params(1.0, 2.0, 5.0, 2.0, 5.0, 1.0)
-    e, n, status = pm.drop_pybullet(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
+    e, n, status = drop_pybullet(p, 1e-2, 0.3, 1.0, 2.0, 10**6)
     assert status == CAPTURED and e == 0.0
+
+
+def piecewise_reference(s, p, v, a):
+    """The phase mean by SciPy's quad between the phases where the forced steps change (bisection)."""
+    from scipy.integrate import quad
+
+    from contactalpha.stepping.drop import run_drop
+
+    def row(x):
+        return run_drop(s.code, p, s.timestep, x, v, a, 10**6)
+
+    grid = np.linspace(1e-300, np.nextafter(1.0, 0.0), 2049)
+    counts = [row(x)[2] for x in grid]
+    cuts = [(grid[0], grid[0])]
+    for lo, hi, n_lo, n_hi in zip(grid, grid[1:], counts, counts[1:]):
+        if n_lo != n_hi:
+            for _ in range(200):
+                m = 0.5 * (lo + hi)
+                if m <= lo or m >= hi:
+                    break
+                lo, hi = (m, hi) if row(m)[2] == n_lo else (lo, m)
+            cuts.append((lo, hi))
+    cuts.append((grid[-1], grid[-1]))
+    return sum(
+        quad(lambda x: row(x)[0], a0[1], b0[0], epsabs=1e-15, epsrel=1e-13, limit=400)[0]
+        for a0, b0 in zip(cuts, cuts[1:])
+    )
+
+
+@pytest.mark.parametrize(
+    ("engine", "values", "v"),
+    [
+        # fast enough that the contact point appears inside the last free step at some phases:
+        # e_N jumps there (by 0.31) without a change of the steps that start below the surface
+        ("pybullet", {"mass": 2.0, "stiffness_ball": 4e5, "damping_ball": 0.0, "stiffness_ground": pm.UNSET_STIFFNESS,
+                      "damping_ground": pm.UNSET_DAMPING, "breaking": pm.breaking_threshold(0.05)}, 2.5),
+        # Drake counts contact at z = 0: touchdown exactly at a step's start is the limit from phase 1
+        ("drake", {"mass": 0.5, "stiffness_ball": 2e4, "dissipation_ball": 0.2, "stiffness_ground": 2e4,
+                   "dissipation_ground": 0.2}, 0.5),
+    ],
+)  # fmt: skip
+def test_phase_mean_of_the_maps_across_their_jumps(engine, values, v):
+    from contactalpha.stepping.delivered import over_phase
+    from contactalpha.stepping.registry import stepper
+
+    s = stepper(engine)
+    p = s.pack(**values)
+    st = over_phase(engine, p, s.timestep, v, 9.81)
+    assert st.status == "ok"
+    assert st.mean == pytest.approx(piecewise_reference(s, p, v, 9.81), abs=1e-12)

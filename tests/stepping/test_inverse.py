@@ -33,13 +33,6 @@ def test_the_phase_mean_is_the_target(target, restitution, v, a):
     assert lo < target < hi  # one drop strays from the mean at this coarse step
 
 
-def test_the_start_only_seeds_the_bracket():
-    p = MJ.pack(stiffness=4e4, damping=0.0, impedance=0.9)
-    a = damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5)
-    b = damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5, start=3.0)
-    assert a.damping == pytest.approx(b.damping, rel=1e-9)
-
-
 def test_out_of_reach_gives_the_nearest_mean_and_a_step_that_reaches():
     # omega h = 2: one step per contact, the explicit step gains energy whatever the damping.
     p = MJ.pack(stiffness=1e6, damping=0.0, impedance=0.9)

@@ -98,3 +98,16 @@ def test_e_n_at_64_phases_is_mujocos(scene, integrator):
     predicted = at_phases("mujoco", p, H, phases, v, accel)["e_n"]
     assert np.allclose(predicted, measured, rtol=1e-9, atol=1e-12)
     assert np.ptp(predicted) > 1e-3  # the phase matters at 2 ms: the test sees it
+
+
+def test_the_adapters_reading_takes_the_first_impact_not_a_deeper_later_one():
+    """A high-e_N drop bounces again inside MuJoCo's window; e_N is the first impact's (the map's)."""
+    from contactalpha.stepping.drop import run_drop, trajectory
+    from contactalpha.stepping.kernels import MUJOCO
+
+    p = stepper("mujoco").pack(stiffness=2.5e4, damping=10.4, impedance=0.9)
+    phase, v, a = 34 / 128, 0.1, 9.81
+    z, w = trajectory(MUJOCO, p, H, phase, v, a, 60)  # three contact periods: two impacts
+    assert np.argmin(z) > 20  # the deepest point is the second impact's
+    e_map = run_drop(MUJOCO, p, H, phase, v, a, 10_000)[0]
+    assert measure_steps(z, w, a, H, v).e_n == pytest.approx(e_map, rel=1e-12)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import contactalpha as ca
 from contactalpha import models
 from contactalpha.paper.statements import FAILS, HOLDS, NOT_CHECKED, PARTLY
 from contactalpha.scene.threshold import critical_speed
@@ -107,10 +108,9 @@ def test_tables_print_the_maps_numbers(tiny_maps):
             assert s.get(name, 0.0) == pytest.approx(np.mean(best == i))
 
 
-def test_hertz_stiffness():
-    assert report.hertz_stiffness(4.0, 3.0) == pytest.approx(8.0)
-    with pytest.raises(ValueError, match="radius"):
-        report.hertz_stiffness(-1.0, 3.0)
+def test_the_report_has_no_hertz_formula_of_its_own():
+    """One ``hertz_stiffness`` (scene.hertz): the report's scenes go through it."""
+    assert not hasattr(report, "hertz_stiffness") or report.hertz_stiffness is ca.hertz_stiffness
 
 
 def test_scene_thresholds_are_the_critical_speed():

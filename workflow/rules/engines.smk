@@ -171,3 +171,19 @@ rule engines_page_figure:
         "../envs/contactalpha.yaml"
     script:
         "../scripts/engines_page_figure.py"
+
+
+# Issue 33: restitution at an engine's step, in MuJoCo's map (no engine needed):
+#   snakemake -c1 stepping_figures
+rule stepping_figures:
+    output:
+        phase_png="results/figures/stepping_phase.png",
+        phase_pdf="results/figures/stepping_phase.pdf",
+        map_png="results/figures/stepping_step_map.png",
+        map_pdf="results/figures/stepping_step_map.pdf",
+    log:
+        "logs/engines/stepping_figures.log",
+    conda:
+        "../envs/contactalpha.yaml"
+    script:
+        "../scripts/stepping_figures.py"

@@ -389,8 +389,8 @@ def _run_script(script):
     except KeyboardInterrupt:  # Python ends by SIGINT then; the client does
         traceback.print_exc()
         status = _SIGNALLED + signal.SIGINT
-    except BaseException:  # the job's own error: reported as Python reports it, status 1
-        traceback.print_exc()
+    except BaseException:  # the job's own error: reported as Python reports it (its hook), status 1
+        sys.excepthook(*sys.exc_info())
         status = 1
     atexit._run_exitfuncs()  # the job's and its imports' exit handlers (logging's among them)
     return status

@@ -1,5 +1,7 @@
-"""The parts of the adapter contract every engine shares: the law's damping, a drop's delivered
-restitution, and the refinement of the damping on the engine's own drops.
+"""The parts of the adapter contract every engine shares.
+
+They are the law's damping, a drop's delivered restitution, and the refinement of the damping on
+the engine's own drops.
 
 An adapter that derives from ``Adapter`` writes only what is its engine's own (``parameters``,
 ``build_drop``, ``run``, ``static_penetration``, ``version``, ``timestep``) and gets:
@@ -136,7 +138,7 @@ class Adapter:
         samples = self.run(model, scene, settings)
         return self.summary(self.measure(samples, scene), samples, settings)
 
-    def calibrate(self, scene, target, start=None, settings=None):
+    def calibrate(self, scene, target, start=None, settings=None, progress=None):
         """Parameters that deliver the target e_N in the engine, refined from the law's damping ``start``.
 
         Parameters
@@ -149,6 +151,8 @@ class Adapter:
         settings : optional
             The engine's settings; ``settings.tol`` (default ``DELIVERED_TOL``) is the tolerance on
             the delivered e_N.
+        progress : callable, optional
+            Called with a line naming each drop in the engine as it starts (``contactalpha.progress``).
 
         Returns
         -------
@@ -162,11 +166,20 @@ class Adapter:
             sol, xi = self.law_damping(scene, target, "kinematic", settings)
             if not sol.ok:
                 raise ValueError(
-                    f"no {self.law.damping} gives e_N {target!r} at xi = {xi!r} in {self.law.name}: {sol.status}"
+                    f"no {self.law.damping} gives e_N {target!r} at xi = {xi!r} in {self.law.name}: "
+                    f"{sol.status}"
                 )
             start = float(sol.damping)
         tol = getattr(settings, "tol", DELIVERED_TOL)
-        ref = refine(lambda p: self.delivered(scene, p, settings).e_n, target, start, tol)
+        drops = [0]
+
+        def e_n_of(damping):
+            drops[0] += 1
+            if progress is not None:
+                progress(f"{self.name} drop {drops[0]}, {self.law.damping} = {damping:.6g}")
+            return self.delivered(scene, damping, settings).e_n
+
+        ref = refine(e_n_of, target, start, tol)
         found = math.isfinite(ref.damping)
         got = self.delivered(scene, ref.damping if found else start, settings)
         self.check_delivered(got, settings)

@@ -28,8 +28,8 @@ The parts of the contract:
 - ``timestep(settings)``: the engine's fixed step in s, or None for an error-controlled one;
 - ``delivered(scene, damping, settings=None)``: the e_N the engine delivers with the law's damping
   (``adapters.base.Delivered``: the mean over touchdown phases for a stepping engine);
-- ``calibrate(scene, target, start=None, settings=None)``: the parameters refined on the engine's
-  own drops, ``(parameters, Refinement, Delivered)``.
+- ``calibrate(scene, target, start=None, settings=None, progress=None)``: the parameters refined
+  on the engine's own drops, ``(parameters, Refinement, Delivered)``; ``progress`` hears of each drop.
 
 ``missing_parts`` names whatever part an object lacks or whose signature differs from the
 Protocol's (its parameters, in order, with a default where the Protocol has one; any further
@@ -132,8 +132,11 @@ class EngineAdapter(Protocol):
     def delivered(self, scene, damping, settings=None):
         """``Delivered``: the e_N the engine delivers with the law's ``damping`` in ``scene``."""
 
-    def calibrate(self, scene, target, start=None, settings=None):
-        """``(parameters, Refinement, Delivered)``: parameters refined on the engine's own drops."""
+    def calibrate(self, scene, target, start=None, settings=None, progress=None):
+        """``(parameters, Refinement, Delivered)``: parameters refined on the engine's own drops.
+
+        ``progress`` (optional) is called with a line as each drop in the engine starts.
+        """
 
 
 # The contract's parts: attributes (data) and methods (callables).
@@ -165,7 +168,7 @@ def signature_differs(method, part):
         return True
     if len(have) < len(want):
         return not any(p.kind is p.VAR_POSITIONAL for p in have)
-    for w, h in zip(want, have):
+    for w, h in zip(want, have[: len(want)], strict=True):
         if h.name != w.name or h.kind not in (h.POSITIONAL_ONLY, h.POSITIONAL_OR_KEYWORD):
             return True
         if w.default is not w.empty and h.default is h.empty:
@@ -176,8 +179,10 @@ def signature_differs(method, part):
 
 
 def missing_parts(adapter):
-    """Names of the contract's parts that ``adapter`` lacks (a method must be callable with the
-    Protocol's signature: ``signature_differs``)."""
+    """Names of the contract's parts that ``adapter`` lacks.
+
+    A method must be callable with the Protocol's signature (``signature_differs``).
+    """
     missing = [p for p in DATA_PARTS if getattr(adapter, p, None) is None]
     for p in METHOD_PARTS:
         method = getattr(adapter, p, None)

@@ -30,12 +30,10 @@ import numpy as np
 from contactalpha.adapters.contract import Samples
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
-from contactalpha.stepping.drake_map import TIMESTEP
+from contactalpha.stepping.drake_map import APPROXIMATIONS, TIMESTEP
 from contactalpha.validation import check_range
 
 INSTALL_HINT = 'Drake is an optional engine: pip install -e ".[engines]" (PyPI package "drake")'
-# The discrete contact approximations served (the map ``stepping.drake_map`` models all three).
-APPROXIMATIONS = ("lagged", "tamsi", "similar")
 
 
 def _drake():

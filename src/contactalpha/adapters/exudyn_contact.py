@@ -28,7 +28,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from contactalpha.adapters.base import Adapter
 from contactalpha.adapters.contract import DropScene, Samples
@@ -131,6 +130,7 @@ def static_penetration(mass, radius, stiffness, gravity, force):
     predicted = (load / stiffness) ** (2.0 / 3.0)
 
     def imbalance(delta):
+
         mbs.systemData.SetODE2Coordinates([0.0, -delta, 0.0], exu.ConfigurationType.Current)
         mbs.systemData.SetODE2Coordinates_t([0.0, 0.0, 0.0], exu.ConfigurationType.Current)
         # The connector's outputs read the contact state from its data node (gap first).
@@ -138,6 +138,8 @@ def static_penetration(mass, radius, stiffness, gravity, force):
         # ``Force`` is the connector's term on the left-hand side of the equations of motion of
         # marker 1 (the ball): minus the force acting on it.
         return -mbs.GetObjectOutput(h["contact"], exu.OutputVariableType.Force)[1] - load
+
+    from scipy.optimize import brentq  # here: importing scipy.optimize takes a while
 
     lo, hi = (predicted * s for s in STATIC_BRACKET)
     return brentq(imbalance, lo, hi, xtol=1e-16 * predicted, rtol=1e-15)

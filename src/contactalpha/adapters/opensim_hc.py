@@ -21,7 +21,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from contactalpha import models
 from contactalpha.adapters.base import Adapter
@@ -145,9 +144,12 @@ def static_penetration(mass, radius, stiffness, gravity, force):
     predicted = (mass * (gravity + force / mass) / stiffness) ** (2.0 / 3.0)
 
     def acceleration(delta):
+
         set_state(drop, 0.0, delta, 0.0)
         drop.model.realizeAcceleration(drop.state)
         return drop.coordinate.getAccelerationValue(drop.state)
+
+    from scipy.optimize import brentq  # here: importing scipy.optimize takes a while
 
     lo, hi = (predicted * s for s in STATIC_BRACKET)
     return brentq(acceleration, lo, hi, xtol=1e-16 * predicted, rtol=1e-15)

@@ -48,8 +48,10 @@ def _pybullet():
 
 @dataclass(frozen=True)
 class PyBulletSettings:
-    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``, and
-    Bullet's own ``restitution`` on both bodies (0: the compliant contact alone)."""
+    """Settings of a PyBullet drop: ``timestep`` (s), ``phases``, ``window`` (periods), ``tol``.
+
+    ``restitution`` is Bullet's own, on both bodies (0: the compliant contact alone).
+    """
 
     timestep: float = TIMESTEP
     phases: int = 4
@@ -75,7 +77,10 @@ class PyBulletAdapter(SteppingAdapter):
     settings = PyBulletSettings()
     # Units of ``parameters``.
     units = {
-        "contactStiffness": "N/m", "contactDamping": "N s/m", "pair_stiffness": "N/m", "pair_damping": "N s/m"
+        "contactStiffness": "N/m",
+        "contactDamping": "N s/m",
+        "pair_stiffness": "N/m",
+        "pair_damping": "N s/m",
     }
 
     def version(self):

@@ -29,7 +29,6 @@ above touchdown and upward velocity at every step) and ``timestep`` (s; 0 for a 
 stepped, which is then measured as a continuous one).
 """
 
-
 import math
 import warnings
 
@@ -38,7 +37,7 @@ import numpy as np
 from contactalpha.adapters.base import DELIVERED_TOL, Adapter, Delivered
 from contactalpha.adapters.measure import MeasuredImpact
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
-from contactalpha.stepping.flight import touchdown_state
+from contactalpha.stepping.flight import touchdown_state  # noqa: F401  (the adapters import it here)
 
 # A contact spanning fewer steps than this is flagged: its rebound depends on the touchdown phase.
 MIN_CONTACT_STEPS = 20
@@ -59,14 +58,19 @@ def measure_steps(z, v, accel, h, approach_speed):
         ``e_n`` from the flight parabola after the first free step (see the module docstring);
         ``eps`` from the energy identity with the deepest sampled deformation; ``t_*`` in steps
         times ``h`` from the first state.  No free step after the deepest point: "nonseparation"
-        with e_N = 0.
+        with e_N = 0.  Only the first impact counts: a later bounce inside the samples (a deeper
+        one, say) is never mistaken for it.
     """
     z = np.asarray(z, dtype=float)
     v = np.asarray(v, dtype=float)
-    i_max = int(np.argmin(z))
-    d_max = -float(z[i_max])
     dv = np.diff(v)
     free = (np.abs(dv + accel * h) <= FREE_STEP_RTOL * max(accel * h, abs(approach_speed))) & (z[:-1] > 0.0)
+    inside = np.nonzero(z < 0.0)[0]
+    k0 = int(inside[0]) if inside.size else 0
+    leaves = np.nonzero(free[k0:] & (v[k0 + 1 :] > 0.0))[0]
+    end = k0 + int(leaves[0]) + 2 if leaves.size else z.size  # up to the first free state after it
+    i_max = int(np.argmin(z[:end]))
+    d_max = -float(z[i_max])
     after = np.nonzero(free[i_max:] & (v[i_max + 1 :] > 0.0))[0]
     w_c = 0.5 * approach_speed**2 + accel * d_max
     if after.size == 0:
@@ -128,7 +132,8 @@ class SteppingAdapter(Adapter):
         h = x["timestep"]
         if not h:
             return super().measure(samples, scene)
-        results = [measure_steps(z, v, scene.accel, h, scene.approach_speed) for z, v in zip(x["z"], x["v"])]
+        rows = zip(x["z"], x["v"], strict=True)
+        results = [measure_steps(z, v, scene.accel, h, scene.approach_speed) for z, v in rows]
         x["e_n_phases"] = np.array([r.e_n for r in results])
         x["contact_steps"] = np.array([round(r.t_end / h) for r in results])
         x["separated"] = np.array([r.separated for r in results])

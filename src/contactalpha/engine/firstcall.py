@@ -22,6 +22,7 @@ compile time (``CompileNotice``).  ``contactalpha warmup`` compiles every kernel
 
 import contextlib
 import math
+import os
 import sys
 import threading
 import time
@@ -35,18 +36,24 @@ from numba.core.registry import CPUDispatcher
 INTERPRET_BUDGET_S = 1.0
 # numpy functions whose scalar form numba compiles to the C library's function: the twin calls
 # the same function through ``math`` (numpy may use its own SIMD versions, a few ulp apart).
-LIBM = ("exp", "log", "log1p", "expm1", "sqrt", "sin", "cos", "tan", "arctan", "floor")
-LIBM_NAMES = {"arctan": "atan"}
+LIBM = (
+    "exp", "log", "log1p", "expm1", "log10", "log2", "sqrt", "sin", "cos", "tan",
+    "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh", "arcsinh", "arccosh", "arctanh", "floor",
+)  # fmt: skip
+LIBM_NAMES = {"arcsin": "asin", "arccos": "acos", "arctan": "atan", "arcsinh": "asinh", "arccosh": "acosh",
+              "arctanh": "atanh"}  # fmt: skip
+# Two-argument ones: numpy's name -> math's.
+LIBM_2 = {"arctan2": "atan2", "hypot": "hypot"}
 
 
-def _scalar_libm(math_fn, numpy_fn):
-    def fn(x, *rest):
-        if not rest and type(x) in (float, np.float64):
+def _scalar_libm(math_fn, numpy_fn, arity=1):
+    def fn(*args):
+        if len(args) == arity and all(type(x) in (float, np.float64) for x in args):
             try:
-                return np.float64(math_fn(x))
+                return np.float64(math_fn(*args))
             except (OverflowError, ValueError):  # IEEE results (inf, nan) where math raises
                 pass
-        return numpy_fn(x, *rest)
+        return numpy_fn(*args)
 
     return fn
 
@@ -59,7 +66,8 @@ class _NumpyForTwins(types.SimpleNamespace):
 
 
 NUMPY_FOR_TWINS = _NumpyForTwins(
-    **{name: _scalar_libm(getattr(math, LIBM_NAMES.get(name, name)), getattr(np, name)) for name in LIBM}
+    **{name: _scalar_libm(getattr(math, LIBM_NAMES.get(name, name)), getattr(np, name)) for name in LIBM},
+    **{name: _scalar_libm(getattr(math, m), getattr(np, name), 2) for name, m in LIBM_2.items()},
 )
 
 _TWINS: dict = {}
@@ -203,8 +211,7 @@ class FirstCall:
             # numba has no public "is it on disk?" query: ``Dispatcher.compile`` itself asks its
             # ``_cache`` first.  Without that attribute (another numba) the kernel counts as not
             # cached: the twin runs, then the budget compiles it (which loads it if cached).
-            cache = getattr(disp, "_cache", None)
-            if cache is None or cache.load_overload(sig, disp.targetctx) is None:
+            if not _on_disk(disp, sig):
                 return False
             disp.compile(sig)  # loads it from the cache again and registers it
         self._now_compiled()
@@ -221,6 +228,88 @@ class FirstCall:
             if not (self.compiled or self._compiled_or_cached(args)):
                 self.dispatcher.compile(tuple(_numba_type(a) for a in args))
                 self._now_compiled()
+
+
+class _RowState:
+    """How far the Python twin of one row kernel got in this process."""
+
+    def __init__(self):
+        self.interpreted_s = 0.0
+        self.done = False  # compiled code is at hand, or the twin used its budget
+        self.lock = threading.Lock()
+
+
+_ROWS: dict = {}
+# Rows a twin runs between two looks at its clock: the first look comes after one row.
+ROW_BLOCK_MAX = 64
+
+
+def twin_rows(dispatcher):
+    """Mark a row kernel of ``threads.run_rows`` whose first rows may run as its Python twin.
+
+    Only kernels whose twins are tested bit-identical to their compiled code are marked
+    (tests/laws/test_first_call.py); returns ``dispatcher``, so it can decorate one.
+    """
+    _ROWS.setdefault(dispatcher, _RowState())
+    NOTICE.announced.add(dispatcher)
+    return dispatcher
+
+
+def interpret_rows(kernel, n, args):
+    """Run the first rows of a ``twin_rows`` kernel ``kernel(*args, start, stop)`` as its Python twin.
+
+    Returns the number of leading rows done (0 .. n): all of them while the twin stays within
+    ``INTERPRET_BUDGET_S`` (counted per kernel and process), none when compiled code is at hand
+    (in memory or in numba's disk cache), under ``compiled_only()`` or when the twin cannot run
+    the kernel as Python.  The caller runs the other rows compiled; the twin writes the same bits.
+    """
+    state = _ROWS.get(kernel)
+    if state is None or state.done or not _INTERPRET[0] or n <= 0 or not isinstance(kernel, CPUDispatcher):
+        return 0
+    with state.lock:
+        if state.done or kernel.signatures or _cached(kernel, (*args, 0, n)):
+            state.done = True
+            return 0
+        twin = python_twin(kernel)
+        plain = tuple(map(_as_ieee, args))
+        first, block = 0, 1
+        while first < n and state.interpreted_s <= INTERPRET_BUDGET_S:
+            stop = min(first + block, n)
+            clock = time.perf_counter()
+            try:
+                with np.errstate(all="ignore"):
+                    twin(*plain, first, stop)
+            except Exception:  # a case the twin cannot run as Python: the compiled kernel does it
+                state.done = True
+                return first
+            state.interpreted_s += time.perf_counter() - clock
+            first, block = stop, min(2 * block, ROW_BLOCK_MAX)
+        state.done = first < n
+        return first
+
+
+def _cached(dispatcher, args):
+    """True when numba's disk cache holds ``dispatcher``'s code for ``args``' types (then loaded)."""
+    sig = tuple(_numba_type(a) for a in args)
+    if not _on_disk(dispatcher, sig):
+        return False
+    dispatcher.compile(sig)
+    return True
+
+
+def _on_disk(dispatcher, sig):
+    """True when numba's disk cache holds code of ``dispatcher`` for ``sig``.
+
+    A kernel without an index file on disk has nothing cached: that is told without asking numba,
+    whose first cache query sets up its code generator (a second or more on a cold start).
+    """
+    cache = getattr(dispatcher, "_cache", None)
+    if cache is None:
+        return False
+    index = getattr(getattr(cache, "_cache_file", None), "_index_path", None)
+    if index is not None and not os.path.exists(index):
+        return False
+    return cache.load_overload(sig, dispatcher.targetctx) is not None
 
 
 def _native(value):

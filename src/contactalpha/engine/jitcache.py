@@ -11,6 +11,11 @@ closure: the cache lives in a sub-folder named after the hash, and the hash is
 the index's source stamp.  A changed closure finds an empty folder and
 compiles; a reverted one finds its old folder again.
 
+Where no base folder can be written (a read-only install, no writable home, no
+``NUMBA_CACHE_DIR``), the kernels are cached in a temporary folder of this process
+only (``ProcessTempLocator``): they compile in every process, and a warning says so
+once, naming ``NUMBA_CACHE_DIR``.
+
 Functions defined outside the package (users' own jitted code) never reach
 this locator's folders: it declines them and numba's own locators take over.
 Concurrent cold starts are as safe as numba's own cache: the folder is created
@@ -18,9 +23,12 @@ with ``exist_ok``, and numba writes index and data files to a temporary name
 and renames them into place.
 """
 
+import atexit
 import os
 import shutil
+import tempfile
 import time
+import warnings
 from functools import cache
 from pathlib import Path
 
@@ -105,7 +113,7 @@ class PackageSourceLocator(_CacheLocator):
         if not _inside_package(py_file):
             return None
         digest = _code_version(str(Path(py_file).resolve()))
-        for base_cls in BASE_LOCATORS:
+        for base_cls in (*BASE_LOCATORS, ProcessTempLocator):
             base = base_cls.from_function(py_func, py_file)
             if base is None:
                 continue
@@ -119,6 +127,32 @@ class PackageSourceLocator(_CacheLocator):
                 prune(base.get_cache_path())
             return self
         return None
+
+
+class ProcessTempLocator(UserWideCacheLocator):
+    """numba's user-wide locator moved into a temporary folder that lives as long as this process.
+
+    The last resort of ``PackageSourceLocator``: without it numba refuses to compile a
+    ``cache=True`` function when no folder can be written ("no locator available").
+    """
+
+    def __init__(self, py_func, py_file):
+        super().__init__(py_func, py_file)
+        self._cache_path = os.path.join(_process_temp_folder(), self.get_suitable_cache_subpath(py_file))
+
+
+@cache
+def _process_temp_folder():
+    folder = tempfile.mkdtemp(prefix="contactalpha-numba-")
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    warnings.warn(
+        "contactalpha: no writable folder for numba's cache (a read-only install?): compiled kernels are "
+        "kept for this process only and compile again in the next; set NUMBA_CACHE_DIR to a writable "
+        "folder to keep them",
+        RuntimeWarning,
+        stacklevel=2,
+    )
+    return folder
 
 
 def install():

@@ -65,6 +65,10 @@ def _scales_rows(m_e, k, v0, d, t):
         d[i], t[i] = _scales_jit(m_e[i], k[i], v0[i])
 
 
+# Its first calls on a cold numba cache run as its Python twin (``firstcall``).
+_scales_rows_first = FirstCall(_scales_rows)
+
+
 def _scales_checked(m_e, k, v0):
     """``(delta_star, t_star)`` as floats (plain input) or arrays; raise where one is beyond the doubles."""
     plain = (
@@ -82,7 +86,7 @@ def _scales_checked(m_e, k, v0):
         m_e, k, v0 = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_e.shape), np.empty(m_e.shape)
         flat = [flat_owned(a) for a in (m_e, k, v0)]
-        _scales_rows(*flat, d.reshape(-1), t.reshape(-1))
+        _scales_rows_first(*flat, d.reshape(-1), t.reshape(-1))
     bad = ~(
         (np.asarray(d) > 0.0) & (np.asarray(d) < np.inf) & (np.asarray(t) > 0.0) & (np.asarray(t) < np.inf)
     )
@@ -278,7 +282,7 @@ def influence_factor(
     with np.errstate(all="ignore"):
         m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_b.shape), np.empty(m_b.shape)
-        _scales_rows(flat_owned(m_b), flat_owned(k_b), flat_owned(v_b), d.reshape(-1), t.reshape(-1))
+        _scales_rows_first(flat_owned(m_b), flat_owned(k_b), flat_owned(v_b), d.reshape(-1), t.reshape(-1))
         A = a * d / v0**2
         # ln A = ln a + ln delta_star - 2 ln v0, with delta_star = (5 m_e v0^2 / (4 k))^(2/5)
         log_A = np.log(a) + 0.4 * (np.log(1.25) + np.log(m_e) - np.log(k)) - 1.2 * np.log(v0)

@@ -42,12 +42,14 @@ from numba import njit
 
 from contactalpha.validation import (
     PLAIN_FLOATS,
+    RESTITUTIONS,
     FloatOrArray,
     RealLike,
     check_eps,
     check_flag,
     check_max_steps,
     check_range,
+    check_restitution,
     check_tolerances,
     check_xi,
     plain_in,
@@ -428,17 +430,6 @@ class AlphaSolution:
         return np.asarray(self.status) == "ok"
 
 
-# The two restitution coefficients a target may be given in.
-RESTITUTIONS = ("energetic", "kinematic")
-
-
-def check_restitution(restitution):
-    """Return True for "kinematic", False for "energetic"; raise ``ValueError`` otherwise."""
-    if restitution not in RESTITUTIONS:
-        raise ValueError(f"restitution = {restitution!r} is not one of {', '.join(map(repr, RESTITUTIONS))}")
-    return restitution == "kinematic"
-
-
 def no_kinematic_inverse(name="e_N"):
     """The error for a kinematic target of 0, which many alpha produce."""
     return ValueError(
@@ -484,7 +475,7 @@ def solve_table(
     restitution="energetic",
 ):
     """Validated flat solve: returns the raw ``(n, N_SOLVE_OUT)`` table and the broadcast shape."""
-    kinematic = check_restitution(restitution)
+    kinematic = check_restitution(restitution) == "kinematic"
     exact_at_zero = check_flag("exact_at_zero", exact_at_zero)
     eps, xi = _check_targets(eps, xi, kinematic, exact_at_zero)
     rtol, atol = check_tolerances(rtol, atol)

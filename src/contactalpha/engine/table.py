@@ -40,7 +40,7 @@ from numba import njit
 from contactalpha.validation import PLAIN_FLOATS, FloatOrArray, RealLike, as_real, check_range
 
 from .bspline import eval_1d_uniform, eval_2d_uniform
-from .firstcall import FirstCall
+from .firstcall import FirstCall, twin_rows
 from .threads import flat_owned, run_rows
 
 # Bumped whenever the meaning of the stored arrays changes.
@@ -154,6 +154,7 @@ def kinematic_alpha_from_table(e_n, xi, tx, ty, c, g):
     return np.exp(L) * (1.0 - e_n) / e_n
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def alpha_from_table_rows(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g, out, start, stop):
     """``alpha_from_table`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""
@@ -161,6 +162,7 @@ def alpha_from_table_rows(eps, xi, b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g
         out[i] = alpha_from_table(eps[i], xi[i], b_t, b_c, s_tx, s_ty, s_c, n_tx, n_ty, n_c, g)
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def kinematic_alpha_from_table_rows(e_n, xi, tx, ty, c, g, out, start, stop):
     """``kinematic_alpha_from_table`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""
@@ -296,6 +298,8 @@ def check_table_shapes(path, names, arrays):
 def read_table_file(path, names, build_hint="`snakemake -c2 table`"):
     """``(arrays, meta)`` of a table file written by ``table_build``; refuse a different format version."""
     path = Path(path)
+    if path.resolve() in SHIPPED_GRIDS:  # a table built elsewhere is not the package's: ship one
+        build_hint = f"{build_hint} and `snakemake -c2 ship` (config.yaml's grid), or reinstall the package"
     if not path.exists():
         raise FileNotFoundError(f"exact-alpha table {path} not found; build it with {build_hint}")
     try:
@@ -386,6 +390,10 @@ def _first_outside(values, lo, hi):
     return -1
 
 
+# Its first calls on a cold numba cache run as its Python twin (``firstcall``).
+_first_outside_first = FirstCall(_first_outside)
+
+
 # Per restitution definition: (table file, scalar evaluator, row kernel of the array form, arrays).
 def _lookup(restitution):
     if restitution == "kinematic":
@@ -456,9 +464,9 @@ def alpha_tabulated(
     e, x = np.broadcast_arrays(as_real(name, eps), as_real("xi", xi))
     e_flat, x_flat = flat_owned(e), flat_owned(x)
     # One jitted pass finds bad input; check_range then words the error.
-    if _first_outside(e_flat, EPS_MIN, 1.0) >= 0:
+    if _first_outside_first(e_flat, EPS_MIN, 1.0) >= 0:
         check_range(name, e_flat, EPS_MIN, 1.0)
-    if _first_outside(x_flat, 0.0, XI_MAX) >= 0:
+    if _first_outside_first(x_flat, 0.0, XI_MAX) >= 0:
         check_range("xi", x_flat, 0.0, XI_MAX)
     out = lookup_many(rows, e_flat, x_flat, tables).reshape(e.shape)
     return out[()] if out.ndim == 0 else out

@@ -19,6 +19,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numba
 import numpy as np
 
+from contactalpha.engine.firstcall import interpret_rows
+
 # Blocks per thread: rows differ in cost by orders of magnitude (a creeping impact takes
 # ~100 times the steps of a separating one), so each thread takes several blocks in turn
 # rather than one fixed share.
@@ -64,14 +66,21 @@ def run_rows(kernel, n, *args, threads=None):
         Number of rows.
     threads : int, optional
         Threads to use (default ``thread_count()``); 1 runs the kernel in this thread.
+
+    A kernel with no compiled code at hand (none in memory, none in numba's disk cache) first
+    runs rows as its Python twin (``firstcall.interpret_rows``: the same bits) and is compiled
+    only for the rows left once the twin has used its time budget.
     """
-    threads = min(thread_count() if threads is None else int(threads), n)
-    if threads <= 1:
-        kernel(*args, 0, n)
+    first = interpret_rows(kernel, n, args)  # rows its Python twin ran before it was compiled
+    if first >= n:
         return
-    size = -(-n // (threads * BLOCKS_PER_THREAD))
+    threads = min(thread_count() if threads is None else int(threads), n - first)
+    if threads <= 1:
+        kernel(*args, first, n)
+        return
+    size = -(-(n - first) // (threads * BLOCKS_PER_THREAD))
     pool = _pool(threads)
-    futures = [pool.submit(kernel, *args, start, min(start + size, n)) for start in range(0, n, size)]
+    futures = [pool.submit(kernel, *args, start, min(start + size, n)) for start in range(first, n, size)]
     try:
         for future in futures:
             future.result()

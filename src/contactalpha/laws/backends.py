@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.engine.codes import STATE_CODES, STATUS
+from contactalpha.engine.firstcall import FirstCall
 
 from .integrate import (
     ATOL,
@@ -29,6 +30,10 @@ from .integrate import (
 from .solve import solve_damping
 
 _STATUS_CODES = {word: code for code, word in STATUS.items()}
+# Impacts of a first call on a cold numba cache run as the kernel's Python twin (``firstcall``):
+# a few rows cost milliseconds, its compile seconds; larger arrays compile at once.
+TWIN_ROWS_MAX = 64
+_impact_rows = FirstCall(impact_rows, interpret_if=lambda code, p, *rest: p.size <= TWIN_ROWS_MAX)
 
 
 @dataclass(frozen=True)
@@ -39,7 +44,7 @@ class FamilyBackend:
 
     def impact(self, law, p, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """Rows (eps, e_N, state, status, x_m, x_e, v_e, t_e) of impacts at flat ``p``, ``A``, ``xi``."""
-        rows = impact_rows(law.code, p, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps)
+        rows = _impact_rows(law.code, p, A, law.impedance, law.equilibrium(A), rtol, atol, max_steps)
         eps = np.sqrt(np.maximum(rows[:, R_EPS2], 0.0))
         eps = np.where(np.isnan(rows[:, R_EPS2]), np.nan, eps)
         cols = (

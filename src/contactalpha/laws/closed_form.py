@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.engine.codes import CREEP, NO_RESTITUTION, NONSEPARATION, SEPARATION
+from contactalpha.engine.firstcall import twin_rows
 
 # Longest chain of contact and flight phases before giving up (NaN); re-contacts are rare.
 MAX_PHASES = 200
@@ -256,6 +257,7 @@ def closed_form_restitution(zeta, A, d, kinematic):
     return np.sqrt(max(eps2, 0.0)) if eps2 == eps2 else np.nan
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def closed_form_rows(zeta, A, d, kinematic, out, start, stop):
     """Restitution (e_N if ``kinematic`` else eps) of rows ``start .. stop - 1`` of flat ``zeta``, ``A``."""

@@ -1,13 +1,8 @@
-"""The restitutions a law inverts, and their check."""
+"""The restitutions a law inverts (their check is ``contactalpha.validation.check_restitution``)."""
 
-RESTITUTIONS = ("energetic", "kinematic")
+from contactalpha.validation import RESTITUTIONS, check_restitution
 
-
-def check_restitution(restitution):
-    """``restitution`` if it names one of ``RESTITUTIONS``; else a ``ValueError`` naming them."""
-    if restitution not in RESTITUTIONS:
-        raise ValueError(f"restitution = {restitution!r} is not one of {', '.join(map(repr, RESTITUTIONS))}")
-    return restitution
+__all__ = ["RESTITUTIONS", "TARGET_NAMES", "check_restitution", "target_name"]
 
 
 # How each restitution is written in messages and keywords.

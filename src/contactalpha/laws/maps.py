@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.engine.codes import END_STATES, OK, STATUS
+from contactalpha.engine.codes import END_STATES, NOT_CONVERGED, OK, STATUS
 from contactalpha.validation import check_max_steps, check_range, check_tolerances
 
 from .domain import check_restitution
@@ -131,6 +131,27 @@ def check_target(law, target, restitution):
     return check_range(name, target, 0.0, 1.0, lo_open=True)
 
 
+# The largest miss of a solved damping's restitution, through the integrator, per unit of its rtol
+# (1e-8 at the default rtol): past it the root finder accepted a bracket across a jump of the
+# integrator's e(p), or one shrunk to nothing at loads far past the tables' (xi -> 1).
+DELIVERED_PER_RTOL = 1e4
+
+
+def _check_delivered(law, p, status, rows, target, kinematic, A, xi, tol, settings):
+    """Where the delivered restitution misses ``target`` by more than ``tol``: the closed form's root
+    (piecewise-linear laws) if the integrator confirms it, else NaN with status NOT_CONVERGED (in place)."""
+    col = 1 if kinematic else 0
+    bad = np.flatnonzero((status == OK) & ~(np.abs(rows[:, col] - target) <= tol))
+    exact = getattr(law.fast, "exact_inverse", None)
+    if bad.size and exact is not None:
+        root, st = exact.damping(law, target[bad], kinematic, A[bad], xi[bad])
+        again = law.backend.impact(law, np.nan_to_num(root), A[bad], xi[bad], **settings)
+        fixed = (st == OK) & (np.abs(again[:, col] - target[bad]) <= tol)
+        p[bad[fixed]], rows[bad[fixed]] = root[fixed], again[fixed]
+        bad = bad[~fixed]
+    p[bad], status[bad] = np.nan, NOT_CONVERGED
+
+
 def damping_for(law, target, xi, restitution="energetic", **settings):
     """Exact inverse: the damping ``p`` whose impact restitutes ``target`` at load factor ``xi``.
 
@@ -147,9 +168,12 @@ def damping_for(law, target, xi, restitution="energetic", **settings):
     tf = np.ascontiguousarray(tt, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
     A = np.atleast_1d(law.scaled_load(xf)).astype(float)
-    p, status = law.backend.damping(law, tf, restitution == "kinematic", A, xf, **settings)
+    kinematic = restitution == "kinematic"
+    p, status = law.backend.damping(law, tf, kinematic, A, xf, **settings)
     p = np.where(status == OK, p, np.nan)
     rows = law.backend.impact(law, np.nan_to_num(p), A, xf, **settings)
+    tol = DELIVERED_PER_RTOL * settings.get("rtol", RTOL)
+    _check_delivered(law, p, status, rows, tf, kinematic, A, xf, tol, settings)
     return DampingSolution(
         damping=_shaped(p, shape),
         eps=_shaped(np.where(status == OK, rows[:, 0], np.nan), shape),

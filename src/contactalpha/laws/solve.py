@@ -12,6 +12,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK
+from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.threads import run_rows
 
 from .closed_form import closed_form_restitution
@@ -91,6 +92,7 @@ def damping_kernel(code, target, kinematic, A, s, x_eq, rtol, atol, max_steps, c
     return 0.5 * (lo + hi), NOT_CONVERGED
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def damping_rows(code, target, kinematic, A, s, x_eq, rtol, atol, max_steps, closed, p, status, start, stop):
     """``damping_kernel`` over rows ``start .. stop - 1`` of flat arrays, into ``p`` and ``status``."""

@@ -29,6 +29,7 @@ from numba import njit
 
 from contactalpha.engine.bspline import eval_1d_uniform, eval_2d_uniform
 from contactalpha.engine.codes import NOT_CONVERGED, OK
+from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.table import (
     EPS_MIN,
     G_COUNT,
@@ -112,6 +113,7 @@ def damping_from_packed(e, xi, flat):
     return np.exp(L) * (1.0 - e) / e
 
 
+@twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def damping_rows(e, xi, flat, kinematic, out, start, stop):
     """The packed table's ``p`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""

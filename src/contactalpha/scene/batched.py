@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.adapters.registry import check_radius_used, engine_parameters
+from contactalpha.engine.firstcall import FirstCall
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import get_law
@@ -43,6 +44,10 @@ def _xi_of_loads(A):
     return out.reshape(A.shape)
 
 
+# Its first calls on a cold numba cache run as its Python twin (``engine.firstcall``).
+_xi_of_loads_first = FirstCall(_xi_of_loads)
+
+
 def hertz_load_factor(mass, stiffness, approach_speed, accel):
     """The paper's influence factor xi (Eq. 10) of arrays of Hunt-Crossley scenes.
 
@@ -52,7 +57,7 @@ def hertz_load_factor(mass, stiffness, approach_speed, accel):
     with np.errstate(all="ignore"):
         A = accel * length_scale(mass, stiffness, approach_speed) / approach_speed**2
     A = np.where(np.isfinite(A) & (A < A_ROUNDS_TO_ONE), A, np.nan)
-    xi = _xi_of_loads(np.ascontiguousarray(A, dtype=float))
+    xi = _xi_of_loads_first(np.ascontiguousarray(A, dtype=float))
     return np.where(xi < 1.0, xi, np.nan)
 
 

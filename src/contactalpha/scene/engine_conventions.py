@@ -1,5 +1,8 @@
-"""Deprecated home of ``contactalpha.adapters.engine_conventions`` (moved so that ``scene`` imports
-``adapters`` and never the reverse); importing it warns and re-exports the module's names."""
+"""Deprecated home of ``contactalpha.adapters.engine_conventions``.
+
+It moved so that ``scene`` imports ``adapters`` and never the reverse; importing this module warns
+and re-exports the moved module's names.
+"""
 
 import warnings
 

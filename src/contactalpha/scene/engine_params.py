@@ -11,11 +11,15 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
 from .parameters import contact_parameters
+from .reach import unreachable_on_drops
 from .result import block_lines, stepped_lines
+
+# Refinement outcomes that reached the target (``adapters.base.Refinement.status``).
+REACHED = ("ok", "unchanged")
 
 
 def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False, timestep=None, verify=None):  # fmt: skip
+                 radius=None, refine=False, timestep=None, verify=None, progress=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -33,6 +37,15 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
     timestep : float or "default", optional
         The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
         predicted mean and range); ``verify`` N then runs the engine at N phases.
+    progress : callable, optional
+        Told of each drop of the refinement and of the scans for what would reach an unreachable
+        target (``contactalpha.progress.Progress``).
+
+    Raises
+    ------
+    scene.reach.UnreachableTarget
+        When the refinement finds no damping that delivers the target on the engine's drops: the
+        message names the nearest e_N reached and the stiffness and step that would reach it.
     """
     a = adapter(engine)
     refine = check_flag("refine", refine)
@@ -53,7 +66,9 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
             notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
         return cp.block, notes
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
-    params, ref, got = a.calibrate(scene, target)
+    params, ref, got = a.calibrate(scene, target, progress=progress)
+    if ref.status not in REACHED:
+        raise unreachable_on_drops(a, scene, target, ref, progress=progress)
     return params, [
         f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
         f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "

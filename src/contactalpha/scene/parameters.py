@@ -33,6 +33,7 @@ from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
+from .reach import eps_zero_without_load
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
@@ -153,6 +154,8 @@ def contact_parameters(
         Naming the value and its valid range, for bad or non-physical input (also a load so
         large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
         for a batch, naming the argument and its first bad index.
+    scene.reach.UnreachableTarget
+        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would.
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
@@ -176,7 +179,7 @@ def contact_parameters(
         return _only(law_contact_parameters(law, value, restitution, m, k, v, a, sphere), engine)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
-        raise ValueError("eps = 0.0 needs a load: without one alpha -> infinity; give accel or force > 0")
+        raise eps_zero_without_load()
     alpha, source = _alpha(value, xi, restitution)
     r = impact(alpha, xi)
     if r.status != "ok":
@@ -216,12 +219,26 @@ def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
         raise ValueError("timestep= takes one scene; call contact_parameters once per scene")
+    # A map that reads the geometry (PyBullet's breaking threshold) takes the radius even where the
+    # continuous law's parameters do not.
+    own = radius
+    if radius is not None and engine is not None and stepped.needs_radius(engine):
+        own = radius if _law_reads_radius(_law_of(law, engine)) else None
     cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                            radius=radius, law=law, engine=engine)  # fmt: skip
+                            radius=own, law=law, engine=engine)  # fmt: skip
     value, restitution = _target(eps, e_n)
     args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
     cp = stepped.at_step(cp, args[0], timestep, *args[1:], value, restitution)
     return cp if verify is None else stepped.verify(cp, verify, *args[1:])
+
+
+def _law_reads_radius(law):
+    """True when some engine of ``law`` reads the radius (``check_radius_used`` accepts one)."""
+    try:
+        check_radius_used(law, 1.0)
+    except ValueError:
+        return False
+    return True
 
 
 def _law_of(law, engine):

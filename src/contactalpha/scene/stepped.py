@@ -38,7 +38,8 @@ class SteppedAnswer:
     restitution : "kinematic" (e_N) or "energetic" (eps): what ``target`` and the statistics are.
     target : the restitution asked for.
     damping : the engine's own damping for the phase mean (``engines[engine]`` holds its block).
-    law_damping : the same as the law's dimensionless damping (zeta for MuJoCo).
+    law_damping : the same as the law's dimensionless damping (zeta for MuJoCo and PyBullet,
+        alpha for Drake).
     mean, minimum, maximum, std : the restitution over the phase with it (NaN when unreachable).
     steps_min, steps_max : steps in contact.
     status : "ok", "unreachable" or "not_converged" (``stepping.inverse``).
@@ -71,6 +72,11 @@ class SteppedAnswer:
     verify: dict | None = None
 
 
+def needs_radius(engine):
+    """True when ``engine``'s step map reads the sphere's radius (``Stepper.needs_radius``)."""
+    return stepper(engine).needs_radius
+
+
 def resolve_timestep(engine, timestep):
     """The step in s: ``timestep``, or the engine's default for ``"default"``; ValueError otherwise."""
     s = stepper(engine)
@@ -93,16 +99,15 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         raise ValueError("timestep needs a load pressing the bodies together: accel or force > 0")
     p0 = s.from_block(cp.engines[engine], mass, radius)
     before = over_phase(engine, p0, h, approach_speed, accel)
-    start = float(p0[s.damping_slots[0]])
-    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution, start=start)
+    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution)
     mean, lo, hi = inv.stats.of(restitution) if inv.status == "ok" else (math.nan,) * 3
     b_mean, b_lo, b_hi = before.of(restitution)
     ok = inv.status == "ok"
-    zeta = float(s.law_damping(inv.p)) if ok else math.nan
+    zeta = float(s.law_damping(inv.p, approach_speed)) if ok else math.nan
     engines = dict(cp.engines)
     if ok:
         a = adapter(engine)
-        settings = replace(a.settings, timestep=h)
+        settings = replace(a.settings, **{s.step_setting: h})
         engines[engine] = a.parameters(zeta, EngineScene(mass, stiffness, approach_speed, radius), settings)
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=float(target),
@@ -127,7 +132,7 @@ def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):
         raise ValueError("verify needs a stepped answer that reached the target (give timestep=)")
     phases = check_count("phases", phases, 1, 100_000)
     a = adapter(ans.engine)
-    settings = replace(a.settings, timestep=ans.timestep, phases=phases)
+    settings = replace(a.settings, **{stepper(ans.engine).step_setting: ans.timestep}, phases=phases)
     scene = DropScene(mass, stiffness, approach_speed, gravity=accel, force=0.0,
                       radius=VERIFY_RADIUS if radius is None else radius)  # fmt: skip
     model = a.build_drop(scene, cp.engines[ans.engine], settings)

@@ -10,7 +10,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.validation import check_count, check_positive, check_range, check_scalar
+from contactalpha.validation import (  # check_restitution: for .inverse and .stepsize
+    check_count,
+    check_positive,
+    check_range,
+    check_restitution,  # noqa: F401
+    check_scalar,
+)
 
 from . import codes
 from .drop import run_drops
@@ -19,8 +25,6 @@ from .registry import stepper
 
 # A drop runs at most this many contact times (a slowly ringing capture comes to rest within it).
 REST_CONTACT_TIMES = 400
-# The restitutions a phase statistic or an inverse can speak of.
-RESTITUTIONS = ("kinematic", "energetic")
 
 
 @dataclass(frozen=True)
@@ -62,21 +66,24 @@ class PhaseStats:
         return self.eps_mean, self.eps_min, self.eps_max
 
 
-def check_restitution(restitution):
-    """``restitution`` if it is one of ``RESTITUTIONS``; ValueError naming the choices otherwise."""
-    if restitution not in RESTITUTIONS:
-        raise ValueError(f"restitution = {restitution!r} is outside the valid choices {RESTITUTIONS}")
-    return restitution
-
-
 def check_scene(p, timestep, approach_speed, accel):
-    """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0."""
+    """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0, ``v_in >= accel h / 2``.
+
+    A drop starts on its flight parabola up to a step before touchdown; slower than ``accel h / 2``
+    that parabola would start below the surface (the flight lasts less than a step).
+    """
     p = np.ascontiguousarray(check_range("p", p, -math.inf, math.inf), dtype=float)
     if p.ndim != 1:
         raise ValueError(f"p has shape {p.shape}; valid: a 1-D array of the engine's parameters")
     h = check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
     v = check_scalar("approach_speed", approach_speed, 0.0, math.inf, lo_open=True, hi_open=True)
     a = check_scalar("accel", accel, 0.0, math.inf, lo_open=True, hi_open=True)
+    if v < 0.5 * a * h:
+        raise ValueError(
+            f"approach_speed = {v!r} is below accel * timestep / 2 = {0.5 * a * h!r}: a drop this slow "
+            "under this load flies less than a step before touchdown, so its touchdown phase is not "
+            "defined; give a smaller timestep or a faster approach"
+        )
     return p, h, v, a
 
 

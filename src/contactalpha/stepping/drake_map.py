@@ -32,7 +32,9 @@ with the ``relaxation_time`` tau (default 0.1 s), and a near-rigid regularisatio
 ``R = max(beta^2/(4 pi^2) w, 1/(h k (h + tau)))`` (beta = 1, w the Delassus estimate, here 1/m)
 that takes over when ``h sqrt(k/m)`` exceeds about 2 pi.  It is not this map.
 
-Parameters ``p`` (float64, the engine's own units), slots named below.  Importing this module does
+Parameters ``p`` (float64, the engine's own units), slots named below: each geometry's values, as
+``AddContactMaterial`` takes them (the registry's inverse gives both geometries the same
+``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.  Importing this module does
 not need Drake.
 """
 
@@ -41,11 +43,11 @@ import math
 import numpy as np
 from numba import njit
 
-from contactalpha.stepping.codes import CAPTURED, NON_FINITE, SEPARATED, STEP_LIMIT
-from contactalpha.stepping.flight import REST_FRACTION, rebound_speed, touchdown_state
 
-# MultibodyPlantConfig's default time_step, s.
+# MultibodyPlantConfig's default time_step, s, and the discrete contact approximations this map
+# reproduces (the default ``lagged`` first; ``sap`` is another law, see above).
 TIMESTEP = 1e-3
+APPROXIMATIONS = ("lagged", "similar", "tamsi")
 
 # Slots of ``p``.
 MASS = 0  # the sphere's mass, kg
@@ -64,6 +66,12 @@ def make_params(mass, stiffness_ball, dissipation_ball, stiffness_ground, dissip
     p[STIFFNESS_BALL], p[DISSIPATION_BALL] = stiffness_ball, dissipation_ball
     p[STIFFNESS_GROUND], p[DISSIPATION_GROUND] = stiffness_ground, dissipation_ground
     return p
+
+
+def contact_time(p):
+    """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
+    k = p[STIFFNESS_BALL] * p[STIFFNESS_GROUND] / (p[STIFFNESS_BALL] + p[STIFFNESS_GROUND])
+    return math.pi * math.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
@@ -107,33 +115,13 @@ def step_drake(z, w, p, h, accel):
     return z + h * w_next, w_next
 
 
-@njit(cache=True)
-def drop_drake(p, h, phase, v_in, accel, max_steps):
-    """A whole drop in the discrete plant's steps: ``(e_N, n_contact_steps, status)`` (``stepping.codes``).
+def from_block(block, mass, radius):
+    """``p`` from Drake's block of ``contact_parameters`` (each geometry's stiffness and dissipation)."""
+    del radius  # point contact: the map needs no geometry
+    k, d = float(block["point_contact_stiffness"]), float(block["hunt_crossley_dissipation"])
+    return make_params(mass, k, d, k, d)
 
-    Touchdown falls at ``phase`` in [0, 1) of the first step, at approach speed ``v_in`` (m/s, > 0).
-    The contact ends at the first step that starts above the surface and ends moving up; e_N is
-    read from the flight parabola after it.  ``n_contact_steps`` counts the steps that start in
-    penetration or on the surface.  A body that turns down again without leaving, or comes to rest in contact, is captured
-    (e_N = 0);
-    ``max_steps`` spent first: STEP_LIMIT and NaN.
-    """
-    z, w = touchdown_state(v_in, accel, h, phase)
-    n_contact = 0
-    rising = False
-    for _ in range(max_steps):
-        w_next = next_velocity_drake(z, w, p, h, accel)
-        z_next = z + h * w_next
-        if not (math.isfinite(z_next) and math.isfinite(w_next)):
-            return math.nan, n_contact, NON_FINITE
-        if z <= 0.0:
-            n_contact += 1
-        elif n_contact > 0 and w_next > 0.0:
-            return rebound_speed(z_next, w_next, accel, h) / v_in, n_contact, SEPARATED
-        if n_contact > 0:
-            if w_next > 0.0:
-                rising = True
-            elif rising or (abs(w_next) <= REST_FRACTION * v_in and abs(w_next - w) <= REST_FRACTION * v_in):
-                return 0.0, n_contact, CAPTURED
-        z, w = z_next, w_next
-    return math.nan, n_contact, STEP_LIMIT
+
+def law_damping(p, approach_speed):
+    """Hunt-Crossley's alpha = d v_minus of the pair's dissipation d in ``p``."""
+    return pair_values(p)[1] * approach_speed

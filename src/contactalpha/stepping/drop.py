@@ -28,7 +28,7 @@ from numba import njit
 
 from .codes import CAPTURED, D_DMAX, D_EN, D_EPS, D_STATUS, D_STEPS, N_DROP, NON_FINITE, SEPARATED, STEP_LIMIT
 from .flight import REST_FRACTION, rebound_speed, touchdown_state
-from .kernels import MUJOCO, step_map
+from .kernels import DRAKE, MUJOCO, PYBULLET, step_map
 
 # A body still in contact when the steps run out, creeping slower than this fraction of the
 # approach speed, is captured too (an overdamped contact creeps to its rest without leaving).
@@ -125,4 +125,18 @@ def trajectory(code, p, h, phase, v_in, accel, n_steps):
 def drop_mujoco(p, h, phase, v_in, accel, max_steps):
     """A whole MuJoCo drop (``mujoco_map``): ``(e_N, n_contact_steps, status)``."""
     row = run_drop(MUJOCO, p, h, phase, v_in, accel, max_steps)
+    return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
+
+
+@njit(cache=True)
+def drop_pybullet(p, h, phase, v_in, accel, max_steps):
+    """A whole PyBullet drop (``pybullet_map``): ``(e_N, n_contact_steps, status)``."""
+    row = run_drop(PYBULLET, p, h, phase, v_in, accel, max_steps)
+    return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
+
+
+@njit(cache=True)
+def drop_drake(p, h, phase, v_in, accel, max_steps):
+    """A whole drop in Drake's discrete plant (``drake_map``): ``(e_N, n_contact_steps, status)``."""
+    row = run_drop(DRAKE, p, h, phase, v_in, accel, max_steps)
     return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])

@@ -1,8 +1,9 @@
 """The engine's own damping whose mean restitution over the touchdown phase is the target.
 
 The mean e_N (or eps) over a uniform phase is continuous in the damping (the jumps in phase move
-continuously with it) and falls as the damping grows.  ``damping_for`` brackets the root from
-zero damping upwards and solves it by Brent's method on the phase mean of ``delivered``; the
+continuously with it) and, at a step fine enough for a stable map, falls as the damping grows.
+``damping_for`` brackets the root on a fixed ladder from zero damping upwards (the first rung
+whose mean falls below the target) and solves it by Brent's method on the phase mean of ``delivered``; the
 result's mean is within ``MEAN_TOL`` of the target by the map.  Zero damping gives the most the
 engine can deliver at that step: a larger target is out of reach.  So is any target when the
 step is so coarse that the map is unstable (damping then raises the mean).  ``damping_for`` then
@@ -25,8 +26,11 @@ from .registry import stepper
 MEAN_TOL = 1e-6
 # Brent's tolerance on the damping, relative.
 DAMPING_RTOL = 1e-12
-# Bracket growth: the upper damping is doubled at most this many times.
-BRACKET_DOUBLINGS = 40
+# The bracket's ladder: from BRACKET_START over the contact time (the same ladder for every call,
+# so that an answer does not hang on a first guess where a coarse step makes the mean non-monotone),
+# doubled at most BRACKET_DOUBLINGS times.
+BRACKET_START = 1e-2
+BRACKET_DOUBLINGS = 48
 # Step (or stiffness) search for an unreachable target: factor per trial and trials at most.
 SHRINK = 2.0 ** -0.25
 SHRINK_TRIALS = 80
@@ -66,7 +70,7 @@ def _mean(engine, p, h, v, a, restitution):
 
 
 def damping_for(
-    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", start=None, *, remedies=True
+    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True
 ):
     """``StepInverse``: the damping slot of ``p`` whose phase-mean restitution is ``target``.
 
@@ -82,8 +86,6 @@ def damping_for(
         Target mean restitution in (0, 1).
     restitution : str
         "kinematic" (Newton's e_N) or "energetic" (Stronge's eps).
-    start : float, optional
-        A first guess of the damping (the continuous law's); it seeds the bracket.
     remedies : bool or str
         When the target is out of reach: True searches the largest step that reaches it, "both"
         also the largest stiffness at the given step, False neither.
@@ -100,8 +102,7 @@ def damping_for(
     top, st0 = _mean(engine, with_damping(0.0), h, v, a, restitution)
     lo, hi, bracketed, nearest = 0.0, None, False, top
     if top >= target:
-        seeded = start is not None and math.isfinite(start) and start > 0.0
-        hi = float(start) if seeded else 1.0 / s.contact_time(p)
+        hi = BRACKET_START / s.contact_time(p)
         for _ in range(BRACKET_DOUBLINGS):
             m, _st = _mean(engine, with_damping(hi), h, v, a, restitution)
             if abs(m - target) < abs(nearest - target):
@@ -126,17 +127,20 @@ def damping_for(
     return StepInverse(root, q, st, status, math.nan, math.nan, math.nan)
 
 
-def _largest(reaches, x0):
-    """The largest x < x0 on a geometric scan with ``reaches(x)`` True, refined by bisection; NaN if none."""
-    prev, x = x0, x0 * SHRINK
-    for _ in range(SHRINK_TRIALS):
+def largest_passing(reaches, x0, shrink=SHRINK, trials=SHRINK_TRIALS, bisections=BISECTIONS):
+    """The largest x < x0 with ``reaches(x)``: a geometric scan by ``shrink``, then bisection; NaN if none.
+
+    ``reaches`` need not be monotone: the answer passes, and the scan's rung above it fails.
+    """
+    prev, x = x0, x0 * shrink
+    for _ in range(trials):
         if reaches(x):
             break
-        prev, x = x, x * SHRINK
+        prev, x = x, x * shrink
     else:
         return math.nan
     lo, hi = x, prev
-    for _ in range(BISECTIONS):
+    for _ in range(bisections):
         mid = math.sqrt(lo * hi)
         lo, hi = (mid, hi) if reaches(mid) else (lo, mid)
     return lo
@@ -148,7 +152,7 @@ def _solved(engine, p, h, v, a, target, restitution):
 
 def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic"):
     """The largest step below ``h`` at which some damping delivers the target phase mean (NaN if none)."""
-    return _largest(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
+    return largest_passing(lambda x: _solved(engine, p, x, v, a, target, restitution), h)
 
 
 def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
@@ -166,4 +170,4 @@ def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic"):
         q[k] = x * p[k] / p[k[0]]
         return _solved(engine, q, h, v, a, target, restitution)
 
-    return _largest(reaches, float(p[k[0]]))
+    return largest_passing(reaches, float(p[k[0]]))

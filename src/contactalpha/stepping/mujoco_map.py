@@ -88,6 +88,7 @@ def from_block(block, mass, radius):
     return pack(-block["solref"][0], -block["solref"][1], block["solimp"][0])
 
 
-def law_damping(p):
-    """The law's damping ratio zeta = damping / (2 sqrt(stiffness)) of ``p``."""
+def law_damping(p, approach_speed):
+    """The law's damping ratio zeta = damping / (2 sqrt(stiffness)) of ``p`` (any approach speed)."""
+    del approach_speed
     return p[DAMPING] / (2.0 * math.sqrt(p[STIFFNESS]))

@@ -75,6 +75,12 @@ def lobatto(n):
 
 
 GL_X, GL_W = lobatto(GL_NODES)
+# The end nodes at phase 0 and 1 are evaluated at these: the limits from inside [0, 1).  A drop
+# whose touchdown falls exactly on a step's start (phase 0) starts at z = 0, which an engine whose
+# contact includes z = 0 (Drake) treats as the limit from phase 1; 1e-300 of a step is a touchdown
+# just after the start (still a normal float once multiplied by the step).
+FIRST_PHASE = 1e-300
+LAST_PHASE = float(np.nextafter(1.0, 0.0))
 
 
 @njit(cache=True)
@@ -84,7 +90,7 @@ def _gl(code, p, h, v_in, accel, max_steps, a, b, acc, xs, ws):
     half = 0.5 * (b - a)
     mid = 0.5 * (a + b)
     for i in range(xs.size):
-        row = run_drop(code, p, h, mid + half * xs[i], v_in, accel, max_steps)
+        row = run_drop(code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps)
         _fold(row, acc)
         e, s = row[D_EN], row[D_EPS]
         wgt = half * ws[i]

@@ -33,7 +33,10 @@ source (bullet3, the tree PyBullet 3.2.7 is built from; double precision):
 In the penetrating branch the impulse is ``lambda = -h (k z' + c w')`` with the step's *end* state
 ``(z', w')``: an implicit spring-dashpot.  The speculative branch gives ``lambda = -(h k + c) z'``.
 
-Parameters ``p`` (float64, the engine's own units), slots named below.  Importing this module does
+Parameters ``p`` (float64, the engine's own units), slots named below: the ball's and the plane's
+values apart, as PyBullet's ``changeDynamics`` takes them (the registry's inverse gives both
+bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).  A whole drop through this map is
+``stepping.drop.drop_pybullet``.  Importing this module does
 not need PyBullet.
 """
 
@@ -42,11 +45,10 @@ import math
 import numpy as np
 from numba import njit
 
-from contactalpha.stepping.codes import CAPTURED, NON_FINITE, SEPARATED, STEP_LIMIT
-from contactalpha.stepping.flight import REST_FRACTION, rebound_speed, touchdown_state
 
-# PyBullet's default time step, s (``setTimeStep``).
+# PyBullet's default time step, s (``setTimeStep``), and its integrator.
 TIMESTEP = 1.0 / 240.0
+INTEGRATORS = ("semi-implicit Euler",)
 # ``m_linearSlop`` that PyBullet's server sets (PhysicsServerCommandProcessor.cpp), m: the solver
 # reads a penetration as ``distance + m_linearSlop``, so the contact surface lies this far below
 # the geometric one.
@@ -68,9 +70,7 @@ DAMPING_GROUND = 4  # the plane's contactDamping, N s/m
 BREAKING = 5  # the manifold's contact breaking threshold, m (``breaking_threshold``)
 SLOP = 6  # the solver's linear slop, m
 N_PARAMS = 7
-SLOT_NAMES = (
-    "mass", "stiffness_ball", "damping_ball", "stiffness_ground", "damping_ground", "breaking", "slop",
-)  # fmt: skip
+SLOT_NAMES = ("mass", "stiffness_ball", "damping_ball", "stiffness_ground", "damping_ground", "breaking", "slop")
 
 
 def breaking_threshold(radius, factor=BREAKING_FACTOR):
@@ -87,6 +87,12 @@ def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_gr
     p[BREAKING] = breaking_threshold(radius)
     p[SLOP] = LINEAR_SLOP
     return p
+
+
+def contact_time(p):
+    """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
+    k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
+    return math.pi * math.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
@@ -127,34 +133,19 @@ def step_pybullet(z, w, p, h, accel):
     return z + h * w_next, w_next
 
 
-@njit(cache=True)
-def drop_pybullet(p, h, phase, v_in, accel, max_steps):
-    """A whole drop in PyBullet's steps: ``(e_N, n_contact_steps, status)`` (``stepping.codes``).
+def from_block(block, mass, radius):
+    """``p`` from PyBullet's block of ``contact_parameters`` (each body's contactStiffness, contactDamping).
 
-    Touchdown falls at ``phase`` in [0, 1) of the first step, at approach speed ``v_in`` (m/s, > 0).
-    The contact ends at the first step that starts above the surface, applies no impulse and ends
-    moving up; e_N is read from the flight parabola after it.  ``n_contact_steps`` counts the steps
-    with an impulse.  A body that turns down again without leaving, or comes to rest in contact, is captured
-    (e_N = 0);
-    ``max_steps`` spent first: STEP_LIMIT and NaN.
+    The contact breaking threshold needs the sphere's ``radius`` (m); ValueError without one.
     """
-    z, w = touchdown_state(v_in, accel, h, phase)
-    n_force = 0
-    rising = False
-    for _ in range(max_steps):
-        lam = impulse_pybullet(z, w, p, h, accel)
-        w_next = w - h * accel + lam / p[MASS]
-        z_next = z + h * w_next
-        if not (math.isfinite(z_next) and math.isfinite(w_next)):
-            return math.nan, n_force, NON_FINITE
-        if lam > 0.0:
-            n_force += 1
-        elif n_force > 0 and z > 0.0 and w_next > 0.0:
-            return rebound_speed(z_next, w_next, accel, h) / v_in, n_force, SEPARATED
-        if n_force > 0:
-            if w_next > 0.0:
-                rising = True
-            elif rising or (abs(w_next) <= REST_FRACTION * v_in and abs(w_next - w) <= REST_FRACTION * v_in):
-                return 0.0, n_force, CAPTURED
-        z, w = z_next, w_next
-    return math.nan, n_force, STEP_LIMIT
+    if radius is None:
+        raise ValueError("PyBullet's step needs radius= (its contact breaking threshold is 0.02 sqrt(3) r)")
+    k, c = float(block["contactStiffness"]), float(block["contactDamping"])
+    return make_params(mass, k, c, k, c, radius)
+
+
+def law_damping(p, approach_speed):
+    """The spring-dashpot's damping ratio zeta = c / (2 sqrt(k m)) of the pair in ``p`` (any speed)."""
+    del approach_speed
+    k, c = pair_values(p)
+    return c / (2.0 * math.sqrt(k * p[MASS]))

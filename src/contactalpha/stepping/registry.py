@@ -10,10 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import math
-
 from . import drake_map, kernels, mujoco_map, pybullet_map
-from .drop import drop_mujoco
+from .drop import drop_drake, drop_mujoco, drop_pybullet
 
 
 @dataclass(frozen=True)
@@ -37,8 +35,10 @@ class Stepper:
     source : where the map was read from (files and functions of the engine's source).
     from_block : ``(block, mass, radius) -> p`` from the engine's block of ``contact_parameters``
         (``adapters``' ``parameters``), or None where the front door does not step this engine.
-    law_damping : ``p -> the law's dimensionless damping`` that the adapter's ``parameters``
-        turn back into the engine's block, or None likewise.
+    law_damping : ``(p, approach_speed) -> the law's dimensionless damping`` that the adapter's
+        ``parameters`` turn back into the engine's block, or None likewise.
+    step_setting : the name of the step in the engine adapter's settings.
+    needs_radius : the map reads the sphere's radius (``from_block`` refuses None).
     """
 
     name: str
@@ -54,6 +54,8 @@ class Stepper:
     source: str
     from_block: Callable | None = None
     law_damping: Callable | None = None
+    step_setting: str = "timestep"
+    needs_radius: bool = False
 
     def pack(self, **values):
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
@@ -92,29 +94,41 @@ STEPPERS = (
     Stepper(
         name="pybullet",
         code=kernels.PYBULLET,
-        integrators=("semi-implicit Euler",),
+        integrators=pybullet_map.INTEGRATORS,
         timestep=pybullet_map.TIMESTEP,
         slots=pybullet_map.SLOT_NAMES,
         damping_slots=(pybullet_map.DAMPING_BALL, pybullet_map.DAMPING_GROUND),
         stiffness_slots=(pybullet_map.STIFFNESS_BALL, pybullet_map.STIFFNESS_GROUND),
         defaults={"slop": pybullet_map.LINEAR_SLOP},
-        contact_time=lambda p: math.pi * math.sqrt(p[pybullet_map.MASS] / pybullet_map.pair_values(p)[0]),
-        drop=pybullet_map.drop_pybullet,
-        source="bullet3: btMultiBodyConstraintSolver::setupMultiBodyContactConstraint, "
-        "btManifoldResult (combined stiffness and damping), btMultiBodyDynamicsWorld (pybullet_map)",
+        contact_time=pybullet_map.contact_time,
+        drop=drop_pybullet,
+        from_block=pybullet_map.from_block,
+        law_damping=pybullet_map.law_damping,
+        needs_radius=True,
+        source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
+        "(setupMultiBodyContactConstraint, resolveSingleConstraintRowGeneric), btMultiBodyDynamicsWorld.cpp "
+        "(solveConstraints, integrateMultiBodyTransforms); src/BulletCollision/CollisionDispatch: "
+        "btConvexPlaneCollisionAlgorithm.cpp, btManifoldResult.cpp (calculateCombinedContactStiffness, "
+        "calculateCombinedContactDamping), btCollisionDispatcher.cpp (getNewManifold); "
+        "examples/SharedMemory/PhysicsServerCommandProcessor.cpp (m_linearSlop)",
     ),
     Stepper(
         name="drake",
         code=kernels.DRAKE,
-        integrators=("tamsi", "lagged", "similar"),  # discrete_contact_approximation
+        integrators=drake_map.APPROXIMATIONS,
         timestep=drake_map.TIMESTEP,
         slots=drake_map.SLOT_NAMES,
         damping_slots=(drake_map.DISSIPATION_BALL, drake_map.DISSIPATION_GROUND),
         stiffness_slots=(drake_map.STIFFNESS_BALL, drake_map.STIFFNESS_GROUND),
         defaults={},
-        contact_time=lambda p: math.pi * math.sqrt(p[drake_map.MASS] / drake_map.pair_values(p)[0]),
-        drop=drake_map.drop_drake,
-        source="drake: DiscreteUpdateManager, SapHuntCrossleyConstraint, TamsiSolver (drake_map)",
+        contact_time=drake_map.contact_time,
+        drop=drop_drake,
+        from_block=drake_map.from_block,
+        law_damping=drake_map.law_damping,
+        step_setting="time_step",
+        source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
+        "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
+        "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
 )
 STEPPER_NAMES = tuple(s.name for s in STEPPERS)

@@ -73,7 +73,7 @@ def step_for_tolerance(engine, p, approach_speed, accel, target, tol, restitutio
         "kinematic" (e_N) or "energetic" (eps).
     """
     s = stepper(engine)
-    p, _, v, a = check_scene(p, 1.0, approach_speed, accel)
+    p, _, v, a = check_scene(p, 2.0 * approach_speed / accel, approach_speed, accel)
     target = float(check_range("target", target, 0.0, 1.0, lo_open=True, hi_open=True))
     tol = float(check_range("tol", tol, 0.0, 1.0, lo_open=True, hi_open=True))
     check_restitution(restitution)
@@ -83,7 +83,7 @@ def step_for_tolerance(engine, p, approach_speed, accel, target, tol, restitutio
         return damping_for(engine, p, h, v, a, target, restitution, remedies=False)
 
     above = math.inf
-    h = t_c / START_STEPS
+    h = min(t_c / START_STEPS, (2.0 - 1e-9) * v / a)  # a step the drop's flight spans (delivered)
     found = None
     for _ in range(RUNGS):
         inv = solve(h)

@@ -5,6 +5,7 @@ generated statements (``paper.statements`` types), the xi_ignore(eps; tol) and a
 tables, and the physical bounce threshold of typical scenes next to PhysX's default.
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -13,6 +14,7 @@ import xarray as xr
 from contactalpha.engine.scaling import influence_factor
 from contactalpha.paper.statements import Statement, not_checked, verdict
 from contactalpha.scene.advisor import XI_LEVELS, xi_level
+from contactalpha.scene.hertz import hertz_stiffness
 from contactalpha.scene.threshold import boundary_load, boundary_load_fit, speed_for_load
 from contactalpha.studies.adequacy.maps import NONE_ADEQUATE, StrideSettings
 from contactalpha.validation import check_positive, check_range
@@ -180,14 +182,6 @@ class AdequacySettings:
     scenes: tuple = TYPICAL_SCENES
 
 
-def hertz_stiffness(radius, modulus):
-    """Hertz stiffness k = (4/3) E* sqrt(R), N/m^1.5, of a sphere of radius R on a half space.
-
-    ``modulus`` is the contact's effective modulus E* (Pa), 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
-    """
-    return 4.0 / 3.0 * check_positive("modulus", modulus) * np.sqrt(check_positive("radius", radius))
-
-
 @dataclass(frozen=True)
 class SceneThreshold:
     """The physical bounce threshold of one typical scene."""
@@ -210,7 +204,8 @@ def scene_thresholds(scenes):
     for s in scenes:
         eps = float(check_range("eps", s["eps"], 0.0, 1.0, lo_open=True, hi_open=True))
         m, a = float(check_positive("mass", s["mass"])), float(check_positive("accel", s["accel"]))
-        k = float(hertz_stiffness(s["radius"], s["modulus"]))
+        # The scene's modulus is the contact's effective E*: a rigid flat and nu = 0 give E* = E_1.
+        k = hertz_stiffness(float(s["modulus"]), 0.0, float(s["radius"]), modulus_2=math.inf)
         A_b, status = boundary_load(eps)
         v = float(speed_for_load(A_b, m, k, a)) if np.isfinite(A_b) else np.nan
         fit = float(speed_for_load(boundary_load_fit(eps), m, k, a))

@@ -1,0 +1,95 @@
+"""Benchmark of the answers at an engine's step (issue 33): per scene, and the cost of --verify.
+
+Run: ``PYTHONPATH=src python benchmarks/bench_stepping.py`` (``--quick``: fewer scenes).
+Prints, measured side by side in this run (one thread; compile time first, separately):
+- the phase mean of one scene (``stepping.delivered.over_phase``): scenes per second, and drops
+  evaluated per scene;
+- the answer of the front door at MuJoCo's 2 ms step (``contact_parameters(..., engine="mujoco",
+  timestep=0.002)``: the inverse on the phase mean) against the continuous answer of the same
+  call without a step (the baseline): seconds per scene and the ratio;
+- the check (``verify``): MuJoCo's own drop at 128 touchdown phases, seconds per scene.
+"""
+
+import argparse
+import os
+import time
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+
+def scenes(n, seed=0):
+    """``n`` random scenes: mass 0.02-20 kg, 10-60 steps per contact at 2 ms, 0.2-3 m/s, e_N 0.1-0.95."""
+    rng = np.random.default_rng(seed)
+    m = np.exp(rng.uniform(np.log(0.02), np.log(20.0), n))
+    steps = rng.uniform(10.0, 60.0, n)
+    omega = np.pi / (steps * 0.002)
+    v = np.exp(rng.uniform(np.log(0.2), np.log(3.0), n))
+    e = rng.uniform(0.1, 0.95, n)
+    return [(float(m[i]), float(m[i] * omega[i] ** 2), float(v[i]), float(e[i])) for i in range(n)]
+
+
+def main(argv=None):
+    from contactalpha import contact_parameters
+    from contactalpha.stepping.delivered import over_phase
+    from contactalpha.stepping.registry import stepper
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args(argv)
+    n = 4 if args.quick else 24
+    todo = scenes(n)
+    s = stepper("mujoco")
+
+    start = time.perf_counter()
+    contact_parameters(mass=0.5, stiffness=2e4, approach_speed=0.5, accel=9.81, e_N=0.5, engine="mujoco",
+                       timestep=0.002)  # fmt: skip
+    print(f"first call (compiles or loads the kernels): {time.perf_counter() - start:.2f} s")
+
+    start = time.perf_counter()
+    evals = 0
+    for m, k, v, _ in todo:
+        st = over_phase("mujoco", s.pack(stiffness=k / m, damping=0.3 * np.sqrt(k / m), impedance=0.9), 0.002,
+                        v, 9.81)  # fmt: skip
+        evals += st.evaluations
+    t_mean = (time.perf_counter() - start) / n
+    print(f"phase mean:        {1 / t_mean:10.0f} scenes/s  ({evals / n:.0f} drops per scene)")
+
+    def per_scene(**kw):
+        start = time.perf_counter()
+        for m, k, v, e in todo:
+            contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine="mujoco", **kw)
+        return (time.perf_counter() - start) / n
+
+    base = per_scene()
+    stepped = per_scene(timestep=0.002)
+    print(f"continuous answer: {base * 1e3:10.3f} ms/scene (baseline)")
+    print(f"answer at 2 ms:    {stepped * 1e3:10.3f} ms/scene  ({1 / stepped:.0f} scenes/s; "
+          f"{stepped / base:.0f} x the baseline)")  # fmt: skip
+    import importlib.util
+
+    # (engine, module, step, radius): each engine's verify at 128 phases, on a few of the scenes.
+    for engine, module, h, radius in [("mujoco", "mujoco", 0.002, None), ("drake", "pydrake", 0.001, None),
+                                      ("pybullet", "pybullet", 5e-4, 0.05)]:  # fmt: skip
+        if importlib.util.find_spec(module) is None:
+            print(f"verify ({engine}): not installed")
+            continue
+        few = todo[: max(2, n // 8)]
+        answer = verify = 0.0
+        for m, k, v, e in few:
+            kw = dict(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine=engine, timestep=h,
+                      radius=radius)  # fmt: skip
+            start = time.perf_counter()
+            cp = contact_parameters(**kw)
+            answer += time.perf_counter() - start
+            if cp.stepped.status == "ok":
+                start = time.perf_counter()
+                contact_parameters(**kw, verify=128)
+                verify += time.perf_counter() - start
+        print(f"verify ({engine}, {h:g} s, 128 phases): {max(verify - answer, 0.0) / len(few) * 1e3:.0f} "
+              f"ms/scene beside an answer of {answer / len(few) * 1e3:.0f} ms/scene")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

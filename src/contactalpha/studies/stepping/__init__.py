@@ -1,0 +1,1 @@
+"""Figures of restitution at an engine's step (docs/stepping.md): numerics in ``compute``, plots in ``figures``."""
