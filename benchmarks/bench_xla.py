@@ -58,7 +58,10 @@ def main():
         "target": rng.uniform(0.05, 0.95, n),
     }
     e, xi = s["target"], rng.uniform(0.0, 0.99, n)
-    print(f"machine load (1 min): {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; JAX devices: {jax.devices()}")
+    print(
+        f"machine load (1 min): {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
+        f"JAX devices: {jax.devices()}"
+    )
 
     tab = device_table(get_law(), "kinematic")
     lookup = jax.jit(lambda e, x: table_damping(tab, e, x))
@@ -72,7 +75,10 @@ def main():
     t_jx, got = best(lambda: jax.block_until_ready(lookup(ej, xj)), args.repeat)
     worst = float(np.max(np.abs(np.asarray(got) / ref - 1.0)))
     print(f"lookup, first JAX calls (compile): {compile_lookup:.2f} s")
-    print(f"lookup numba: {n / t_nb:.3g} scenes/s; JAX: {n / t_jx:.3g} scenes/s; numba/JAX time ratio {t_jx / t_nb:.2f}")
+    print(
+        f"lookup numba: {n / t_nb:.3g} scenes/s; JAX: {n / t_jx:.3g} scenes/s; "
+        f"JAX/numba time ratio {t_jx / t_nb:.2f}"
+    )
     print(f"lookup max relative difference: {worst:.1e}")
 
     front = jax.jit(lambda **kw: contact_parameters(**kw))
@@ -83,7 +89,10 @@ def main():
     t_nbf, _ = best(lambda: batched_parameters(**s), args.repeat)
     t_jxf, _ = best(lambda: jax.block_until_ready(front(**s)), args.repeat)
     print(f"front door, first JAX call (compile): {compile_front:.2f} s")
-    print(f"front door numba: {n / t_nbf:.3g} scenes/s; JAX: {n / t_jxf:.3g} scenes/s; time ratio JAX/numba {t_jxf / t_nbf:.2f}")
+    print(
+        f"front door numba: {n / t_nbf:.3g} scenes/s; JAX: {n / t_jxf:.3g} scenes/s; "
+        f"time ratio JAX/numba {t_jxf / t_nbf:.2f}"
+    )
 
     args5 = [s[k] for k in ("mass", "stiffness", "approach_speed", "accel")]
     t_xi, xi_s = best(lambda: hertz_load_factor(*args5), args.repeat)
@@ -93,7 +102,8 @@ def main():
     print(
         f"numba front door, where the time goes (s per 1e6 scenes): total {t_nbf / n * 1e6:.3f}; "
         f"load factor {t_xi / n * 1e6:.3f}; lookup {t_lk / n * 1e6:.3f}; one integrated impact per "
-        f"scene (the front door runs three: at the damping, at half and twice the speed) {t_imp / n * 1e6:.3f}"
+        f"scene (the front door runs three: at the damping, at half and twice the speed) "
+        f"{t_imp / n * 1e6:.3f}"
     )
     import numba
 
@@ -101,7 +111,11 @@ def main():
     numba.set_num_threads(1)
     t_nb1, _ = best(lambda: alpha_tabulated(e, xi, restitution="kinematic"), args.repeat)
     numba.set_num_threads(threads)
-    print(f"lookup numba, one thread: {n / t_nb1:.3g} scenes/s ({threads} threads above); JAX/numba time ratio {t_jx / t_nb1:.2f}")
+    print(
+        f"lookup numba, one thread: {n / t_nb1:.3g} scenes/s ({threads} threads above); "
+        f"JAX/numba time ratio {t_jx / t_nb1:.2f}"
+    )
+
 
 if __name__ == "__main__":
     main()

@@ -7,7 +7,8 @@ per-world ``geom_solref``, ``geom_solimp``, ``body_mass``, ``body_invweight0``, 
 at ``--per-period`` steps per undamped period, touchdown at phase 0; each world's e_N is read
 from its run.  Prints the largest miss and writes a JSON summary (``--out``).
 
-Usage:  python benchmarks/study_mjx_batch.py [--n 1024] [--per-period 4000] [--out docs/engines/mjx-batch.json]
+Usage:  python benchmarks/study_mjx_batch.py [--n 1024] [--per-period 4000]
+        [--out docs/engines/mjx-batch.json]
 Timings depend on the machine's load (printed).
 """
 
@@ -65,8 +66,12 @@ def main():
         "median_miss_e_n": float(np.median(miss)),
         "within_1e-3": int((miss <= 1e-3).sum()),
         "worst_worlds": [
-            {"zeta": float(np.asarray(out["damping"])[ok][i]), "xi": float(np.asarray(out["xi"])[ok][i]),
-             "target": float(s["target"][ok][i]), "delivered": float(got[i])}
+            {
+                "zeta": float(np.asarray(out["damping"])[ok][i]),
+                "xi": float(np.asarray(out["xi"])[ok][i]),
+                "target": float(s["target"][ok][i]),
+                "delivered": float(got[i]),
+            }
             for i in np.argsort(-miss)[:5]
         ],  # fmt: skip
         "front_door_s_incl_compile": round(params_s, 1),

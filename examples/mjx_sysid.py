@@ -6,7 +6,8 @@ a damping b_true the fit is not told).  The fit's one parameter is the restituti
 impact, e_N: the JAX front door (``contactalpha.xla.contact_parameters``) turns it into MuJoCo's
 solref, an MJX rollout of the same drop gives the trajectory, and gradient descent (on
 ``jax.grad`` of the squared height misfit through the front door's implicit derivative and MJX's
-steps) moves e_N, with a backtracking line search.  ``contactalpha.calibrate`` fits the same recording with the continuous law,
+steps) moves e_N, with a backtracking line search.  ``contactalpha.calibrate`` fits the same
+recording with the continuous law,
 for comparison.
 
 Run: python examples/mjx_sysid.py   (needs ``pip install "contactalpha[batched-engines]"``)
@@ -54,6 +55,7 @@ start = start.replace(qpos=start.qpos.at[0].set(HEIGHT), ctrl=start.ctrl.at[0].s
 
 
 def solref_of(e_n):
+    """MJX's direct-mode solref for a first impact of restitution ``e_n`` (the JAX front door)."""
     cp = contact_parameters(MASS, STIFFNESS, SPEED, G, e_n, law="mujoco_soft")
     return cp["engines"]["mjx"]["solref"]
 
@@ -108,4 +110,7 @@ print(f"first-impact e_N fitted   {e_n:.6f}")
 print(f"damping b true            {B_TRUE:.6f}")
 print(f"damping b by MJX fit      {b_fit:.6f}")
 print(f"damping b by calibrate    {b_cal:.6f}")
-print(f"stiffness s by calibrate  {cal.fits['mujoco_soft_damping'].values['stiffness']:.6g}  (true {STIFFNESS / MASS:.6g})")
+print(
+    f"stiffness s by calibrate  {cal.fits['mujoco_soft_damping'].values['stiffness']:.6g}  "
+    f"(true {STIFFNESS / MASS:.6g})"
+)

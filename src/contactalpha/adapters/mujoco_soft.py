@@ -128,8 +128,14 @@ class MuJoCoAdapter(SteppingAdapter):
     module = "mujoco"
     settings = MuJoCoSettings()
     # Units of ``parameters``: per unit mass (MuJoCo's solref in direct mode).
-    units = {"stiffness": "1/s^2", "damping": "1/s", "solref": "(1/s^2, 1/s)", "solimp": "1, 1, m, 1, 1",
-             "timeconst": "s", "dampratio": "1"}
+    units = {
+        "stiffness": "1/s^2",
+        "damping": "1/s",
+        "solref": "(1/s^2, 1/s)",
+        "solimp": "1, 1, m, 1, 1",
+        "timeconst": "s",
+        "dampratio": "1",
+    }
 
     def version(self):
         """MuJoCo's version string."""

@@ -79,7 +79,7 @@ def _shift(zeta, P, Q, t0):
 
 
 def _bracket(zeta, P, Q, c, t_end, g0, active):
-    """(found, lo, hi, g(lo), g(hi)): the first monotone piece of ``z + c`` on (0, t_end] with a sign change."""
+    """(found, lo, hi, g(lo), g(hi)): the first monotone piece of ``z + c`` on (0, t_end] changing sign."""
     dP, dQ = _derivative_coefficients(zeta, P, Q)
 
     def body(st):
@@ -128,7 +128,9 @@ def _polish(zeta, P, Q, c, lo, hi, g0, glo, ghi, active):
         hi, ghi = jnp.where(same, hi, t), jnp.where(same, ghi, g)
         side = jnp.where(same, 1, -1)
         new = jnp.where(dz != 0.0, t - g / jnp.where(dz != 0.0, dz, 1.0), lo - 1.0)
-        sec = jnp.where(ghi != glo, hi - ghi * (hi - lo) / jnp.where(ghi != glo, ghi - glo, 1.0), 0.5 * (lo + hi))
+        sec = jnp.where(
+            ghi != glo, hi - ghi * (hi - lo) / jnp.where(ghi != glo, ghi - glo, 1.0), 0.5 * (lo + hi)
+        )
         sec = jnp.where((lo < sec) & (sec < hi), sec, 0.5 * (lo + hi))
         new = jnp.where((lo < new) & (new < hi), new, sec)
         done = (jnp.abs(new - t) <= NEWTON_DONE * t) | (hi - lo <= 4e-16 * hi)
@@ -210,7 +212,9 @@ def _impact(zeta, A, d):
         zu, dzu = _z(zeta, Pu, Qu, jnp.where(fin, t_end, 0.0))
         zu, dzu = jnp.where(fin, zu, -x_eq), jnp.where(fin, dzu, 0.0)
         look = (x > 0.0) & ((d > 0.0) | (zeta == 0.0)) & ((x_eq + zu <= 0.0) | ~fin)
-        t_s = jnp.where(x <= 0.0, 0.0, jnp.where(look, _root(zeta, Pu, Qu, x_eq, t_end, live & look), jnp.inf))
+        t_s = jnp.where(
+            x <= 0.0, 0.0, jnp.where(look, _root(zeta, Pu, Qu, x_eq, t_end, live & look), jnp.inf)
+        )
         sep = (t_s <= t_f) & jnp.isfinite(t_s)
         v_e = _z(zeta, Pu, Qu, jnp.where(sep, t_s, 0.0))[1]
         floor = ~sep & jnp.isfinite(t_f)
@@ -256,6 +260,6 @@ def impact(zeta, A, d):
 
 
 def restitution(zeta, A, d, kinematic):
-    """Restitution (``e_N`` if ``kinematic``, else eps) at ``zeta``, ``A``, ``d``; NaN where it did not end."""
+    """Restitution (``e_N`` if ``kinematic``, else eps) at ``zeta``, ``A``, ``d``; NaN if it did not end."""
     eps, e_n, _, _, _ = impact(zeta, A, d)
     return e_n if kinematic else eps

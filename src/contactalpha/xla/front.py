@@ -1,4 +1,4 @@
-"""The JAX front door: a target restitution of many scenes -> the law's damping and the batched engines' parameters.
+"""The JAX front door: target restitutions of many scenes -> the law's damping and the engines' parameters.
 
 ``contact_parameters`` is ``scene.batched.batched_parameters`` as a pure function of arrays: it
 accepts ``jax.jit``, ``jax.vmap`` and ``jax.grad`` (the law and the restitution are static).

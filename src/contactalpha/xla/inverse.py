@@ -21,7 +21,7 @@ sg = jax.lax.stop_gradient
 
 
 def _scaled_load_of_xi(law, xi):
-    """``ContactLaw.scaled_load``: ``A = W / x_m`` with ``W = xi / (2 (1 - xi))``, ``x_m^(n+1) = 1 + 2 (1 - d) W``."""
+    """``ContactLaw.scaled_load``: ``A = W/x_m``, ``W = xi/(2 (1 - xi))``, ``x_m^(n+1) = 1 + 2(1-d) W``."""
     w = 0.5 * xi / (1.0 - xi)
     return w / (1.0 + 2.0 * (1.0 - law.impedance) * w) ** (1.0 / (law.exponent + 1.0))
 
@@ -43,7 +43,9 @@ def _illinois(f, target):
     def step(st):
         it, lo, glo, hi, ghi, last, done, p = st
         mid = hi - ghi * (hi - lo) / jnp.where(ghi != glo, ghi - glo, 1.0)
-        mid = jnp.where(~((lo < mid) & (mid < hi)) | (it % BISECT_EVERY == BISECT_EVERY - 1), 0.5 * (lo + hi), mid)
+        mid = jnp.where(
+            ~((lo < mid) & (mid < hi)) | (it % BISECT_EVERY == BISECT_EVERY - 1), 0.5 * (lo + hi), mid
+        )
         gm = g_of(mid)
         up = gm > 0.0
         ghi = jnp.where(up & (last == 1), 0.5 * ghi, ghi)
@@ -52,14 +54,24 @@ def _illinois(f, target):
         hi, ghi = jnp.where(up, hi, mid), jnp.where(up, ghi, gm)
         last = jnp.where(up, 1, -1)
         stop = (gm == 0.0) | (hi - lo <= P_RTOL * hi) | (jnp.abs(gm) <= E_TOL) | jnp.isnan(gm)
-        keep = done
+        keep = done  # a finished point keeps its bracket and root
+        found = jnp.where(jnp.isnan(gm), jnp.nan, mid)
         return (
             it + 1, jnp.where(keep, st[1], lo), jnp.where(keep, st[2], glo), jnp.where(keep, st[3], hi),
-            jnp.where(keep, st[4], ghi), last, done | stop, jnp.where(keep, p, jnp.where(jnp.isnan(gm), jnp.nan, mid)),
+            jnp.where(keep, st[4], ghi), last, done | stop, jnp.where(keep, p, found),
         )  # fmt: skip
 
     exact = ghi == 0.0
-    st = (0, lo, glo, hi, ghi, jnp.zeros(target.shape, int), ~bracketed | exact, jnp.where(exact, hi, jnp.nan))
+    st = (
+        0,
+        lo,
+        glo,
+        hi,
+        ghi,
+        jnp.zeros(target.shape, int),
+        ~bracketed | exact,
+        jnp.where(exact, hi, jnp.nan),
+    )
     out = jax.lax.while_loop(lambda s: (s[0] < MAX_ITER) & ~jnp.all(s[6]), step, st)
     p = jnp.where(target >= 1.0, 0.0, out[7])
     return p, bracketed & jnp.isfinite(p)
@@ -83,7 +95,7 @@ def closed_form_damping(law, target, xi, restitution="kinematic"):
 
 
 def law_damping(law, target, xi, restitution="kinematic"):
-    """The law's damping for ``target`` at ``xi``: its closed form where it has one, else its shipped table."""
+    """The law's damping for ``target`` at ``xi``: by its closed form where it has one, else its table."""
     if law.piecewise_linear:
         return closed_form_damping(law, target, xi, restitution)
     return table_damping(device_table(law, restitution), target, xi)

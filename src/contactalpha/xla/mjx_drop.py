@@ -61,12 +61,16 @@ def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep)
     from mujoco import mjx
 
     batched, in_axes = batched_model(model, mass, solref, solimp, timestep)
-    start = np.array([touchdown_state(v, a, h, 0.0) for v, a, h in zip(approach_speed, accel, timestep, strict=True)])
+    start = np.array(
+        [touchdown_state(v, a, h, 0.0) for v, a, h in zip(approach_speed, accel, timestep, strict=True)]
+    )
     data = mjx.make_data(mjx.put_model(model))
     push = -np.asarray(mass) * np.asarray(accel)
 
     def one(m, z0, v0, f):
-        d = data.replace(qpos=data.qpos.at[0].set(z0), qvel=data.qvel.at[0].set(v0), ctrl=data.ctrl.at[0].set(f))
+        d = data.replace(
+            qpos=data.qpos.at[0].set(z0), qvel=data.qvel.at[0].set(v0), ctrl=data.ctrl.at[0].set(f)
+        )
 
         def step(d, _):
             d = mjx.step(m, d)
@@ -83,8 +87,5 @@ def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep)
 def delivered_e_n(z, v, accel, timestep, approach_speed):
     """e_N of each world's run (``adapters.stepped.measure_steps``)."""
     return np.array(
-        [
-            measure_steps(z[i], v[i], accel[i], timestep[i], approach_speed[i]).e_n
-            for i in range(len(accel))
-        ]
+        [measure_steps(z[i], v[i], accel[i], timestep[i], approach_speed[i]).e_n for i in range(len(accel))]
     )

@@ -29,7 +29,7 @@ def _newton(n1, b, x):
 
 
 def load_factor(law, A):
-    """``xi`` of scaled load ``A >= 0`` (``ContactLaw.load_factor``); NaN where A is not finite or too large."""
+    """``xi`` of scaled load ``A >= 0`` (``ContactLaw.load_factor``); NaN where A is not finite or huge."""
     ok = jnp.isfinite(A) & (A >= 0.0) & (A < A_ROUNDS_TO_ONE)
     A = jnp.where(ok, A, 0.0)
     b = (1.0 - law.impedance) * A
@@ -37,7 +37,9 @@ def load_factor(law, A):
         x = b + jnp.sqrt(b * b + 1.0)
     else:
         n1 = law.exponent + 1.0
-        x0 = jax.lax.stop_gradient((1.0 + 2.0 * b) ** (1.0 / (n1 - 1.0)) if law.impedance == 0.0 else 2.0 + 2.0 * b)
+        x0 = jax.lax.stop_gradient(
+            (1.0 + 2.0 * b) ** (1.0 / (n1 - 1.0)) if law.impedance == 0.0 else 2.0 + 2.0 * b
+        )
         bs = jax.lax.stop_gradient(b)
 
         def step(st):

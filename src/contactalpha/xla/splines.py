@@ -19,7 +19,7 @@ DEGREE = 5
 
 
 def _span(x, grid):
-    """Interval ``j`` of ``x`` on the grid (first, step, count), clamped, and ``x`` in steps from the first node."""
+    """Interval ``j`` of ``x`` on the grid (first, step, count), clamped, and ``x`` in steps from x0."""
     x0, h, n = grid[..., 0], grid[..., 1], grid[..., 2]
     X = (x - x0) / h
     return jnp.clip(jnp.floor(X), 0.0, n - 2.0), X, n

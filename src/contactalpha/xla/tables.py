@@ -140,7 +140,9 @@ def _column(tab, u, eta):
     aK = jnp.where(r == K, (upper - u) / (upper - U_MIN), 1.0)
     mid = (r > 0) & (r < K)
     am = jnp.where(mid, jnp.clip((upper - u) / jnp.where(mid, upper - lower, 1.0), 0.0, 1.0), 0.5)
-    w = jnp.where(r == 0, jnp.sqrt(a0), jnp.where(r == K, jnp.sqrt(aK), (2.0 / jnp.pi) * jnp.arcsin(jnp.sqrt(am))))
+    w = jnp.where(
+        r == 0, jnp.sqrt(a0), jnp.where(r == K, jnp.sqrt(aK), (2.0 / jnp.pi) * jnp.arcsin(jnp.sqrt(am)))
+    )
     return r, w
 
 

@@ -20,7 +20,9 @@ def test_closed_form_matches_numba(jax, d):
     rng = np.random.default_rng(11)
     zeta, A = rng.uniform(0.0, 2.5, 1500), 10.0 ** rng.uniform(-3.0, 1.0, 1500)
     zeta[:2] = (0.0, 1.0)  # undamped; critically damped
-    eps, e_n, state, floors, ended = (np.asarray(x) for x in jax.jit(lambda z, a: cf.impact(z, a, d))(zeta, A))
+    eps, e_n, state, floors, ended = (
+        np.asarray(x) for x in jax.jit(lambda z, a: cf.impact(z, a, d))(zeta, A)
+    )
     ref = _numba_states(zeta, A, d)
     assert ended.all()
     np.testing.assert_array_equal(state, ref[:, 2])

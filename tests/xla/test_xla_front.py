@@ -53,20 +53,24 @@ def test_mujoco_blocks_match_the_adapter(jax):
     assert 0 < missing.sum() < missing.size
     genesis = got["engines"]["genesis"]
     np.testing.assert_array_equal(np.asarray(genesis["needs_direct"]), missing)
-    np.testing.assert_allclose(np.asarray(genesis["sol_params"])[~missing, :2],
-                               np.stack([ref["timeconst"], ref["dampratio"]], -1)[~missing], rtol=1e-15)  # fmt: skip
+    want = np.stack([ref["timeconst"], ref["dampratio"]], -1)[~missing]
+    np.testing.assert_allclose(np.asarray(genesis["sol_params"])[~missing, :2], want, rtol=1e-15)
 
 
 def test_newton_gains_give_mujoco_law(jax):
-    """Newton's force-space ke, kd through its solver's gain (1 - d)/m: the direct-mode stiffness and damping."""
+    """Newton's ke, kd through its solver's gain (1 - d)/m: the direct-mode stiffness and damping."""
     from contactalpha.xla import contact_parameters
 
     s = _scenes(20, 4)
     got = contact_parameters(**s, law="mujoco_soft")
     newton, mujoco = got["engines"]["newton"], got["engines"]["mujoco"]
     gain = (1.0 - 0.9) / s["mass"]
-    np.testing.assert_allclose(np.asarray(newton["shape_material_ke"]) * gain, s["stiffness"] / s["mass"], rtol=1e-14)
-    np.testing.assert_allclose(np.asarray(newton["shape_material_kd"]) * gain, np.asarray(mujoco["damping"]), rtol=1e-14)
+    np.testing.assert_allclose(
+        np.asarray(newton["shape_material_ke"]) * gain, s["stiffness"] / s["mass"], rtol=1e-14
+    )
+    np.testing.assert_allclose(
+        np.asarray(newton["shape_material_kd"]) * gain, np.asarray(mujoco["damping"]), rtol=1e-14
+    )
 
 
 def test_bad_scenes_are_nan_and_flagged(jax):

@@ -1,4 +1,4 @@
-"""The shipped tables on the device agree with the numba lookups, and differentiate like finite differences."""
+"""The shipped tables on the device agree with the numba lookups and differentiate like differences."""
 
 import numpy as np
 import pytest
