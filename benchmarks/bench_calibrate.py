@@ -48,7 +48,9 @@ def rigid_fit(t, g=9.81):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="one repeat")
-    p.add_argument("--family", action="store_true", help="also time laws='all' (the contact-law family)")
+    p.add_argument(
+        "--family", action="store_true", help="also time hypotheses='all' (the contact-law family)"
+    )
     args = p.parse_args(argv)
     repeat = 1 if args.quick else 3
     start = time.perf_counter()
@@ -59,7 +61,7 @@ def main(argv=None):
 
     data = read_drop(DATA)
     t = time.perf_counter()
-    ca.calibrate(data, mass=0.05, laws=["hc_eps"], intervals=False)
+    ca.calibrate(data, mass=0.05, hypotheses=["hc_eps"], intervals=False)
     first = time.perf_counter() - t
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.python_version()}")
     print(f"import: {t - start:.2f} s; first calibrate call (kernels loaded/compiled): {first:.2f} s")
@@ -67,14 +69,18 @@ def main(argv=None):
     rows = [
         ("calibrate, default laws, intervals", lambda: ca.calibrate(data, mass=0.05, radius=0.02)),
         ("calibrate, default laws, no intervals", lambda: ca.calibrate(data, mass=0.05, intervals=False)),
-        ("calibrate, hc_eps, intervals", lambda: ca.calibrate(data, mass=0.05, laws=["hc_eps"])),
+        ("calibrate, hc_eps, intervals", lambda: ca.calibrate(data, mass=0.05, hypotheses=["hc_eps"])),
         ("baseline: one predict_bounces", lambda: predict_bounces(scene, "exact")),
         ("baseline: rigid geometric fit", lambda: rigid_fit(data.values)),
     ]
     if args.family:
-        ca.calibrate(data, mass=0.05, laws=["kelvin_voigt_damping"], intervals=False)  # compile apart
+        ca.calibrate(data, mass=0.05, hypotheses=["kelvin_voigt_damping"], intervals=False)  # compile apart
         rows.insert(
-            3, ("calibrate, laws='all', intervals", lambda: ca.calibrate(data, mass=0.05, laws="all"))
+            3,
+            (
+                "calibrate, hypotheses='all', intervals",
+                lambda: ca.calibrate(data, mass=0.05, hypotheses="all"),
+            ),
         )
     times = {name: best(fn, repeat) for name, fn in rows}
     base = times["baseline: one predict_bounces"]

@@ -6,11 +6,10 @@ For each engine, 13 scenes (mass 0.02-20 kg, approach speed 0.05-3 m/s, pushes u
 targets e_N 0.1-0.95; the stiffness makes the undamped contact span a chosen number of the
 engine's default steps; one scene within 20 % of its critical speed):
 
-1. ``stepping.inverse.damping_for`` gives the engine's own damping (PyBullet: the ball's
-   ``contactDamping``, the plane's values left unset; Drake: the ball's
-   ``hunt_crossley_dissipation``, both geometries at twice the pair's stiffness, the ground's
-   dissipation 0) whose phase-mean e_N is the target at the default step, with the predicted
-   minimum and maximum over the phase;
+1. ``stepping.inverse.damping_for`` gives the engine's own damping (PyBullet: ``contactDamping``;
+   Drake: ``hunt_crossley_dissipation``; the same value on both bodies, each at twice the pair's
+   stiffness; a 0.05 m sphere) whose phase-mean e_N is the target at the default step, with the
+   predicted minimum and maximum over the phase;
 2. the installed engine drops the ball at PHASES touchdown phases i/PHASES with those values
    (the adapters' own drop scenes), and e_N is read from its states by
    ``adapters.stepped.measure_steps``;
@@ -65,11 +64,18 @@ def stiffness_for(mass, steps, h):
     return mass * (math.pi / (steps * h)) ** 2
 
 
-def pack(engine, mass, k_pair):
-    """The engine's parameters for a pair stiffness, damping 0 (the inverse sets it)."""
+def pack(engine, mass, k_pair, radius=0.05):
+    """The engine's parameters: both bodies at twice the pair stiffness, damping 0 (the inverse sets it)."""
     s = stepper(engine)
     if engine == "pybullet":
-        return s.pack(mass=mass, stiffness_ball=k_pair, damping_ball=0.0)  # the plane unset: 1e30
+        return s.pack(
+            mass=mass,
+            stiffness_ball=2 * k_pair,
+            damping_ball=0.0,
+            stiffness_ground=2 * k_pair,
+            damping_ground=0.0,
+            breaking=pybullet_map.breaking_threshold(radius),
+        )
     return s.pack(
         mass=mass, stiffness_ball=2 * k_pair, dissipation_ball=0.0, stiffness_ground=2 * k_pair, dissipation_ground=0.0
     )
@@ -86,8 +92,8 @@ def run_engine(engine, p, h, scene, phases):
             scene,
             ADAPTER.parameters(0.0, scene),
             settings,
-            stiffness_each=(p[pybullet_map.STIFFNESS_BALL], None),
-            damping_each=(p[pybullet_map.DAMPING_BALL], None),
+            stiffness_each=(p[pybullet_map.STIFFNESS_BALL], p[pybullet_map.STIFFNESS_GROUND]),
+            damping_each=(p[pybullet_map.DAMPING_BALL], p[pybullet_map.DAMPING_GROUND]),
         )
     else:
         from contactalpha.adapters.drake_point import ADAPTER, DrakeSettings
@@ -124,11 +130,11 @@ def critical_ratio(engine, p, h, v, a):
     return v / hi
 
 
-def check(engine, p, h, scene, target, phases):
+def check(engine, p, h, scene, target, phases, remedies=True):
     """Solve at ``h`` and check in the engine; a dict row (``inverse`` the StepInverse)."""
     v, a = scene.approach_speed, scene.accel
     t0 = time.perf_counter()
-    inv = damping_for(engine, p, h, v, a, target, remedies="both")
+    inv = damping_for(engine, p, h, v, a, target, remedies=remedies)
     solve_s = time.perf_counter() - t0
     row = {"timestep": h, "status": inv.status, "solve_s": solve_s}
     if inv.status != "ok":
@@ -169,16 +175,19 @@ def study(engine, phases):
         row, inv = check(engine, p, h0, scene, target, phases)
         row.update(engine=engine, mass=mass, approach_speed=v, force=force, target=target, contact_steps=steps)
         if inv.status == "ok":
-            row["v_over_v_crit"] = critical_ratio(engine, inv.p, h0, v, scene.accel)
+            row["v_over_v_crit"] = critical_ratio(engine, inv.p, h0, v, scene.accel) if target <= 0.1 else math.nan
         else:
             remedies = {}
             if math.isfinite(inv.timestep_reachable):
-                remedies["timestep"], _ = check(engine, p, inv.timestep_reachable, scene, target, phases)
-            if math.isfinite(inv.stiffness_reachable):
+                h1 = inv.timestep_reachable
+                remedies["timestep"], inv1 = check(engine, p, h1, scene, target, phases)
+                if inv1.status == "ok" and target <= 0.1:
+                    remedies["timestep"]["v_over_v_crit"] = critical_ratio(engine, inv1.p, h1, v, scene.accel)
+            if inv.stiffness_reachable is not None and math.isfinite(inv.stiffness_reachable):
                 q = p.copy()
-                q[s.stiffness_slot] = inv.stiffness_reachable
-                if engine == "drake":
-                    q[drake_map.STIFFNESS_GROUND] = inv.stiffness_reachable
+                k = list(s.stiffness_slots)
+                q[k] = inv.stiffness_reachable * p[k] / p[k[0]]
+                scene = DropScene(mass, scene.stiffness * inv.stiffness_reachable / p[k[0]], v, G, force)
                 remedies["stiffness"], _ = check(engine, q, h0, scene, target, phases)
             row["remedies"] = remedies
         rows.append(row)
@@ -201,9 +210,10 @@ def report(r):
             print(f"    at the proposed {name}: {rem['status']}")
             continue
         print(
-            f"    at the proposed {name}: mean-target {rem['mean_minus_target']:+.1e}"
+            f"    at the proposed {name} ({rem['timestep']:.3g} s): mean-target {rem['mean_minus_target']:+.1e}"
             f"  min {rem['min_minus_predicted']:+.1e} max {rem['max_minus_predicted']:+.1e}"
-            f"  |engine-map| {rem['engine_minus_map']:.1e}  verify {rem['verify_s']:.2f} s"
+            f"  |engine-map| {rem['engine_minus_map']:.1e}  v/vc {rem.get('v_over_v_crit', math.nan):.3f}"
+            f"  verify {rem['verify_s']:.2f} s"
         )
 
 

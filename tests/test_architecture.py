@@ -162,3 +162,11 @@ def test_the_check_sees_an_upward_import(tmp_path):
     targets = [t for t, _ in _imports("engine.kernel", fake)]
     assert targets == ["paper.surface.compute", "models.registry"]
     assert _rank("engine.kernel") < _rank(targets[0])
+
+
+def test_test_modules_have_unique_names():
+    # The test folders have no __init__.py: pytest imports each module by its basename, so two
+    # files of one name stop the whole run at collection.
+    tests = Path(__file__).resolve().parent
+    names = [p.name for p in tests.rglob("test_*.py")]
+    assert sorted({n for n in names if names.count(n) > 1}) == []

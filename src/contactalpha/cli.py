@@ -10,7 +10,7 @@ import os
 import re
 import sys
 
-from contactalpha.adapters.registry import ENGINE_NAMES
+from contactalpha.adapters.registry import ENGINE_NAMES, adapter
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.engine.driver import ATOL, RTOL, impact
 from contactalpha.engine.solver import EPS_TOL, solve_alpha
@@ -116,7 +116,7 @@ EXAMPLES = {
     "warmup": ("contactalpha warmup  # once after installing: first calls then load compiled code",),
     "calibrate": (
         "contactalpha calibrate data/drops/hc_eps_times.csv --mass 0.05 --radius 0.02",
-        "contactalpha calibrate heights.csv --mass 0.05 --law all --json report.json --figures drop",
+        "contactalpha calibrate heights.csv --mass 0.05 --hypothesis all --json report.json --figures drop",
     ),
     "tune": tune_command.EXAMPLES,
 }
@@ -333,7 +333,9 @@ def _print_engine(args, value, restitution):
             timestep=args.timestep, verify=args.verify, progress=None if args.quiet else progress,
         )  # fmt: skip
     if args.json:
-        print(json_text({"engine": args.engine, "parameters": params, "notes": notes}, indent=1))
+        units = getattr(adapter(args.engine), "units", {})
+        data = {"engine": args.engine, "parameters": params, "units": units, "notes": notes}
+        print(json_text(data, indent=1))
     else:
         print(format_block(args.engine, params, notes))
     return 0
@@ -364,7 +366,8 @@ def _params(args, parser):
         **target,
     )
     data = as_plain_data(cp) | {
-        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES}
+        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
+        "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
     print(json_text(data, indent=1) if args.json else format_parameters(cp))
     return 0

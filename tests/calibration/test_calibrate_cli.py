@@ -4,13 +4,13 @@ import json
 import subprocess
 import sys
 
-from contactalpha.calibration import laws, sequence
+from contactalpha.calibration import hypotheses, sequence
 from contactalpha.cli import main
 
 
 def _file(tmp_path):
     t = sequence.simulate(
-        laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 10
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 10
     ).touchdowns
     path = tmp_path / "drop.csv"
     path.write_text("t (s)\n" + "\n".join(repr(float(x)) for x in t) + "\n")
@@ -28,9 +28,9 @@ def test_calibrate_command_prints_and_writes(tmp_path, capsys):
             "0.05",
             "--radius",
             "0.02",
-            "--law",
+            "--hypothesis",
             "hc_eps",
-            "--law",
+            "--hypothesis",
             "constant_e",
             "--json",
             str(out_json),
@@ -61,7 +61,7 @@ def test_calibration_does_not_import_matplotlib(tmp_path):
     path = _file(tmp_path)
     code = (
         "import sys, contactalpha as ca\n"
-        f"ca.calibrate({str(path)!r}, mass=0.05, laws=['constant_e'], intervals=False)\n"
+        f"ca.calibrate({str(path)!r}, mass=0.05, hypotheses=['constant_e'], intervals=False)\n"
         "print('matplotlib' in sys.modules)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

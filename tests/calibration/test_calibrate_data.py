@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 import contactalpha as ca
-
 from contactalpha.calibration.data import from_arrays, read_drop
 
 GOOD = [0.0, 0.5, 0.9, 1.22, 1.48, 1.69]
@@ -87,10 +86,12 @@ def test_semicolons_with_decimal_commas_are_read(tmp_path):
 
 
 def test_one_millisecond_jitter_is_accepted_but_a_missed_impact_is_not():
-    from contactalpha.calibration import laws, sequence
+    from contactalpha.calibration import hypotheses, sequence
     from contactalpha.calibration.data import check_times
 
-    t = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 20).touchdowns
+    t = sequence.simulate(
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 20
+    ).touchdowns
     rng = np.random.default_rng(0)
     for _ in range(30):
         noisy = t + rng.normal(0.0, 1e-3, t.size)
@@ -100,12 +101,16 @@ def test_one_millisecond_jitter_is_accepted_but_a_missed_impact_is_not():
 
 
 def test_long_recordings_are_capped_with_a_note(monkeypatch):
-    from contactalpha.calibration import data, laws, sequence
+    from contactalpha.calibration import data, hypotheses, sequence
 
-    t = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 12).touchdowns
+    t = sequence.simulate(
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, 0.05, 9.81, 2.0, 0.0, 12
+    ).touchdowns
     monkeypatch.setitem(data.MAX_OBSERVATIONS, "times", 8)
     capped, note = data.capped(data.from_arrays("times", values=t))
     assert capped.count == 8 and capped.values == pytest.approx(t[:8]) and "first 8 of 12" in note
     lines = []
-    cal = ca.calibrate(t, kind="times", mass=0.05, laws=["constant_e"], intervals=False, progress=lines.append)
+    cal = ca.calibrate(
+        t, kind="times", mass=0.05, hypotheses=["constant_e"], intervals=False, progress=lines.append
+    )
     assert cal.data.count == 8 and cal.notes == [note] and note in lines

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from contactalpha.calibration import laws
-from contactalpha.calibration.family import FAMILY_LAWS
+from contactalpha.calibration import hypotheses
+from contactalpha.calibration.family import FAMILY_HYPOTHESES
 
 pytestmark = pytest.mark.integration
 
@@ -47,13 +47,13 @@ def _ivp(acc):
 
 
 def test_every_family_law_is_tested():
-    assert set(CASES) == set(FAMILY_LAWS)
+    assert set(CASES) == set(FAMILY_HYPOTHESES)
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_family_contact_matches_solve_ivp(name):
     values, acc = CASES[name]
-    c = laws.LAWS[name].contact(values, M, A, V)
+    c = hypotheses.HYPOTHESES[name].contact(values, M, A, V)
     v_out, duration = _ivp(acc)
     assert c.separated
     assert c.v_out == pytest.approx(v_out, rel=1e-6)

@@ -4,21 +4,23 @@ import numpy as np
 import pytest
 
 import contactalpha as ca
-from contactalpha.calibration import laws, sequence
+from contactalpha.calibration import hypotheses, sequence
 from contactalpha.calibration.data import from_arrays
-from contactalpha.calibration.fit import Setup, fit_law
+from contactalpha.calibration.fit import Setup, fit_hypothesis
 
 M, K, EPS, V0, G = 0.05, 1e8, 0.8, 2.0, 9.81
 
 
 def _sequence(law="hc_eps", values=None, contacts=21):
     values = values or {"eps": EPS, "stiffness": K}
-    return sequence.simulate(laws.LAWS[law], values, M, G, V0, 0.0, contacts)
+    return sequence.simulate(hypotheses.HYPOTHESES[law], values, M, G, V0, 0.0, contacts)
 
 
 def test_exact_times_give_the_parameters_back():
     t = _sequence(contacts=12).touchdowns
-    f = fit_law(laws.LAWS["hc_eps"], from_arrays("times", values=t), Setup(M, G), intervals=False)
+    f = fit_hypothesis(
+        hypotheses.HYPOTHESES["hc_eps"], from_arrays("times", values=t), Setup(M, G), intervals=False
+    )
     assert f.values["eps"] == pytest.approx(EPS, rel=1e-6)
     assert f.values["stiffness"] == pytest.approx(K, rel=1e-3)
     assert f.nuisance["v0"] == pytest.approx(V0, rel=1e-6)
@@ -30,7 +32,9 @@ def test_noisy_times_intervals_hold_the_truth_and_hc_beats_constant_e():
     # tested over 100 replicates in test_calibrate_recovery.py).
     rng = np.random.default_rng(8)
     t = _sequence().touchdowns
-    cal = ca.calibrate(t + rng.normal(0.0, 1e-4, t.size), kind="times", mass=M, laws=["hc_eps", "constant_e"])
+    cal = ca.calibrate(
+        t + rng.normal(0.0, 1e-4, t.size), kind="times", mass=M, hypotheses=["hc_eps", "constant_e"]
+    )
     f = cal.fits["hc_eps"]
     lo, hi = f.intervals["eps"]
     assert lo < EPS < hi and hi - lo < 1e-3
@@ -48,7 +52,7 @@ def test_constant_e_data_select_constant_e():
         t + rng.normal(0.0, 1e-4, t.size),
         kind="times",
         mass=M,
-        laws=["hc_eps", "constant_e"],
+        hypotheses=["hc_eps", "constant_e"],
         intervals=False,
     )
     assert cal.selected == "constant_e"
@@ -60,12 +64,15 @@ def test_heights_with_one_percent_noise():
     s = _sequence(contacts=12)
     h = np.concatenate([[V0**2 / (2 * G)], s.apexes[:11]])
     noisy = h * np.exp(rng.normal(0.0, 0.01, h.size))
-    f = fit_law(laws.LAWS["hc_eps"], from_arrays("heights", values=noisy), Setup(M, G))
+    f = fit_hypothesis(hypotheses.HYPOTHESES["hc_eps"], from_arrays("heights", values=noisy), Setup(M, G))
     lo, hi = f.intervals["eps"]
     assert lo < EPS < hi and hi - lo < 0.02
     # A constant-e law's stiffness shows only in contact durations, which heights cannot see.
-    null = fit_law(
-        laws.LAWS["constant_e"], from_arrays("heights", values=noisy), Setup(M, G), intervals=False
+    null = fit_hypothesis(
+        hypotheses.HYPOTHESES["constant_e"],
+        from_arrays("heights", values=noisy),
+        Setup(M, G),
+        intervals=False,
     )
     assert null.fixed == ("stiffness",) and null.p == 2
 
@@ -75,14 +82,19 @@ def test_tracked_trajectory():
     s = _sequence(contacts=40)
     t = np.arange(-0.1, 1.5, 1 / 240)
     z = sequence.height_at(s, t) + rng.normal(0.0, 1e-3, t.size)
-    f = fit_law(laws.LAWS["hc_eps"], from_arrays("trajectory", t=t, values=z), Setup(M, G), intervals=False)
+    f = fit_hypothesis(
+        hypotheses.HYPOTHESES["hc_eps"],
+        from_arrays("trajectory", t=t, values=z),
+        Setup(M, G),
+        intervals=False,
+    )
     assert f.values["eps"] == pytest.approx(EPS, abs=2e-3)
     assert f.sigma == pytest.approx(1e-3, rel=0.2)
 
 
 def test_engine_parameters_of_the_selected_law():
     t = _sequence(contacts=12).touchdowns
-    cal = ca.calibrate(t, kind="times", mass=M, radius=0.02, laws=["hc_eps"], intervals=False)
+    cal = ca.calibrate(t, kind="times", mass=M, radius=0.02, hypotheses=["hc_eps"], intervals=False)
     eng = cal.engines["hc_eps"]
     direct = ca.contact_parameters(eps=EPS, mass=M, stiffness=K, approach_speed=V0, accel=G, radius=0.02)
     assert eng["alpha"] == pytest.approx(direct.alpha, rel=1e-4)

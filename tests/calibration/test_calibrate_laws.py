@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from contactalpha.calibration import laws, sequence
+from contactalpha.calibration import hypotheses, sequence
 from contactalpha.engine.exact import alpha_exact
 from contactalpha.scene.ball import Scene, simulate
 from contactalpha.scene.bounces import predict_bounces
@@ -37,7 +37,7 @@ def _ivp_contact(alpha, v, loaded):
 )
 def test_contact_matches_solve_ivp(name, values, alpha, loaded):
     v = 0.3
-    c = laws.LAWS[name].contact(values, M, A, v)
+    c = hypotheses.HYPOTHESES[name].contact(values, M, A, v)
     v_out, duration = _ivp_contact(alpha, v, loaded)
     assert c.separated
     assert c.v_out == pytest.approx(v_out, rel=1e-7)
@@ -45,7 +45,7 @@ def test_contact_matches_solve_ivp(name, values, alpha, loaded):
 
 
 def test_constant_e_has_that_restitution_at_every_speed():
-    law = laws.LAWS["constant_e"]
+    law = hypotheses.HYPOTHESES["constant_e"]
     for v in (0.01, 0.3, 3.0):
         c = law.contact({"e": 0.7, "stiffness": K}, M, A, v)
         assert c.v_out / v == pytest.approx(0.7, abs=1e-9)
@@ -54,7 +54,9 @@ def test_constant_e_has_that_restitution_at_every_speed():
 def test_hc_eps_sequence_is_the_package_prediction():
     scene = Scene(mass=M, stiffness=K, approach_speed=2.0, force=0.0, eps=0.8)
     p = predict_bounces(scene, "exact")
-    s = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": K}, M, scene.accel, 2.0, 0.0, 100)
+    s = sequence.simulate(
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": K}, M, scene.accel, 2.0, 0.0, 100
+    )
     np.testing.assert_array_equal(s.v_in, p.approach_speeds)
     np.testing.assert_allclose(s.durations, p.contact_durations, rtol=1e-14)
     assert s.ended and s.v_in.size == p.contacts
@@ -65,9 +67,27 @@ def test_hc_eps_sequence_is_the_package_prediction():
 def test_touchdowns_and_heights_agree_with_the_time_stepped_ball():
     scene = Scene(mass=M, stiffness=K, approach_speed=1.0, force=0.0, eps=0.8, t_end=0.6)
     run = simulate(scene, "exact")
-    s = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": K}, M, A, 1.0, 0.0, 100)
+    s = sequence.simulate(hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": K}, M, A, 1.0, 0.0, 100)
     n = run.count
     np.testing.assert_allclose(s.touchdowns[:n], run.collisions["t_start"], rtol=1e-9, atol=1e-12)
     flight = run.phase == 0
     z = sequence.height_at(s, run.t[flight])
     np.testing.assert_allclose(z, -run.delta[flight], atol=1e-9)
+
+
+def test_old_law_names_of_the_hypotheses_warn_and_still_work(tmp_path):
+    """ "Law" names a contact law only; the hypotheses' old names are kept, with a warning."""
+    import contactalpha as ca
+    from contactalpha.cli import main
+
+    t = sequence.simulate(
+        hypotheses.HYPOTHESES["constant_e"], {"e": 0.8, "stiffness": K}, M, 9.81, 2.0, 0.0, 12
+    )
+    with pytest.warns(DeprecationWarning, match="'hypotheses'"):
+        cal = ca.calibrate(t.touchdowns, kind="times", mass=M, laws=["constant_e"], intervals=False)
+    assert list(cal.fits) == ["constant_e"]
+    with pytest.warns(DeprecationWarning, match="HYPOTHESES"):
+        assert hypotheses.LAWS is hypotheses.HYPOTHESES
+    path = tmp_path / "t.csv"
+    path.write_text("t\n" + "\n".join(repr(float(x)) for x in t.touchdowns) + "\n")
+    assert main(["calibrate", str(path), "--mass", str(M), "--law", "constant_e", "--quiet"]) == 0

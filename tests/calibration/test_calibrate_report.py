@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import contactalpha as ca
-from contactalpha.calibration import family, laws, sequence
+from contactalpha.calibration import family, hypotheses, sequence
 from contactalpha.calibration.api import format_calibration
 from contactalpha.cli import main
 
@@ -15,7 +15,7 @@ M, G, V0 = 0.05, 9.81, 2.0
 
 
 def _times(name, values, contacts=12):
-    return sequence.simulate(laws.LAWS[name], values, M, G, V0, 0.0, contacts).touchdowns
+    return sequence.simulate(hypotheses.HYPOTHESES[name], values, M, G, V0, 0.0, contacts).touchdowns
 
 
 def _mujoco_rebound(s, b, d, a, v):
@@ -44,7 +44,9 @@ def test_mujoco_law_uses_the_given_impedance():
 
 def test_impedance_is_given_fitted_around_and_reported():
     t = _times("mujoco_soft_damping", {"damping": 20.0, "stiffness": 1e5, "impedance": 0.5})
-    cal = ca.calibrate(t, kind="times", mass=M, laws=["mujoco_soft_damping"], intervals=False, impedance=0.5)
+    cal = ca.calibrate(
+        t, kind="times", mass=M, hypotheses=["mujoco_soft_damping"], intervals=False, impedance=0.5
+    )
     f = cal.best
     assert f.values["damping"] == pytest.approx(20.0, rel=1e-6)
     assert f.values["stiffness"] == pytest.approx(1e5, rel=1e-6)
@@ -54,7 +56,7 @@ def test_impedance_is_given_fitted_around_and_reported():
     assert block["solref"] == pytest.approx((-1e5, -20.0), rel=1e-6)
     assert "impedance  0.5" in format_calibration(cal) and "(given, not fitted)" in format_calibration(cal)
     # The default impedance (0.9) cannot follow a d = 0.5 recording.
-    wrong = ca.calibrate(t, kind="times", mass=M, laws=["mujoco_soft_damping"], intervals=False)
+    wrong = ca.calibrate(t, kind="times", mass=M, hypotheses=["mujoco_soft_damping"], intervals=False)
     assert wrong.best.values["impedance"] == 0.9
     assert abs(wrong.best.values["stiffness"] / 1e5 - 1.0) > 0.1
 
@@ -67,7 +69,7 @@ def test_impedance_without_a_law_that_has_one_is_refused():
             _times("hc_eps", {"eps": 0.8, "stiffness": 1e8}),
             kind="times",
             mass=M,
-            laws=["mujoco_soft_damping"],
+            hypotheses=["mujoco_soft_damping"],
             impedance=1.5,
         )
 
@@ -83,7 +85,9 @@ def test_impedance_without_a_law_that_has_one_is_refused():
     ],
 )
 def test_each_law_prints_only_the_engines_that_run_it(name, values, engines):
-    cal = ca.calibrate(_times(name, values), kind="times", mass=M, radius=0.02, laws=[name], intervals=False)
+    cal = ca.calibrate(
+        _times(name, values), kind="times", mass=M, radius=0.02, hypotheses=[name], intervals=False
+    )
     eng = cal.engines[name]
     assert set(eng["engines"]) == engines
     text = format_calibration(cal)
@@ -94,7 +98,7 @@ def test_each_law_prints_only_the_engines_that_run_it(name, values, engines):
 def test_engine_numbers_are_the_fitted_constants_in_engine_units():
     d = 0.3
     cal = ca.calibrate(
-        _times("hc_damping", {"damping": d, "stiffness": 1e8}), kind="times", mass=M, laws=["hc_damping"],
+        _times("hc_damping", {"damping": d, "stiffness": 1e8}), kind="times", mass=M, hypotheses=["hc_damping"],
         intervals=False,
     )  # fmt: skip
     eng = cal.engines["hc_damping"]
@@ -106,7 +110,7 @@ def test_engine_numbers_are_the_fitted_constants_in_engine_units():
     k = 1e5
     cal = ca.calibrate(
         _times("kelvin_voigt_damping", {"damping": 2.0, "stiffness": k}), kind="times", mass=M,
-        laws=["kelvin_voigt_damping"], intervals=False,
+        hypotheses=["kelvin_voigt_damping"], intervals=False,
     )  # fmt: skip
     block = cal.engines["kelvin_voigt_damping"]["engines"]["pybullet"]
     assert block["pair_stiffness"] == pytest.approx(k, rel=1e-6)
@@ -115,9 +119,11 @@ def test_engine_numbers_are_the_fitted_constants_in_engine_units():
 
 def test_e_n_bands_hold_the_truth_at_the_recorded_speeds():
     rng = np.random.default_rng(4)
-    truth = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, M, G, V0, 0.0, 15)
+    truth = sequence.simulate(
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, M, G, V0, 0.0, 15
+    )
     t = truth.touchdowns + rng.normal(0.0, 1e-4, truth.touchdowns.size)
-    cal = ca.calibrate(t, kind="times", mass=M, laws=["hc_eps"])
+    cal = ca.calibrate(t, kind="times", mass=M, hypotheses=["hc_eps"])
     e, lo, hi = cal.best.e_n_band
     assert e.size >= 14
     assert np.all(np.isfinite(lo)) and np.all(lo < e) and np.all(e < hi)
@@ -133,7 +139,11 @@ def test_information_criteria_and_weights_are_the_documented_ones():
     rng = np.random.default_rng(8)
     t = _times("hc_eps", {"eps": 0.8, "stiffness": 1e8}, 15)
     cal = ca.calibrate(
-        t + rng.normal(0.0, 1e-4, t.size), kind="times", mass=M, laws=["hc_eps", "constant_e"], intervals=False
+        t + rng.normal(0.0, 1e-4, t.size),
+        kind="times",
+        mass=M,
+        hypotheses=["hc_eps", "constant_e"],
+        intervals=False,
     )
     for f in cal.fits.values():
         n, p = f.residuals.size, len(f.free)  # sigma is one more parameter
@@ -149,7 +159,7 @@ def test_information_criteria_and_weights_are_the_documented_ones():
 
 def test_flights_between_touchdowns_are_the_parabola():
     # Independent of the contact: after a contact the ball leaves at v_out and lands 2 v_out / a later.
-    s = sequence.simulate(laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, M, G, V0, 0.0, 8)
+    s = sequence.simulate(hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, M, G, V0, 0.0, 8)
     flights = np.diff(s.touchdowns) - s.durations[:-1]
     assert flights == pytest.approx(2.0 * s.v_out[:-1] / G, rel=1e-12)
     assert s.v_in[1:] == pytest.approx(s.v_out[:-1], rel=1e-12)

@@ -99,7 +99,11 @@ def test_step_and_error_norm_equal_scipys_dop853(h):
     ref, ref_norm = _scipy_dop853_step(y, h, 0.3, 0.8)
     np.testing.assert_allclose(y_new, ref, rtol=0, atol=2e-15)  # summation order: a few ulp
     # The estimate is a sum of O(1) stages that cancels to ~1e-10 of them: summation order alone
-    # moves it by ~1e-8 relative; a wrong weight moves it by O(1).
+    # moves it by ~1e-8 relative; a wrong weight moves it by O(1).  At h = 1e-2 the local error
+    # (~1e-21) is below the stages' rounding (~1e-18), so the estimate is rounding noise whose value
+    # depends on the summation order of the machine's BLAS: only the step is compared there.
+    if h < 0.1:
+        return
     for rtol, atol in [(1e-10, 1e-12), (1e-4, 1e-6)]:
         assert error_norm(K, h, y, y_new, rtol, atol) == pytest.approx(ref_norm(rtol, atol), rel=1e-6)
 

@@ -97,3 +97,17 @@ def test_urdf_tuned_for_mujoco_is_the_compiled_mjcf_with_the_pair(mujoco, tmp_pa
     # MuJoCo writes its compiled MJCF with 6 significant digits (poses, masses): m_eff to ~1e-6
     assert again.effective_mass == pytest.approx(hand.leg()[0], rel=1e-5)
     assert again.engine_row["solref"] == pytest.approx(got.parameters["solref"], rel=1e-12)
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_mujoco_row_is_built_as_its_source_says(mujoco, case):
+    """diagA = the bodies' translational body_invweight0 (mj_diagApprox), R = (1 - imp)/imp diagA
+    (mj_makeImpedance; the row is read with the margin raised past solimp's width: imp = solimp[1])."""
+    contact = read_contact(case.path(".xml"), case.pair, qvel=case.qvel_mujoco)
+    m = mujoco.MjModel.from_xml_path(case.path(".xml"))
+    bodies = [m.geom_bodyid[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, g)] for g in case.pair]
+    row = contact.engine_row
+    assert row["diagA"] == pytest.approx(sum(m.body_invweight0[b, 0] for b in bodies), rel=1e-15)
+    imp = row["solimp"][1]
+    assert row["R"] == pytest.approx((1 - imp) / imp * row["diagA"], rel=1e-12)
+    assert abs(row["diagA"] * contact.effective_mass - 1.0) > 0.1  # a mechanism: diagA is not 1/m_eff

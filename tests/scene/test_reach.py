@@ -45,6 +45,9 @@ def test_remedies_find_the_largest_stiffness_and_step_that_reach_the_target():
     resolution = reach.SHRINK ** (0.5**reach.BISECTIONS)  # the scan's last bracket, as a ratio
     assert resolution * k_star <= found["stiffness"] <= k_star
     assert resolution * h_star <= found["timestep"] <= h_star
+    # A stiffness whose rest penetration m a / k exceeds the radius is no remedy: for e_N = 0.95 the
+    # toy needs k <= 12.5 N/m, but below m a / R = 98.1 N/m the ball would sink deeper than it is large.
+    assert math.isnan(reach.remedies(toy, scene, 0.95)["stiffness"])
 
 
 def test_the_message_names_the_nearest_target_and_the_remedies():
@@ -65,8 +68,9 @@ def test_eps_zero_without_a_load_is_unreachable_and_a_load_reaches_it(capsys):
     assert ca.contact_parameters(eps=0.0, accel=9.81, **scene).eps == pytest.approx(0.0, abs=1e-6)
     argv = ["params", "--eps", "0", "--mass", "0.5", "--stiffness", "1.4e8", "--speed", "0.5", "--accel", "0"]
     assert cli.main(argv) == reach.EXIT_UNREACHABLE == 3
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith("contactalpha: unreachable: eps = 0.0 needs a load")
+    err = capsys.readouterr().err  # a cold numba cache adds its compile lines before the verdict
+    verdicts = [line for line in err.splitlines() if line.startswith("contactalpha: unreachable:")]
+    assert len(verdicts) == 1 and verdicts[0].startswith("contactalpha: unreachable: eps = 0.0 needs a load")
 
 
 def test_help_documents_the_exit_status(capsys):
@@ -84,7 +88,8 @@ def test_mujoco_at_a_coarse_step_says_what_reaches_the_target_and_that_does(caps
     with pytest.warns(Warning):  # the coarse contact's own warning
         assert cli.main([*argv, "--stiffness", "5e5"]) == reach.EXIT_UNREACHABLE
     err = capsys.readouterr().err
-    assert err.count("\n") == 1
+    verdicts = [line for line in err.splitlines() if line.startswith("contactalpha: unreachable:")]
+    assert len(verdicts) == 1  # beside it, at most the progress lines of a slow machine
     stiffness = float(re.search(r"a stiffness <= ([0-9.e+]+) N/m", err).group(1))
     assert stiffness < 5e5
     # The stiffness it names does reach the target on MuJoCo's own drops.

@@ -191,6 +191,9 @@ def test_printed_labels_carry_the_right_units(capsys):
     assert float(lines["damping"][1]) == pytest.approx(c, rel=1e-12) and lines["damping"][2:4] == ["N", "s/m"]
     assert float(lines["mujoco.damping"][1]) == pytest.approx(c / 0.5, rel=1e-12)
     assert lines["mujoco.damping"][2] == "1/s" and lines["mujoco.stiffness"][2] == "1/s^2"
+    assert cli.main([*common, "--engine", "drake", "--json"]) == 0  # JSON carries the units too
+    units = json.loads(capsys.readouterr().out)["units"]
+    assert units["point_contact_stiffness"] == "N/m" and units["hunt_crossley_dissipation"] == "s/m"
     assert cli.main([*common, "--engine", "pybullet"]) == 0
     out = capsys.readouterr().out
     line = next(x for x in out.splitlines() if x.startswith("pybullet.pair_damping"))

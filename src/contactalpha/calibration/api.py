@@ -13,13 +13,13 @@ from contactalpha.laws import get_law
 from contactalpha.scene.ball import GRAVITY
 from contactalpha.scene.engine_params import format_block
 from contactalpha.scene.parameters import LAW
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import check_positive, check_range, renamed_keywords
 
 from . import data as data_mod
 from . import family  # noqa: F401  (registers the contact-law family's laws)
 from .band import METHOD
-from .fit import LEVEL, Setup, fit_law
-from .laws import LAWS, law_names
+from .fit import LEVEL, Setup, fit_hypothesis
+from .hypotheses import HYPOTHESES, hypothesis_names
 
 # Laws whose AIC is more than this above the best get no intervals (their Akaike weight is below
 # 5e-5: intervals of a law the data reject would only cost time).
@@ -150,7 +150,7 @@ def stiffness_from_moduli(radius, moduli, poisson=(0.0, 0.0)):
 def engine_parameters(fit, setup, radius=None):
     """Inputs of the engines that run the fitted law, at its first impact, in each engine's units.
 
-    Only engines whose contact law is the fitted law's (``laws.Law.contact_law``: OpenSim and
+    Only engines whose contact law is the fitted law's (``hypotheses.Law.contact_law``: OpenSim and
     Exudyn for the Hunt-Crossley n = 3/2 laws, MuJoCo for ``mujoco_soft_damping``, Drake for
     ``hunt_crossley_linear_damping``, PyBullet for ``kelvin_voigt_damping``) are listed; each
     block is the adapter's own (``adapters.contract.EngineAdapter.parameters``), with the fit's
@@ -158,7 +158,7 @@ def engine_parameters(fit, setup, radius=None):
     for every bounce; the others hold for the first impact's approach speed only.
     """
     s = fit.sequence
-    law = LAWS[fit.law]
+    law = HYPOTHESES[fit.law]
     v1, e1 = float(s.v_in[0]), float(s.e_n[0])
     if not (s.v_out.size and e1 > 0.0):
         return {"status": "the first contact does not separate: no restitution to convert"}
@@ -220,6 +220,7 @@ def _as_data(source, kind, t, tolerance):
     )
 
 
+@renamed_keywords(laws="hypotheses")
 def calibrate(
     data: "str | Path | data_mod.DropData | np.ndarray",
     *,
@@ -227,7 +228,7 @@ def calibrate(
     radius: float | None = None,
     kind: str | None = None,
     t: "np.ndarray | None" = None,
-    laws: "str | list[str] | None" = None,
+    hypotheses: "str | list[str] | None" = None,
     gravity: float = GRAVITY,
     force: float = 0.0,
     stiffness: float | None = None,
@@ -255,9 +256,10 @@ def calibrate(
         For array data.
     t : array_like, optional
         Sample times of a trajectory, s.
-    laws : sequence of str or "all", optional
-        Names in ``calibration.laws.LAWS``; default ``laws.DEFAULT_LAWS`` (the three Hunt–Crossley
-        n = 3/2 laws); ``"all"`` adds the contact-law family's (slower: seconds per law).
+    hypotheses : sequence of str or "all", optional
+        Restitution hypotheses, names in ``calibration.hypotheses.HYPOTHESES``; default
+        ``hypotheses.DEFAULT_HYPOTHESES`` (the three Hunt–Crossley n = 3/2 ones); ``"all"`` adds
+        one per contact law of the family (slower: seconds each).  ``laws=`` is its old name.
     gravity, force : float
         m/s^2, and a constant extra push towards the ground, N (>= 0).
     stiffness : float, optional
@@ -301,7 +303,7 @@ def calibrate(
     if tol is not None:
         tol = float(check_range("interval_tolerance", tol, 0.0, np.inf, hi_open=True))
     say = progress or (lambda line: None)
-    names = law_names(laws)
+    names = hypothesis_names(hypotheses)
     given = _given(names, impedance)
     d, note = data_mod.capped(_as_data(data, kind, t, tol))
     if note:
@@ -311,13 +313,13 @@ def calibrate(
     fits = {}
     for i, n in enumerate(names):
         say(f"fitting {n} ({i + 1}/{len(names)})")
-        fits[n] = fit_law(LAWS[n], d, setup, intervals=False, **kw)
+        fits[n] = fit_hypothesis(HYPOTHESES[n], d, setup, intervals=False, **kw)
     best_aic = min(f.aic for f in fits.values())
     for n in names:
         gap = fits[n].aic - best_aic
         if intervals and gap <= INTERVAL_AIC_GAP:
             say(f"profile-likelihood intervals of {n}")
-            fits[n] = fit_law(LAWS[n], d, setup, intervals=True, **kw)
+            fits[n] = fit_hypothesis(HYPOTHESES[n], d, setup, intervals=True, **kw)
         elif intervals:
             fits[n].status += f"; no intervals: AIC {gap:.1f} above the best law's"
     aic = np.array([fits[n].aic for n in names])
@@ -332,14 +334,14 @@ def _given(names, impedance):
     """The given settings of the laws ``names`` (checked); ValueError if no law there takes them."""
     if impedance is None:
         return {}
-    takers = [n for n in names if "impedance" in LAWS[n].given]
+    takers = [n for n in names if "impedance" in HYPOTHESES[n].given]
     if not takers:
-        having = [n for n, law in LAWS.items() if "impedance" in law.given]
+        having = [n for n, law in HYPOTHESES.items() if "impedance" in law.given]
         raise ValueError(
             f"impedance = {impedance!r} is given but no law fitted has one ({', '.join(names)}); "
             f"laws with one: {', '.join(having)}"
         )
-    d = get_law(LAWS[takers[0]].contact_law, impedance=impedance).impedance
+    d = get_law(HYPOTHESES[takers[0]].contact_law, impedance=impedance).impedance
     return {"impedance": d}
 
 
@@ -356,7 +358,7 @@ def format_calibration(cal):
         lines.append(
             f"{mark} {name:12s} AIC {f.aic:10.2f}  BIC {f.bic:10.2f}  sigma {f.sigma:.3g}  {f.status}"
         )
-        units = {p.name: p.unit for p in LAWS[name].params}
+        units = {p.name: p.unit for p in HYPOTHESES[name].params}
         for key, value in f.values.items():
             lo, hi = f.intervals.get(key, (math.nan, math.nan))
             closed = f.bounded.get(key, (True, True))
@@ -400,5 +402,7 @@ def _engine_lines(eng):
     out = [f"    {format_block(engine, block, []).replace(chr(10), chr(10) + '    ')}" for engine, block in
            eng["engines"].items()]  # fmt: skip
     if "opensim_constant_dissipation" in eng:
-        out.append(f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}")
+        out.append(
+            f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}"
+        )
     return out + [f"    # {eng['note']}"]

@@ -19,7 +19,13 @@ def add_parser(make, number):
     c.add_argument("--stiffness", type=number, help="stiffness guess, N/m^1.5")
     c.add_argument("--moduli", type=number, nargs=2, metavar=("E_BALL", "E_GROUND"), help="Young moduli, Pa")
     c.add_argument("--poisson", type=number, nargs=2, default=(0.3, 0.3), metavar=("NU_BALL", "NU_GROUND"))
-    c.add_argument("--law", action="append", help="a law to fit, e.g. hc_eps, or all (repeat)")
+    c.add_argument(
+        "--hypothesis",
+        "--law",  # its old name: "law" now names a contact law only
+        dest="hypothesis",
+        action="append",
+        help="a restitution hypothesis to fit, e.g. hc_eps, or all (repeat; --law is its old name)",
+    )
     c.add_argument(
         "--impedance",
         type=number,
@@ -49,7 +55,7 @@ def run(args):
             args.file,
             mass=args.mass,
             radius=args.radius,
-            laws=args.law,
+            hypotheses=args.hypothesis,
             gravity=args.gravity,
             force=args.force,
             stiffness=args.stiffness,

@@ -1,11 +1,11 @@
-"""The other engines' contact laws (``contactalpha.laws``, issue 26) as calibration laws.
+"""The other engines' contact laws (``contactalpha.laws``, issue 26) as calibration hypotheses.
 
 Each law of the family other than Hunt–Crossley n = 3/2 (which is ``hc_damping`` here, on the
 package's own engine) is registered with its stiffness and its engine's damping coefficient held
 constant across bounces, as an engine user sets them once: Drake's ``d`` (s/m), the
 spring–dashpot's ``c`` (N s/m), Tsuji's ``eta`` and MuJoCo's ``b`` (1/s, with the stiffness ``s``
 per unit mass and the law's default impedance).  One contact is one call of the family's
-reference impact (``laws.integrate.impact_kernel``), whose end time gives the contact duration.
+reference impact (``hypotheses.integrate.impact_kernel``), whose end time gives the contact duration.
 """
 
 import math
@@ -15,7 +15,7 @@ from contactalpha.engine.codes import OK, SEPARATION
 from contactalpha.laws import get_law
 from contactalpha.laws.integrate import ATOL, MAX_STEPS, R_EN, R_STATE, R_STATUS, R_TE, RTOL, impact_kernel
 
-from .laws import Contact, Law, Param, register
+from .hypotheses import Contact, Hypothesis, Param, register
 
 
 @dataclass(frozen=True)
@@ -76,7 +76,7 @@ def given_settings(law):
 
 
 def family_contact(entry):
-    """``Law.contact`` of a family law with constant engine damping and stiffness."""
+    """``Hypothesis.contact`` of a family law with constant engine damping and stiffness."""
 
     def contact(values, mass, accel, v):
         law = _law_at(entry, values)
@@ -95,7 +95,7 @@ def family_contact(entry):
 
 
 def family_engine_inputs(entry):
-    """``Law.engine_inputs`` of a family law: its damping parameter and the physical stiffness."""
+    """``Hypothesis.engine_inputs`` of a family law: its damping parameter and the physical stiffness."""
 
     def engine_inputs(values, mass, accel, v):
         law = _law_at(entry, values)
@@ -115,7 +115,7 @@ def register_family():
     for entry in ENTRIES:
         law = get_law(entry.law)
         register(
-            Law(
+            Hypothesis(
                 f"{entry.law}_damping",
                 f"{law.label}, constant {entry.damping.label}",
                 f"{law.formula}; damping and stiffness fixed across bounces ({', '.join(law.engines)})",
@@ -131,4 +131,4 @@ def register_family():
 
 
 register_family()
-FAMILY_LAWS = tuple(f"{e.law}_damping" for e in ENTRIES)
+FAMILY_HYPOTHESES = tuple(f"{e.law}_damping" for e in ENTRIES)

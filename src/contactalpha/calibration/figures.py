@@ -5,7 +5,7 @@ Matplotlib is imported here only, when a figure is asked for.
 
 import numpy as np
 
-from .laws import LAWS
+from .hypotheses import HYPOTHESES
 
 # Speeds on each law's curve.
 CURVE_POINTS = 120
@@ -13,7 +13,7 @@ CURVE_POINTS = 120
 
 def law_curve(fit, setup, speeds):
     """e_N of the fitted law at each approach speed (NaN where a contact fails)."""
-    law = LAWS[fit.law]
+    law = HYPOTHESES[fit.law]
     out = np.full(len(speeds), np.nan)
     for i, v in enumerate(speeds):
         c = law.contact(fit.values, setup.mass, setup.accel, float(v))
@@ -61,7 +61,7 @@ def draw(cal, prefix):
         top = float(s.v_in.max()) * 1.05
         speeds = np.geomspace(max(float(s.v_in.min()) * 0.8, 1e-4), top, CURVE_POINTS)
         style = "-" if name == cal.selected else "--"
-        ax.plot(speeds, law_curve(fit, cal.setup, speeds), style, label=f"{LAWS[name].label}")
+        ax.plot(speeds, law_curve(fit, cal.setup, speeds), style, label=f"{HYPOTHESES[name].label}")
         sep = s.v_out > 0
         ax.plot(s.v_in[sep], s.e_n[sep], ".", ms=3, color=ax.lines[-1].get_color())
     ax.set_xscale("log")

@@ -30,7 +30,7 @@ from scipy.stats import f as f_dist
 from . import sequence as seq_mod
 from .band import e_n_band
 from .data import first_guess
-from .laws import STIFFNESS
+from .hypotheses import STIFFNESS
 
 LEVEL = 0.95
 # Residual scales: they only condition the optimiser (sigma is estimated).
@@ -66,7 +66,7 @@ class Setup:
     """What is known: ball mass (kg), the constant acceleration a = g + F/m (m/s^2), given settings.
 
     ``given`` holds contact-law settings that are known, not fitted (MuJoCo's impedance ``d``); a
-    law that has one and finds it absent here uses its default (``laws.Law.given``).
+    law that has one and finds it absent here uses its default (``hypotheses.Law.given``).
     """
 
     mass: float
@@ -237,12 +237,12 @@ def _threshold(n, p, level):
     return 1.0 + f_dist.ppf(level, 1, dof) / dof
 
 
-def fit_law(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=True):
+def fit_hypothesis(law, data, setup, *, stiffness_guess=None, level=LEVEL, intervals=True):
     """Fit ``law`` to ``data``; return a ``LawFit`` with profile-likelihood intervals.
 
     Parameters
     ----------
-    law : laws.Law
+    law : hypotheses.Hypothesis
     data : data.DropData
     setup : Setup
     stiffness_guess : float, optional

@@ -15,8 +15,8 @@ from contactalpha.scene.ball import GRAVITY, Scene
 from contactalpha.scene.bounces import predict_bounces
 
 from .data import from_arrays
-from .fit import Setup, fit_law
-from .laws import LAWS
+from .fit import Setup, fit_hypothesis
+from .hypotheses import HYPOTHESES
 from .sequence import simulate
 
 
@@ -63,7 +63,9 @@ def replicate(scene, rng, jitter=JITTER, impacts=IMPACTS, times=None):
     """One noisy replicate fitted with ``hc_eps``: the ``LawFit`` (``times``: the exact ones, if known)."""
     t = exact_times(scene, impacts) if times is None else times
     noisy = t + rng.normal(0.0, jitter, t.size)
-    return fit_law(LAWS["hc_eps"], from_arrays("times", values=noisy), Setup(scene.mass, GRAVITY))
+    return fit_hypothesis(
+        HYPOTHESES["hc_eps"], from_arrays("times", values=noisy), Setup(scene.mass, GRAVITY)
+    )
 
 
 def study(scene, replicates=100, seed=0, jitter=JITTER, impacts=IMPACTS):
@@ -114,7 +116,7 @@ def selection_study(scene, replicates=50, seed=0, jitter=JITTER, impacts=IMPACTS
     rng = np.random.default_rng(seed)
     truth_hc = exact_times(scene, impacts)
     null = simulate(
-        LAWS["constant_e"],
+        HYPOTHESES["constant_e"],
         {"e": scene.eps, "stiffness": scene.stiffness},
         scene.mass,
         GRAVITY,
@@ -128,7 +130,7 @@ def selection_study(scene, replicates=50, seed=0, jitter=JITTER, impacts=IMPACTS
     for _ in range(replicates):
         for made, t in (("hc_eps", truth_hc), ("constant_e", null.touchdowns)):
             data = from_arrays("times", values=t + rng.normal(0.0, jitter, t.size))
-            aic = {n: fit_law(LAWS[n], data, setup, intervals=False).aic for n in right}
+            aic = {n: fit_hypothesis(HYPOTHESES[n], data, setup, intervals=False).aic for n in right}
             other = "constant_e" if made == "hc_eps" else "hc_eps"
             right[made] += int(aic[made] < aic[other])
             gaps[made].append(aic[other] - aic[made])
@@ -155,7 +157,9 @@ def heights_study(scene, replicates=100, seed=0, noise=0.01, apexes=11):
     est, covered, widths = [], 0, []
     for _ in range(replicates):
         noisy = h * np.exp(rng.normal(0.0, noise, h.size))
-        f = fit_law(LAWS["hc_eps"], from_arrays("heights", values=noisy), Setup(scene.mass, accel))
+        f = fit_hypothesis(
+            HYPOTHESES["hc_eps"], from_arrays("heights", values=noisy), Setup(scene.mass, accel)
+        )
         lo, hi = f.intervals["eps"]
         covered += int(lo <= scene.eps <= hi)
         est.append(f.values["eps"])

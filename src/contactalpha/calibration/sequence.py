@@ -2,7 +2,7 @@
 
 Flights are exact parabolas under the constant acceleration ``a = g + F/m``: a ball leaving
 the ground at ``u`` lands again ``2 u / a`` later at ``u`` and peaks ``u^2 / (2 a)`` above the
-ground.  Contacts are the law's (``laws.Law.contact``); their durations are kept in the
+ground.  Contacts are the law's (``hypotheses.Law.contact``); their durations are kept in the
 touchdown times, since for a ball they are a fraction of a millisecond to milliseconds, at or
 above a phone's timing jitter.  The height of the ball is measured from its touching position
 (the ground at the ball's lowest point); inside a contact it is taken as 0 (the deformation is
@@ -56,7 +56,7 @@ def simulate(law, values, mass, accel, v0, t0=0.0, contacts=30):
 
     Parameters
     ----------
-    law : laws.Law
+    law : hypotheses.Hypothesis
     values : dict
         The law's parameters, natural units.
     mass, accel : float

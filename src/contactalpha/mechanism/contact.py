@@ -48,7 +48,7 @@ class MechanismContact:
         centres of mass).
     engine_row : what the engine builds for this contact beyond the physics (MuJoCo: ``diagA``,
         the contact row's approximation of ``J M^-1 J^T``, and ``R``, ``solref``, ``solimp`` of
-        the model as it is).
+        the model as it is, its ``timestep`` and ``integrator``).
     """
 
     engine: str

@@ -126,6 +126,8 @@ def contact_row(model, data, g1, g2):
     """``(point, normal, gap, row)`` of the pair's contact at ``data``'s configuration.
 
     ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact.
+    ``R`` is MuJoCo's with the margin raised by ``ROW_MARGIN``: where solimp's width is at most
+    that (MuJoCo's default 0.001), at the impedance ``solimp[1]``.
     Raises ValueError when MuJoCo builds no contact between the two (contype/conaffinity, an
     exclude, a parent-child filter) or when the pair is farther apart than 1 m.
     """

@@ -189,5 +189,5 @@ def discrete_answer(contact, tuning, target, timestep):
                diag_ratio=ratio)  # fmt: skip
     v, a = contact.approach_speed, contact.accel
     stats = over_phase("mujoco", p, timestep, v, a)
-    inverse = damping_for("mujoco", p, timestep, v, a, target, start=-tuning.solref[1])
+    inverse = damping_for("mujoco", p, timestep, v, a, target)
     return DiscreteAnswer(stats, inverse, float(timestep), ratio)

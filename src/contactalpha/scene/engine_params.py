@@ -38,7 +38,8 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         The engine's step: parameters for the mean over the touchdown phase at it (the notes give the
         predicted mean and range); ``verify`` N then runs the engine at N phases.
     progress : callable, optional
-        Told of each drop of the refinement (``contactalpha.progress.Progress``).
+        Told of each drop of the refinement and of the scans for what would reach an unreachable
+        target (``contactalpha.progress.Progress``).
 
     Raises
     ------
@@ -67,7 +68,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:
-        raise unreachable_on_drops(a, scene, target, ref)
+        raise unreachable_on_drops(a, scene, target, ref, progress=progress)
     return params, [
         f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
         f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "

@@ -49,8 +49,8 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
     sol = law.damping_for(value, xi, restitution)
     if not sol.ok:
         raise RuntimeError(
-            f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} at xi = {xi!r}: "
-            f"{sol.status}"
+            f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} "
+            f"at xi = {xi!r}: {sol.status}"
         )
     p = float(sol.damping)
     scene = EngineScene(mass, stiffness, approach_speed, radius)

@@ -7,7 +7,8 @@ one line and exits with ``EXIT_UNREACHABLE`` (its ``--help`` says so).  Two case
   delivers less than the target (the step's own dissipation), or the step is so coarse that the
   contact is unstable.  ``remedies`` finds the largest stiffness, and the largest step, at which
   zero damping delivers at least the target with a stable contact (damping then brings it down to
-  the target), by a geometric scan down from the scene's value and a few bisections;
+  the target), by a geometric scan down from the scene's value and a few bisections
+  (``stepping.inverse.largest_passing``);
 - Stronge's eps = 0 without a load: alpha grows without bound as eps -> 0; any load reaches it.
 """
 
@@ -19,7 +20,8 @@ from contactalpha.stepping.inverse import largest_passing
 
 # Exit status of `contactalpha params` when no damping reaches the target.
 EXIT_UNREACHABLE = 3
-# Scan of a remedy: factor per trial, trials at most (2^-12 of the start), bisections after it.
+# Scan of a remedy (engine drops, slow): factor per trial, trials at most (2^-12 of the start),
+# bisections after it.
 SHRINK = 2.0**-0.5
 TRIALS = 24
 BISECTIONS = 4
@@ -46,30 +48,40 @@ def _largest(reaches, x0):
     return largest_passing(reaches, x0, SHRINK, TRIALS, BISECTIONS)
 
 
-def remedies(adapter, scene, target, settings=None):
+def remedies(adapter, scene, target, settings=None, progress=None):
     """``{"stiffness": k, "timestep": h}``: the largest of each (the other kept) that can reach ``target``.
 
     "Can reach": zero damping delivers at least the target e_N on the engine's drops and at most
-    1 + its tolerance (a stable contact).  The step is scanned only for settings with a ``timestep``.
+    1 + its tolerance (a stable contact), with the rest penetration (the spring's share of the
+    load) below the sphere's radius: a softer contact is no remedy.  The step is scanned only for
+    settings with a ``timestep``.  ``progress(text)`` hears each scan start (engine drops, slow).
     """
     settings = adapter.settings if settings is None else settings
     tol = getattr(settings, "tol", DELIVERED_TOL)
 
     def reaches(s, at):
+        if s.mass * s.accel / s.stiffness ** (1.0 / adapter.law.exponent) >= s.radius:
+            return False  # it would sink deeper than the ball is large
         e_n = adapter.delivered(s, 0.0, at).e_n
         return target <= e_n <= 1.0 + tol
 
-    out = {"stiffness": _largest(lambda k: reaches(replace(scene, stiffness=k), settings), scene.stiffness)}
+    if progress is not None:
+        progress(f"no damping reaches e_N = {target!r} on {adapter.name}'s drops: scanning the stiffness")
+
+    k = _largest(lambda x: reaches(replace(scene, stiffness=x), settings), scene.stiffness)
+    out = {"stiffness": k}
     step = adapter.timestep(settings)
     if step is not None and "timestep" in {f.name for f in fields(settings)}:
+        if progress is not None:
+            progress(f"scanning {adapter.name}'s step")
         out["timestep"] = _largest(lambda h: reaches(scene, replace(settings, timestep=h)), step)
     return out
 
 
-def unreachable_on_drops(adapter, scene, target, ref, settings=None):
+def unreachable_on_drops(adapter, scene, target, ref, settings=None, progress=None):
     """``UnreachableTarget`` for a refinement on ``adapter``'s drops that found no damping."""
     settings = adapter.settings if settings is None else settings
-    found = remedies(adapter, scene, target, settings)
+    found = remedies(adapter, scene, target, settings, progress)
     step = adapter.timestep(settings)
     unit = adapter.law.stiffness_unit
     ways = [f"a stiffness <= {found['stiffness']:.4g} {unit} at this step"]
