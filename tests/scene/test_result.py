@@ -209,3 +209,27 @@ def test_result_is_frozen_and_plain_data_for_json():
     data = json.loads(json.dumps(as_plain_data(ca.contact_parameters(
         e_N=[0.5, 0.6], mass=0.5, stiffness=1.4e8, approach_speed=0.5, accel=G))))  # fmt: skip
     assert data["ok"] == [True, True] and len(data["engines"]["exudyn"]["restitutionCoefficient"]) == 2
+
+
+def test_batch_integrates_its_impacts_only_when_read():
+    # The damping and the engine blocks come at the table's speed; each row's impact is integrated
+    # on the first read of a field that needs it, and gives what one scene's call gives.
+    import numpy as np
+
+    import contactalpha as ca
+    from contactalpha.scene.result import Deferred
+
+    e = np.array([0.3, 0.6, 0.9])
+    cp = ca.contact_parameters(e_N=e, mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81, engine="mujoco")
+    lazy = ("eps", "e_n", "end_state", "e_n_half_speed", "e_n_twice_speed")
+    assert all(type(object.__getattribute__(cp, name)) is Deferred for name in lazy)
+    assert cp.block["solref"][1].shape == (3,)  # the engine's block does not need them
+    assert all(type(object.__getattribute__(cp, name)) is Deferred for name in lazy)
+    for i, target in enumerate(e):
+        one = ca.contact_parameters(e_N=float(target), mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81,
+                                    engine="mujoco")  # fmt: skip
+        assert cp.e_n[i] == pytest.approx(one.e_n, abs=1e-8)
+        assert cp.eps[i] == pytest.approx(one.eps, abs=1e-8)
+        assert cp.end_state[i] == one.end_state
+        assert cp.e_n_half_speed[i] == pytest.approx(one.e_n_half_speed, abs=1e-7)
+    assert type(object.__getattribute__(cp, "eps")) is not Deferred

@@ -6,14 +6,17 @@ law's fast evaluator (``ContactLaw.fast_damping``; for Hunt-Crossley, n = 3/2, t
 table at ``engine.scaling``'s xi, as the scalar front door), and each registered engine of that law
 converts it (``adapters.registry.engine_parameters``).  The stiffness is the law's physical one
 (N/m for n = 1, MuJoCo's included; N/m^1.5 for n = 3/2).  Each row's impact is integrated
-(``ContactLaw.impact``) for its restitutions and end state, as one scene's is.
+(``ContactLaw.impact``) for its restitutions and end state, as one scene's is, but only when one
+of those fields is first read (``scene.result.Deferred``): the damping and the engine blocks come
+at the table's speed, and the integration costs about a thousand times more per row.
 
 The batch rules:
 
 - a row outside the evaluator's domain (a target below its smallest restitution, a load factor
-  above its largest) or whose impact fails gets NaN in every number (engine blocks included,
-  MuJoCo's ``solref`` too), ``ok = False`` and a ``reason``; the other rows are bit for bit what
-  a batch without it gives (every step works row by row);
+  above its largest) gets NaN in every number (engine blocks included, MuJoCo's ``solref`` too),
+  ``ok = False`` and a ``reason``; the other rows are bit for bit what a batch without it gives
+  (every step works row by row); a row whose integrated impact fails reads NaN in the integrated
+  fields (``eps``, ``e_n``, ``end_state`` "none", the e_N at half and twice the speed);
 - a bad value (a NaN, a negative mass, a target above 1) refuses the whole batch with a
   ``ValueError`` naming the argument, its first bad index and that value.
 """
@@ -31,7 +34,7 @@ from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.validation import check_range
 
 from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
-from .result import ContactParameters
+from .result import ContactParameters, Deferred
 
 
 @njit(cache=True, error_model="numpy")
@@ -111,7 +114,7 @@ def _reasons(law, e, xi, ok):
     """Why each row has no answer ("" where it has one), with the row's offending value."""
     lo_e, hi_xi = _domain(law)
     why = np.full(e.shape, "", dtype=object)
-    for i in zip(*np.nonzero(~ok)):
+    for i in zip(*np.nonzero(~ok), strict=True):
         if e[i] < lo_e:
             why[i] = f"target {float(e[i])!r} below the batch evaluator's {lo_e} (one scene's call solves it)"
         elif not np.isfinite(xi[i]):
@@ -191,12 +194,32 @@ def batched_parameters(
         damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
     ok = np.isfinite(damping)
     p = np.where(ok, damping, 0.0)
-    hit = law.impact(p, np.where(ok, xi, 0.0))
-    ok = ok & (np.asarray(hit.status) == "ok")
-    p = np.where(ok, damping, 0.0)
 
     def rows(x):
         return np.where(ok, x, np.nan)
+
+    def impacts():
+        # Each row's impact, integrated once when one of its fields is first read (``Deferred``);
+        # a row whose impact fails reads NaN there.
+        if "hit" not in cache:
+            cache["hit"] = law.impact(p, np.where(ok, xi, 0.0))
+        hit = cache["hit"]
+        return hit, ok & (np.asarray(hit.status) == "ok")
+
+    def impact_field(name):
+        def compute():
+            hit, good = impacts()
+            value = getattr(hit, name)
+            if name == "state":
+                return np.where(good, np.asarray(value, dtype=object), "none")
+            return np.where(good, value, np.nan)
+
+        return Deferred(compute)
+
+    def speed_field(factor):
+        return Deferred(lambda: rows(fixed_damping_e_n(law, p, m, k, v, a, factor, load_factor)))
+
+    cache = {}
 
     engines = engine_parameters(law, p, EngineScene(m, k, v, r))
     return ContactParameters(
@@ -206,17 +229,17 @@ def batched_parameters(
         damping=rows(damping),
         physical_damping=rows(law.physical_damping(p, m, k, v)),
         physical_unit=law.physical_unit,
-        eps=rows(hit.eps),
-        e_n=rows(hit.e_n),
-        end_state=np.where(ok, np.asarray(hit.state, dtype=object), "none"),
+        eps=impact_field("eps"),
+        e_n=impact_field("e_n"),
+        end_state=impact_field("state"),
         ok=ok,
         reason=_reasons(law, e, xi, ok),
         accel=a,
         delta_star=rows(law.length_scale(m, k, v)),
         source=np.where(ok, "table" if law.fast is ENGINE_TABLE else law.fast.name, "none"),
         engines={name: {key: _masked(x, ok) for key, x in block.items()} for name, block in engines.items()},
-        e_n_half_speed=rows(fixed_damping_e_n(law, p, m, k, v, a, SPEED_FACTORS[0], load_factor)),
-        e_n_twice_speed=rows(fixed_damping_e_n(law, p, m, k, v, a, SPEED_FACTORS[1], load_factor)),
+        e_n_half_speed=speed_field(SPEED_FACTORS[0]),
+        e_n_twice_speed=speed_field(SPEED_FACTORS[1]),
     )
 
 

@@ -12,10 +12,9 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from contactalpha.adapters.registry import engine_parameters
-from contactalpha.engine.codes import NO_BRACKET, NOT_CONVERGED, OK, STATUS
+from contactalpha.engine.codes import NO_BRACKET, OK, STATUS
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
-from contactalpha.validation import check_positive, check_range
 
 from .result import ContactParameters
 

@@ -17,7 +17,6 @@ speed): a drop from another height needs its own damping.
 """
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -258,7 +257,7 @@ def _only(cp, engine):
     """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked."""
     if engine is None:
         return cp
-    return replace(cp, engines={engine: cp.engines[engine]}, engine=engine)
+    return cp.replaced(engines={engine: cp.engines[engine]}, engine=engine)
 
 
 def _batch(*values):

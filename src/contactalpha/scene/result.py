@@ -27,6 +27,19 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 
 
+class Deferred:
+    """A field's value computed on first read (then kept): a batch's integrated restitutions.
+
+    A batch's damping comes from a table at millions of scenes a second; integrating every row's
+    impact (its restitutions, end state and the e_N at half and twice the speed) costs about a
+    thousand times more, so a batch computes those fields only when they are read.
+    """
+
+    __slots__ = ("compute",)
+
+    def __init__(self, compute):
+        self.compute = compute
+
 
 @dataclass(frozen=True)
 class ContactParameters:
@@ -85,6 +98,20 @@ class ContactParameters:
     e_n_twice_speed: object
     engine: str | None = None
     stepped: object = None
+
+    def __getattribute__(self, name):
+        value = object.__getattribute__(self, name)
+        if type(value) is Deferred:
+            value = value.compute()
+            object.__setattr__(self, name, value)
+        return value
+
+    def replaced(self, **changes):
+        """A copy with ``changes`` (``dataclasses.replace`` would compute every deferred field)."""
+        from dataclasses import fields
+
+        values = {f.name: object.__getattribute__(self, f.name) for f in fields(self)}
+        return ContactParameters(**{**values, **changes})
 
     @property
     def alpha(self):

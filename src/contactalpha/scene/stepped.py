@@ -118,7 +118,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
         continuous_mean=float(b_mean), continuous_minimum=float(b_lo), continuous_maximum=float(b_hi),
     )  # fmt: skip
-    return replace(cp, engines=engines, stepped=answer)
+    return cp.replaced(engines=engines, stepped=answer)
 
 
 def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):
@@ -143,4 +143,4 @@ def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):
         "phases": phases, "mean": float(e.mean()), "minimum": float(e.min()), "maximum": float(e.max()),
         "seconds": float(samples.seconds), "version": a.version(),
     }  # fmt: skip
-    return replace(cp, stepped=replace(ans, verify=measured))
+    return cp.replaced(stepped=replace(ans, verify=measured))
