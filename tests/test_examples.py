@@ -117,3 +117,22 @@ def test_robot_model_tuning_hits_the_target_and_reads_the_leg(mujoco, capsys):
     assert _printed(out, "refined e_N") == pytest.approx(0.5, abs=2e-4)
     # the corrected law's answer misses by less than the free-body mapping's
     assert abs(_printed(out, "delivered e_N") - 0.5) < abs(_printed(out, "free-body e_N") - 0.5)
+
+
+@pytest.mark.integration
+def test_mjx_sysid_recovers_the_recorded_damping(mujoco, capsys):
+    """The gradient-descent fit through the JAX front door and MJX finds MuJoCo's own damping."""
+    for module in ("jax", "mujoco.mjx"):
+        try:
+            __import__(module)
+        except ImportError as err:
+            if os.environ.get("CI") == "true":
+                pytest.fail(f"CI=true: {module} is not installed ({err})")
+            pytest.skip(f'{module} is not installed; pip install -e ".[batched-engines]"')
+    runpy.run_path(str(EXAMPLES / "mjx_sysid.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    b_true = _printed(out, "damping b true")
+    assert b_true == pytest.approx(2 * 0.15 * math.sqrt(2e4 / 0.5))
+    assert _printed(out, "damping b by MJX fit") == pytest.approx(b_true, rel=1e-5)
+    # calibrate fits the continuous law (and the stiffness) to the discrete engine's recording.
+    assert _printed(out, "damping b by calibrate") == pytest.approx(b_true, rel=0.02)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from contactalpha.adapters.mujoco_soft import MuJoCoSettings, _xml
+from contactalpha.adapters.mujoco_soft import MuJoCoSettings, drop_xml
 from contactalpha.adapters.stepped import measure_steps
 from contactalpha.stepping.delivered import at_phases
 from contactalpha.stepping.drop import touchdown_state
@@ -38,7 +38,7 @@ class _Scene:
 
 def _engine(mass, integrator):
     settings = MuJoCoSettings(timestep=H, integrator=integrator)
-    model = mujoco.MjModel.from_xml_string(_xml(_Scene(mass), settings))
+    model = mujoco.MjModel.from_xml_string(drop_xml(_Scene(mass), settings))
     return model, mujoco.MjData(model)
 
 

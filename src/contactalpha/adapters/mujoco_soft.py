@@ -53,6 +53,19 @@ def direct_mode(stiffness, damping, impedance):
     return (-stiffness, -damping), (impedance, impedance, *SOLIMP_TAIL)
 
 
+def timeconst_form(zeta, omega, timestep, xp=np):
+    """MuJoCo's ``solref = (timeconst, dampratio)`` of damping ratio ``zeta`` at ``omega = sqrt(stiffness)``.
+
+    ``(1/(zeta omega), zeta)`` where MuJoCo's refsafe keeps it (timeconst >= 2 ``timestep``), NaN
+    elsewhere: there only the direct mode delivers the law.  ``xp`` is the array module (NumPy, or
+    ``jax.numpy`` for the JAX front door).
+    """
+    safe = xp.where(zeta > 0.0, zeta, 1.0)
+    tc = xp.where(zeta > 0.0, 1.0 / (safe * omega), xp.inf)
+    ok = tc >= 2.0 * timestep
+    return xp.where(ok, tc, xp.nan), xp.where(ok, zeta, xp.nan)
+
+
 def _mujoco():
     try:
         import mujoco
@@ -79,7 +92,8 @@ class MuJoCoSettings:
     integrator: str = "Euler"
 
 
-def _xml(scene, settings):
+def drop_xml(scene, settings):
+    """MJCF of the drop: a sphere on a vertical slide joint over a plane, both geoms direct-mode."""
     _, solimp = direct_mode(1.0, 1.0, settings.impedance)
     imp = f'solimp="{" ".join(map(repr, solimp))}"'
     return f"""<mujoco model="contactalpha_drop">
@@ -114,8 +128,14 @@ class MuJoCoAdapter(SteppingAdapter):
     module = "mujoco"
     settings = MuJoCoSettings()
     # Units of ``parameters``: per unit mass (MuJoCo's solref in direct mode).
-    units = {"stiffness": "1/s^2", "damping": "1/s", "solref": "(1/s^2, 1/s)", "solimp": "1, 1, m, 1, 1",
-             "timeconst": "s", "dampratio": "1"}
+    units = {
+        "stiffness": "1/s^2",
+        "damping": "1/s",
+        "solref": "(1/s^2, 1/s)",
+        "solimp": "1, 1, m, 1, 1",
+        "timeconst": "s",
+        "dampratio": "1",
+    }
 
     def version(self):
         """MuJoCo's version string."""
@@ -132,23 +152,21 @@ class MuJoCoAdapter(SteppingAdapter):
         omega = np.sqrt(omega2)
         b = 2.0 * zeta * omega
         stiffness = np.broadcast_to(omega2, b.shape)
-        with np.errstate(divide="ignore"):
-            tc = np.where(zeta > 0.0, 1.0 / (zeta * omega), np.inf)
-        ok = tc >= 2.0 * settings.timestep
+        tc, dr = timeconst_form(zeta, omega, settings.timestep)
         solref, solimp = direct_mode(float_or_array(stiffness), float_or_array(b), settings.impedance)
         return {
             "stiffness": float_or_array(stiffness),
             "damping": float_or_array(b),
             "solref": solref,
             "solimp": solimp,
-            "timeconst": float_or_array(np.where(ok, tc, np.nan)),
-            "dampratio": float_or_array(np.where(ok, zeta, np.nan)),
+            "timeconst": float_or_array(tc),
+            "dampratio": float_or_array(dr),
         }
 
     def build_drop(self, scene, params, settings):
         """The model with ``params["solref"]`` on both geoms; one initial state per touchdown phase."""
         mj = _mujoco()
-        model = mj.MjModel.from_xml_string(_xml(scene, settings))
+        model = mj.MjModel.from_xml_string(drop_xml(scene, settings))
         k, b = (float(x) for x in params["solref"])
         model.geom_solref[:] = (k, b)
         h = settings.timestep
@@ -177,7 +195,7 @@ class MuJoCoAdapter(SteppingAdapter):
         settings = self.settings if settings is None else settings
         omega2 = scene.stiffness / scene.mass
         params = params or {"solref": (-omega2, -2.0 * math.sqrt(omega2))}
-        model = mj.MjModel.from_xml_string(_xml(scene, settings))
+        model = mj.MjModel.from_xml_string(drop_xml(scene, settings))
         model.geom_solref[:] = tuple(float(x) for x in params["solref"])
         data = mj.MjData(model)
         data.qpos[0] = -(1.0 - settings.impedance) * scene.accel / omega2

@@ -1,0 +1,88 @@
+"""The batched engines' parameters as JAX arrays, keyed by engine as ``contact_parameters`` keys them.
+
+All five run MuJoCo's soft contact (law ``mujoco_soft``): ``delta'' = a - max(0, d a + b delta' +
+s delta)`` per unit mass, with ``s = k / m`` and ``b = 2 zeta sqrt(s)`` (docs/engines/batched.md).
+
+- ``mujoco``, ``mjx``, ``mujoco_warp``: direct mode ``solref = (-s, -b)`` and ``solimp = (d, d, ...)``
+  per world (MJX: a batched ``Model.geom_solref``; MuJoCo Warp: ``geom_solref`` with a world axis),
+  and the (timeconst, dampratio) form where refsafe keeps it (``adapters.mujoco_soft.timeconst_form``).
+- ``genesis``: only the (timeconst, dampratio) form exists there (``sol_params``); where it does not
+  (timeconst below 2 steps) the entries are NaN and ``needs_direct`` is True.
+- ``newton``: per-shape force-space ``ke``, ``kd`` for its MuJoCo solver, which turns them into
+  ``solref = (timeconst, dampratio)`` with the gain factor ``(1 - d) / m``: ``s = (1 - d) ke / m``,
+  ``b = (1 - d) kd / m``, so ``ke = k / (1 - d)`` and ``kd = b m / (1 - d)``; as a timeconst form
+  it exists only where refsafe keeps it (``needs_direct`` elsewhere; ``mjc_solref`` is the direct
+  pair for its raw solref mode).
+"""
+
+from dataclasses import dataclass
+
+import jax.numpy as jnp
+
+from contactalpha.adapters.mujoco_soft import IMPEDANCE, SOLIMP_TAIL, TIMESTEP, direct_mode, timeconst_form
+
+
+@dataclass(frozen=True)
+class EngineScene:
+    """Per-world arrays: ``mass`` (kg), ``stiffness`` (N/m), ``timestep`` (s) and the impedance ``d``."""
+
+    mass: object
+    stiffness: object
+    timestep: object = TIMESTEP
+    impedance: float = IMPEDANCE
+
+
+def _mujoco(zeta, scene):
+    s = scene.stiffness / scene.mass
+    omega = jnp.sqrt(s)
+    b = 2.0 * zeta * omega
+    solref, solimp = direct_mode(s, b, scene.impedance)
+    tc, dr = timeconst_form(zeta, omega, scene.timestep, xp=jnp)
+    solimp = jnp.broadcast_to(jnp.asarray(solimp), (*jnp.shape(b), len(solimp)))
+    return {
+        "stiffness": s,
+        "damping": b,
+        "solref": jnp.stack(jnp.broadcast_arrays(*solref), axis=-1),
+        "solimp": solimp,
+        "timeconst": tc,
+        "dampratio": dr,
+    }
+
+
+def _genesis(zeta, scene):
+    m = _mujoco(zeta, scene)
+    d = jnp.full(jnp.shape(m["timeconst"]), scene.impedance)
+    tail = [jnp.full(jnp.shape(d), x) for x in SOLIMP_TAIL]
+    return {
+        "sol_params": jnp.stack([m["timeconst"], m["dampratio"], d, d, *tail], axis=-1),
+        "needs_direct": jnp.isnan(m["timeconst"]),
+    }
+
+
+def _newton(zeta, scene):
+    m = _mujoco(zeta, scene)
+    gain = (1.0 - scene.impedance) / scene.mass
+    return {
+        "shape_material_ke": m["stiffness"] / gain,
+        "shape_material_kd": m["damping"] / gain,
+        "needs_direct": jnp.isnan(m["timeconst"]),
+        "mjc_solref": m["solref"],
+        "solimp": m["solimp"],
+    }
+
+
+# Engine name -> its block of ``zeta`` (the law's damping ratio) and an ``EngineScene``.
+BLOCKS = {
+    "mujoco": _mujoco,
+    "mjx": _mujoco,
+    "mujoco_warp": _mujoco,
+    "genesis": _genesis,
+    "newton": _newton,
+}
+# The law all of them run.
+LAW = "mujoco_soft"
+
+
+def engine_blocks(zeta, scene):
+    """Every batched engine's parameters for the law's damping ratio ``zeta`` (arrays broadcast)."""
+    return {name: block(zeta, scene) for name, block in BLOCKS.items()}
