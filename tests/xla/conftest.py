@@ -29,3 +29,9 @@ def jax():
 def mjx(jax):
     _require("mujoco", 'pip install -e ".[engines]"')
     return _require("mujoco.mjx", 'pip install -e ".[batched-engines]"')
+
+
+@pytest.fixture(scope="session")
+def mujoco_warp():
+    _require("warp", 'pip install -e ".[batched-engines]"')
+    return _require("mujoco_warp", 'pip install -e ".[batched-engines]"')
