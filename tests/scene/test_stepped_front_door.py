@@ -129,3 +129,17 @@ def test_verify_runs_pybullet_and_drake_and_they_agree(engine, radius, h):
     v, ans = cp.stepped.verify, cp.stepped
     assert abs(v["mean"] - 0.5) < 1e-3
     assert abs(v["minimum"] - ans.minimum) < 2e-3 and abs(v["maximum"] - ans.maximum) < 2e-3
+
+
+def test_params_timestep_out_of_reach_exits_3_and_names_a_step_that_reaches(capsys):
+    from contactalpha.cli import main
+
+    scene = ["--e-n", "0.9", "--mass", "0.5", "--stiffness", "2e4", "--speed", "1", "--accel", "9.81",
+             "--radius", "0.05"]  # fmt: skip
+    assert main(["params", "--engine", "pybullet", *scene, "--timestep"]) == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the largest step found that reaches the target is" in err
+    step = float(err.rsplit(" is ", 1)[1].split()[0])
+    cp = contact_parameters(e_N=0.9, mass=0.5, stiffness=2e4, approach_speed=1.0, accel=9.81, radius=0.05,
+                               engine="pybullet", timestep=step)  # fmt: skip
+    assert cp.stepped.status == "ok" and abs(cp.stepped.mean - 0.9) < 1e-6

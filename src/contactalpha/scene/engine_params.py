@@ -11,7 +11,7 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
 from .parameters import contact_parameters
-from .reach import unreachable_on_drops
+from .reach import UnreachableTarget, unreachable_on_drops
 from .result import block_lines, stepped_lines
 
 # Refinement outcomes that reached the target (``adapters.base.Refinement.status``).
@@ -56,7 +56,17 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
                                 radius=radius, engine=engine, timestep=timestep, verify=verify,
                                 **{key: target})  # fmt: skip
-        return cp.block, stepped_lines(cp.stepped)
+        ans = cp.stepped
+        if ans.status != "ok":
+            name = "e_N" if ans.restitution == "kinematic" else "eps"
+            raise UnreachableTarget(
+                f"no {engine} damping gives a mean {name} of {target!r} at its step {ans.timestep:.6g} s "
+                f"({ans.status}): the nearest mean met is {ans.nearest:.6g}; the largest step found that "
+                f"reaches the target is {ans.timestep_reachable:.6g} s",
+                ans.nearest,
+                {"timestep": ans.timestep_reachable},
+            )
+        return cp.block, stepped_lines(ans)
     if not refine:
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
                                 radius=radius, engine=engine, **{key: target})  # fmt: skip
