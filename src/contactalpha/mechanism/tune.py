@@ -227,7 +227,7 @@ class Tuner:
     """An engine ``tune`` can write for: its ``reader``, output ``suffix``, ``solve`` and ``write`` calls."""
 
     name: str
-    reader: str
+    reader: str | None
     suffix: str
     solve: object
     write: object

@@ -161,9 +161,9 @@ def contact_parameters(
     if timestep is not None or verify is not None:
         scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
         return _at_step(*scene, law, engine, timestep, verify)
-    law = _law_of(law, engine)
+    chosen = _law_of(law, engine)
     if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
-        return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, law), engine)
+        return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, chosen), engine)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -173,9 +173,9 @@ def contact_parameters(
     v = _positive("approach_speed", approach_speed)
     a = scene_accel(m, accel, force)
     sphere = None if radius is None else _positive("radius", radius)
-    if law.name != DEFAULT_LAW:
-        check_radius_used(law, radius)
-        return _only(law_contact_parameters(law, value, restitution, m, k, v, a, sphere), engine)
+    if chosen.name != DEFAULT_LAW:
+        check_radius_used(chosen, radius)
+        return _only(law_contact_parameters(chosen, value, restitution, m, k, v, a, sphere), engine)
     xi = influence_factor(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise eps_zero_without_load()
@@ -183,17 +183,17 @@ def contact_parameters(
     r = impact(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
-    engines = engine_parameters(law, alpha, EngineScene(m, k, v, sphere))
+    engines = engine_parameters(chosen, alpha, EngineScene(m, k, v, sphere))
     e_n_half, e_n_twice = (_fixed_damping_e_n(alpha, m, k, v, a, factor) for factor in SPEED_FACTORS)
     return _only(
         frozen_instance(
             ContactParameters,
-            law=law.name,
+            law=chosen.name,
             xi=xi,
-            damping_name=law.damping,
+            damping_name=chosen.damping,
             damping=alpha,
-            physical_damping=law.physical_damping(alpha, m, k, v),
-            physical_unit=law.physical_unit,
+            physical_damping=chosen.physical_damping(alpha, m, k, v),
+            physical_unit=chosen.physical_unit,
             eps=r.eps,
             e_n=r.e_n,
             end_state=r.state,
@@ -212,7 +212,7 @@ def contact_parameters(
     )
 
 
-def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine, timestep, verify):
+def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, chosen, engine, timestep, verify):
     """``contact_parameters`` at an engine's step (``scene.stepped``)."""
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
