@@ -212,7 +212,7 @@ def contact_parameters(
     )
 
 
-def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, chosen, engine, timestep, verify):
+def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine, timestep, verify):
     """``contact_parameters`` at an engine's step (``scene.stepped``)."""
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
