@@ -11,8 +11,9 @@ from contactalpha.adapters.engine_conventions import opensim_dissipation
 from contactalpha.adapters.registry import ADAPTERS
 from contactalpha.laws import get_law
 from contactalpha.scene.ball import GRAVITY
-from contactalpha.scene.engine_params import format_block
+from contactalpha.scene.law_scene import EngineScene
 from contactalpha.scene.parameters import LAW
+from contactalpha.scene.result import block_lines
 from contactalpha.validation import check_positive, check_range, renamed_keywords
 
 from . import data as data_mod
@@ -163,7 +164,7 @@ def engine_parameters(fit, setup, radius=None):
     if not (s.v_out.size and e1 > 0.0):
         return {"status": "the first contact does not separate: no restitution to convert"}
     damping, stiffness = law.engine_inputs(fit.values, setup.mass, setup.accel, v1)
-    scene = _EngineScene(setup.mass, float(stiffness), v1, radius)
+    scene = EngineScene(setup.mass, float(stiffness), v1, radius)
     contact_law = get_law(law.contact_law)
     given = {name: fit.values[name] for name in fit.given}
     engines = {
@@ -190,16 +191,6 @@ def engine_parameters(fit, setup, radius=None):
         out["opensim_constant_dissipation"] = float(opensim_dissipation(d * v1, v1))
         out["note"] = "constant damping: OpenSim's dissipation holds for every bounce"
     return out
-
-
-@dataclass(frozen=True)
-class _EngineScene:
-    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
-
-    mass: float
-    stiffness: float
-    approach_speed: float
-    radius: object
 
 
 def _settings(adapter, given):
@@ -399,8 +390,7 @@ def _e_n_lines(f):
 def _engine_lines(eng):
     if "engines" not in eng:
         return [f"    engines: {eng.get('status', '')}"]
-    out = [f"    {format_block(engine, block, []).replace(chr(10), chr(10) + '    ')}" for engine, block in
-           eng["engines"].items()]  # fmt: skip
+    out = [f"    {line}" for engine, block in eng["engines"].items() for line in block_lines(engine, block)]
     if "opensim_constant_dissipation" in eng:
         out.append(
             f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}"
