@@ -27,6 +27,8 @@ from contactalpha.stepping.table import (
 )
 
 S = stepper("mujoco")
+# The accuracy docs/stepping.md states for the table's rows (measured max 1.05e-3 in the study).
+TABLE_ACCURACY = 2e-3
 GRID = S.table.grid
 H = 0.002
 
@@ -67,29 +69,33 @@ def test_the_step_zero_row_is_the_continuous_law(table):
             assert table.table[0, kx, j, F_MEAN] == pytest.approx(float(e), abs=1e-12)
 
 
-def scenes(n, seed):
+def scenes(n, seed, pushed=False):
+    """Drops under gravity (``pushed``: pressed by 1-4 times the weight more, slower)."""
     rng = np.random.default_rng(seed)
     m = np.exp(rng.uniform(np.log(0.05), np.log(10.0), n))
-    steps = rng.uniform(5.0, 60.0, n)
+    steps = rng.uniform(10.0, 60.0, n)
     k = m * (np.pi / (steps * H)) ** 2
-    v = rng.uniform(0.2, 2.0, n)
-    a = 9.81 * rng.uniform(1.0, 4.0, n)
-    e = rng.uniform(0.15, 0.9, n)
+    v = rng.uniform(0.2, 1.0, n) if pushed else rng.uniform(0.5, 2.5, n)
+    a = 9.81 * (rng.uniform(2.0, 5.0, n) if pushed else np.ones(n))
+    e = rng.uniform(0.3, 0.9, n)
     return m, k, v, a, e
 
 
-def test_a_batch_at_the_step_delivers_its_targets_by_the_map():
-    m, k, v, a, e = scenes(10, seed=5)
+@pytest.mark.parametrize("pushed", [False, True])
+def test_a_batch_at_the_step_delivers_its_targets_by_the_map(pushed):
+    # Under gravity alone the table answers most rows; pressed harder, most are solved exactly.
+    m, k, v, a, e = scenes(8, seed=5, pushed=pushed)
     cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H)
     st = cp.stepped
     assert np.all(cp.ok)
-    assert np.sum(st.source == "table") >= 7
+    assert np.sum(st.source == "table") >= (0 if pushed else 4)
     for i in range(m.size):
         p = mujoco_map.pack(-cp.block["solref"][0][i], -cp.block["solref"][1][i], cp.block["solimp"][0][i])
         exact = over_phase("mujoco", p, H, v[i], a[i])
-        bound = ERROR_TOL if st.source[i] == "table" else 1e-6
-        assert abs(exact.mean - e[i]) <= bound + 1e-6, (i, exact.mean, e[i], st.source[i])
-        assert st.mean_error[i] <= bound
+        # The table's rows: within the accuracy docs/stepping.md states (its estimate is not a bound).
+        bound = TABLE_ACCURACY if st.source[i] == "table" else 1e-6
+        assert abs(exact.mean - e[i]) <= bound, (i, exact.mean, e[i], st.source[i])
+        assert st.mean_error[i] <= (ERROR_TOL if st.source[i] == "table" else 1e-6)
         # The range one drop sees: the table's, within the mean's accuracy plus its interpolation.
         assert st.minimum[i] == pytest.approx(exact.minimum, abs=0.02)
         assert st.maximum[i] == pytest.approx(exact.maximum, abs=0.02)
@@ -103,9 +109,11 @@ def test_batch_rows_agree_with_one_scenes_exact_answer():
         one = contact_parameters(mass=m[i], stiffness=k[i], approach_speed=v[i], accel=a[i], e_N=e[i],
                                  engine="mujoco", timestep=H)  # fmt: skip
         # Both deliver the target; their dampings differ by the table's error over the mean's slope.
-        assert cp.stepped.law_damping[i] == pytest.approx(one.stepped.law_damping, rel=5e-3)
+        assert cp.stepped.law_damping[i] == pytest.approx(one.stepped.law_damping, rel=2e-2)
         assert cp.block["solref"][0][i] == one.block["solref"][0]
-        assert cp.stepped.continuous_mean[i] == pytest.approx(one.stepped.continuous_mean, abs=ERROR_TOL)
+        if cp.stepped.source[i] == "exact":
+            assert cp.stepped.law_damping[i] == one.stepped.law_damping
+        assert cp.stepped.continuous_mean[i] == pytest.approx(one.stepped.continuous_mean, abs=TABLE_ACCURACY)
 
 
 def test_an_unreachable_row_is_nan_in_every_number_and_the_others_unchanged():
@@ -131,6 +139,16 @@ def test_an_eps_batch_and_a_batch_of_another_engine_are_solved_exactly():
     for i in range(2):
         p = mujoco_map.pack(-cp.block["solref"][0][i], -cp.block["solref"][1][i], 0.9)
         assert over_phase("mujoco", p, H, v[i], a[i]).eps_mean == pytest.approx(e[i], abs=1e-6)
+    h = 1e-3
+    k = m * (np.pi / (30 * h)) ** 2
+    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="drake", timestep=h)
+    assert list(cp.stepped.source) == ["exact", "exact"]
+    for i in range(2):
+        d = cp.block["hunt_crossley_dissipation"][i]
+        kk = cp.block["point_contact_stiffness"][i]
+        p = stepper("drake").pack(mass=m[i], stiffness_ball=kk, dissipation_ball=d, stiffness_ground=kk,
+                                  dissipation_ground=d)  # fmt: skip
+        assert over_phase("drake", p, h, v[i], a[i]).mean == pytest.approx(e[i], abs=1e-6)
 
 
 def test_verify_refuses_a_batch():

@@ -96,8 +96,10 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     rows = np.flatnonzero(exact)
     block = cp.engines[engine]
     with Progress(f"{engine} at its step: {rows.size} scene(s) solved on the map") as progress:
+        every = max(1, rows.size // 20)
         for count, i in enumerate(rows):
-            progress(f"scene {count + 1} of {rows.size}")
+            if count % every == 0:
+                progress(f"scene {count + 1} of {rows.size}")
             ri = None if r is None else float(r[i])
             try:
                 values, st, zi = _exact_row(s, engine, _block_row(block, i), float(m[i]), float(v[i]),

@@ -16,8 +16,8 @@ contact (the outermost of the eight nearest nodes).
 
 **Its own accuracy.**  The mean is a continuous but not a smooth function of the step (it
 ripples where the steps in contact change), so the table cannot be exact.  Each row carries an
-estimate: the difference, at the root, between the cubic and the linear interpolant along the
-damping (``O_ERROR``).  A row whose estimate exceeds ``ERROR_TOL``, or that lies outside the
+estimate (``O_ERROR``): the largest change of the mean at the root when one of the three
+four-node stencils (damping, step, load) is shifted by one node either way.  A row whose estimate exceeds ``ERROR_TOL``, or that lies outside the
 grid, gets the status ``INACCURATE`` or ``OUTSIDE`` and no number: the front door solves those
 rows exactly (``inverse.damping_for``).  The estimate is checked against the exact inverse at
 random scenes in ``tests/stepping/test_table.py``.
@@ -53,7 +53,7 @@ N_OUT = 9
 OK, UNREACHABLE, OUTSIDE, INACCURATE = range(4)
 ROW_STATUS = {OK: "ok", UNREACHABLE: "unreachable", OUTSIDE: "outside the table", INACCURATE: "inaccurate"}
 # A row whose error estimate (in e_N) exceeds this is left to the exact inverse.
-ERROR_TOL = 2e-4
+ERROR_TOL = 1e-4
 # Bisection steps on the damping cubic (halves the bracket to the double's resolution).
 BISECTIONS = 60
 
@@ -84,12 +84,14 @@ class StepTableGrid:
 
 @dataclass(frozen=True)
 class StepTableSpec:
-    """What a stepper's table is: the law of its scaling, its grid, and ``unit_params(c)``, the
-    map's ``p`` at mass 1, stiffness 1 (omega = 1) and the law's damping ``c`` at speed 1."""
+    """What a stepper's table is: the law of its scaling, its grid, ``unit_params(c)`` (the map's
+    ``p`` at mass 1 and stiffness 1, so omega = 1, with the law's damping ``c`` at speed 1) and
+    ``stable_damping(x)``, the law damping past which the step ``x`` is unstable (None: none)."""
 
     law: str
     grid: StepTableGrid
     unit_params: object
+    stable_damping: object = None
 
 
 def table_path(engine):
@@ -131,9 +133,10 @@ def load_step_table(path, grid):
 
 
 @njit(cache=True)
-def _weights(u, n):
-    """First node and cubic Lagrange weights at grid coordinate ``u`` (nodes 0..n-1, n >= 4)."""
-    b = min(max(int(math.floor(u)) - 1, 0), n - 4)
+def _weights(u, n, shift=0):
+    """First node and cubic Lagrange weights at grid coordinate ``u`` (nodes 0..n-1, n >= 4);
+    ``shift`` moves the four-node stencil by that many nodes (kept inside the grid)."""
+    b = min(max(int(math.floor(u)) - 1 + shift, 0), n - 4)
     t = u - b
     w = np.empty(4)
     w[0] = -(t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0
@@ -152,28 +155,36 @@ def _cubic(u, b, ys):
 
 
 @njit(cache=True)
-def _column(tab, sq, ux, uxi, g):
-    """Fill ``g`` with the squared phase mean at every damping node, cubic in ``x`` and ``xi``.
-
-    Returns ``(n_valid, bx, wx, bl, wl)``: the damping nodes before the first that any of the 16
-    neighbouring columns lacks (a column ends where ``table_build`` stopped it), and the weights;
-    ``n_valid = 0`` outside the grid.
-    """
-    nx, nxi, nc = tab.shape[0], tab.shape[1], tab.shape[2]
+def _stencil(ux, uxi, nx, nxi, sx=0, sl=0):
+    """``(inside, bx, wx, bl, wl)``: cubic stencils in ``x`` and ``xi`` (shifted by ``sx``, ``sl``)."""
     if not (0.0 <= ux <= nx - 1 and 0.0 <= uxi <= nxi - 1):
-        return 0, 0, np.empty(4), 0, np.empty(4)
-    bx, wx = _weights(ux, nx)
-    bl, wl = _weights(uxi, nxi)
-    g[:] = 0.0
-    for a in range(4):
-        for b in range(4):
-            wab = wx[a] * wl[b]
-            for j in range(nc):
-                g[j] += wab * sq[bx + a, bl + b, j]
-    n_valid = 0
-    while n_valid < nc and math.isfinite(g[n_valid]):
-        n_valid += 1
-    return n_valid, bx, wx, bl, wl
+        return False, 0, np.empty(4), 0, np.empty(4)
+    bx, wx = _weights(ux, nx, sx)
+    bl, wl = _weights(uxi, nxi, sl)
+    return True, bx, wx, bl, wl
+
+
+@njit(cache=True)
+def _fill(sq, bx, wx, bl, wl, g, j0, j1):
+    """``g[j0:j1]``: the squared phase mean at those damping nodes, cubic in ``x`` and ``xi``.
+
+    A node that any of the 16 neighbouring columns lacks (a column ends where ``table_build``
+    stopped it) is NaN.
+    """
+    for j in range(j0, j1):
+        acc = 0.0
+        for a in range(4):
+            for b in range(4):
+                acc += wx[a] * wl[b] * sq[bx + a, bl + b, j]
+        g[j] = acc
+
+
+@njit(cache=True)
+def _finite(g, j0, j1):
+    for j in range(j0, j1):
+        if not math.isfinite(g[j]):
+            return False
+    return True
 
 
 @njit(cache=True)
@@ -206,27 +217,45 @@ def _steps_at(tab, ux, uxi, j):
 
 
 @njit(cache=True)
-def _row(tab, sq, dx, dxi, dc, x, xi, target, out):
+def _row(tab, sq, dx, dxi, dc, x, xi, target, tol, out):
     """One scene's inverse into ``out`` (``O_*`` slots); ``sq`` is the table's squared means."""
-    nc = tab.shape[2]
+    nx, nxi, nc = tab.shape[0], tab.shape[1], tab.shape[2]
     out[:] = math.nan
     out[O_STATUS] = OUTSIDE
     if not (0.0 < target < 1.0):
         return
     ux, uxi = x / dx, xi / dxi
+    inside, bx, wx, bl, wl = _stencil(ux, uxi, nx, nxi)
+    if not inside:
+        return
     g = np.empty(nc)
-    nv, bx, wx, bl, wl = _column(tab, sq, ux, uxi, g)
-    if nv < 4:
+    _fill(sq, bx, wx, bl, wl, g, 0, 1)
+    if not math.isfinite(g[0]):
         return
     t2 = target * target
     if g[0] < t2:
         out[O_STATUS] = UNREACHABLE
-        out[O_NEAREST] = math.sqrt(max(g[0], 0.0))
+        out[O_NEAREST] = math.sqrt(g[0]) if g[0] > 0.0 else 0.0
         return
-    j = 1
-    while j < nv and g[j] >= t2:
+    # The first node from zero damping upwards below the target (nodes filled as the scan goes).
+    j, filled = 1, 1
+    while True:
+        if j == filled and filled < nc:
+            end = min(filled + 8, nc)
+            _fill(sq, bx, wx, bl, wl, g, filled, end)
+            filled = end
+        if j == nc or not math.isfinite(g[j]):
+            return  # more damping than the table holds (or an unstable step): the exact inverse decides
+        if g[j] < t2:
+            break
         j += 1
-    if j == nv:  # more damping than the table holds (or an unstable step): the exact inverse decides
+    end = min(j + 3, nc)
+    if filled < end:
+        _fill(sq, bx, wx, bl, wl, g, filled, end)
+    nv = j + 1
+    while nv < end and math.isfinite(g[nv]):
+        nv += 1
+    if nv < 4:
         return
     # The cubic through the four nearest damping nodes, solved on [j - 1, j] by bisection.
     bc = min(max(j - 2, 0), nv - 4)
@@ -239,11 +268,22 @@ def _row(tab, sq, dx, dxi, dc, x, xi, target, out):
             hi = mid
     u = 0.5 * (lo + hi)
     f = u - (j - 1)
-    linear = math.sqrt(max((1.0 - f) * g[j - 1] + f * g[j], 0.0))
+    # The error estimate: how far the mean at the root moves when any one of the three stencils
+    # shifts by a node (in the damping, then in the step and in the load, each both ways).
+    alt = bc + 1 if bc + 4 < nv else bc - 1
+    err = abs(math.sqrt(max(_cubic(u, alt, g), 0.0)) - target) if alt >= 0 else math.inf
+    h = np.empty(nc)
+    for sx, sl in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        _, hx, hwx, hl, hwl = _stencil(ux, uxi, nx, nxi, sx, sl)
+        _fill(sq, hx, hwx, hl, hwl, h, bc, bc + 4)
+        if not _finite(h, bc, bc + 4):
+            err = math.inf
+            break
+        err = max(err, abs(math.sqrt(max(_cubic(u, bc, h), 0.0)) - target))
     lo_e, hi_e = _range_at(tab, bx, wx, bl, wl, j, f)
-    out[O_ERROR] = abs(linear - target)
+    out[O_ERROR] = err
     out[O_STEPS_MIN], out[O_STEPS_MAX] = _steps_at(tab, ux, uxi, j)
-    if out[O_ERROR] > ERROR_TOL:
+    if out[O_ERROR] > tol:
         out[O_STATUS] = INACCURATE
         return
     out[O_STATUS] = OK
@@ -256,30 +296,33 @@ def _row(tab, sq, dx, dxi, dc, x, xi, target, out):
 @njit(cache=True)
 def _forward_row(tab, sq, dx, dxi, dc, x, xi, c, out):
     """What damping ``c`` delivers: mean, minimum and maximum e_N into ``out[0:3]`` (NaN outside)."""
-    nc = tab.shape[2]
+    nx, nxi, nc = tab.shape[0], tab.shape[1], tab.shape[2]
     out[:] = math.nan
     ux, uxi, uc = x / dx, xi / dxi, c / dc
-    g = np.empty(nc)
-    nv, bx, wx, bl, wl = _column(tab, sq, ux, uxi, g)
-    if nv < 4 or not (0.0 <= uc <= nv - 1):
+    inside, bx, wx, bl, wl = _stencil(ux, uxi, nx, nxi)
+    if not inside or not (0.0 <= uc <= nc - 1):
         return
-    j = min(max(int(math.floor(uc)), 0), nv - 2) + 1
-    bc = min(max(j - 2, 0), nv - 4)
+    j = min(max(int(math.floor(uc)), 0), nc - 2) + 1
+    bc = min(max(j - 2, 0), nc - 4)
+    g = np.empty(nc)
+    _fill(sq, bx, wx, bl, wl, g, bc, bc + 4)
+    if not _finite(g, bc, bc + 4):
+        return
     mean = math.sqrt(max(_cubic(uc, bc, g), 0.0))
     lo_e, hi_e = _range_at(tab, bx, wx, bl, wl, j, uc - (j - 1))
     out[0], out[1], out[2] = mean, min(lo_e, mean), max(hi_e, mean)
 
 
 @njit(cache=True, parallel=True)
-def _forward_rows(tab, sq, dx, dxi, dc, x, xi, c, out):
+def _rows(tab, sq, dx, dxi, dc, x, xi, target, tol, out):
     for i in prange(x.size):
-        _forward_row(tab, sq, dx, dxi, dc, x[i], xi[i], c[i], out[i])
+        _row(tab, sq, dx, dxi, dc, x[i], xi[i], target[i], tol, out[i])
 
 
 @njit(cache=True, parallel=True)
-def _rows(tab, sq, dx, dxi, dc, x, xi, target, out):
+def _forward_rows(tab, sq, dx, dxi, dc, x, xi, c, out):
     for i in prange(x.size):
-        _row(tab, sq, dx, dxi, dc, x[i], xi[i], target[i], out[i])
+        _forward_row(tab, sq, dx, dxi, dc, x[i], xi[i], c[i], out[i])
 
 
 class StepTable:
@@ -290,11 +333,14 @@ class StepTable:
         self.grid = grid
         self.squares = self.table[:, :, :, F_MEAN] ** 2
 
-    def inverse(self, x, xi, target):
-        """Rows of ``O_*`` columns for steps ``x = omega h``, load factors ``xi`` and e_N targets (1-D)."""
+    def inverse(self, x, xi, target, tol=ERROR_TOL):
+        """Rows of ``O_*`` columns for steps ``x = omega h``, load factors ``xi`` and e_N targets (1-D).
+
+        A row whose error estimate exceeds ``tol`` is ``INACCURATE``, with no numbers.
+        """
         x, xi, target = (np.ascontiguousarray(v, dtype=float).ravel() for v in np.broadcast_arrays(x, xi, target))
         out = np.empty((x.size, N_OUT))
-        _rows(self.table, self.squares, *self._spacing(), x, xi, target, out)
+        _rows(self.table, self.squares, *self._spacing(), x, xi, target, float(tol), out)
         return out
 
     def forward(self, x, xi, c):

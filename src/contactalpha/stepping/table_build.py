@@ -12,10 +12,11 @@ the range one drop sees (``phase.phase_mean``), and the steps in contact.
 - A drop must fly a step before touchdown (``v >= a h / 2``, ``delivered.check_scene``):
   cells with ``A x`` above ``MAX_LOAD_STEP`` are NaN.
 - Along the damping a column ends (NaN after it) at the first node where every phase is
-  captured (e_N = 0 for every drop), where a drop fails, or past the damping at which the
-  step turns unstable (``StepTableSpec.stable_damping``): ``table.StepTable.inverse`` uses only the
-  first crossing of the target from zero damping upwards, and leaves a target that no computed
-  node brackets to the exact inverse.
+  captured (e_N = 0 for every drop: more damping need not capture too, with the force's floor),
+  where a drop fails, or past the damping at which the step turns unstable
+  (``StepTableSpec.stable_damping``).  ``table.StepTable.inverse`` uses only the first crossing
+  of the target from zero damping upwards, and leaves a target that no node brackets to the
+  exact inverse.
 
 Cells run in parallel (numba ``prange``); each is deterministic, so the bits do not depend on the
 threads.  ``python -m contactalpha.stepping.table_build [ENGINE ...]`` rebuilds the shipped
@@ -57,9 +58,8 @@ from .table import (
 def _build_cells(code, params, dampings, xs, limits, loads, tol, out):
     """Fill ``out[i, k, j, F_*]`` for step ``xs[i]``, load ``loads[k]`` and damping row ``params[j]``.
 
-    Along the damping a column stops (NaN after) at the first node where every phase is
-    captured, where a drop fails, or past ``limits[i]``, the damping at which the step turns
-    unstable (``StepTableSpec.stable_damping``).
+    Along the damping a column stops (NaN after) at the first node where every phase is captured,
+    where a drop fails, or past ``limits[i]``, the damping at which the step turns unstable.
     """
     nx, nl, nc = xs.size, loads.size, params.shape[0]
     out[:] = math.nan
@@ -81,6 +81,9 @@ def _build_cells(code, params, dampings, xs, limits, loads, tol, out):
                             (F_STEPS_MIN, P_STEPS_MIN), (F_STEPS_MAX, P_STEPS_MAX)):  # fmt: skip
                 out[i, k, j, f] = row[slot]
             if row[P_MAX] == 0.0:
+                # Every phase captured.  More damping need not capture too (with the force's floor
+                # a stiffly damped drop can bounce again), and the inverse never reads past the
+                # first crossing of its target: the column ends here.
                 break
 
 
@@ -100,7 +103,7 @@ def build(engine, progress=None):
     out = np.empty((xs.size, xis.size, cs.size, N_FIELDS))
     t0 = time.perf_counter()
     for i in range(1, xs.size):  # one step at a time, so that a long build reports as it goes
-        limit = np.array([spec.stable_damping(xs[i])])
+        limit = np.array([math.inf if spec.stable_damping is None else spec.stable_damping(xs[i])])
         _build_cells(s.code, params, cs, xs[i : i + 1], limit, loads, g.quad_tol, out[i : i + 1])
         if progress is not None:
             progress(f"{engine}: step {i} of {xs.size - 1} (x = {xs[i]:.4g}), {time.perf_counter() - t0:.0f} s")
