@@ -146,9 +146,12 @@ def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
             "MuJoCo's step map does not apply (no pressing load, or its integrator): continuous answer"
         )
     if row["condim"] > 1:
+        pyramid = (f"; the {row['cone']} cone's {row['rows']} edge rows act on the normal as one row "
+                   f"with their R over {row['rows']}" if row.get("rows", 1) > 1 else "")  # fmt: skip
         notes.append(
-            f"condim {row['condim']}: the correction is exact for the normal row "
-            "(condim 1 or an elliptic cone)"
+            f"condim {row['condim']}{pyramid}: exact for a contact whose tangential motion is decoupled "
+            "from the normal and that does not slide; friction coupled to the normal (a contact point "
+            "off the line of the normal's action) changes e_N: check with a drop"
         )
     return params, notes, (t if step is None else replace(t, discrete=step)), step
 
