@@ -25,9 +25,10 @@ import numpy as np
 from numba import njit
 
 from contactalpha.adapters.registry import check_radius_used, engine_parameters
-from contactalpha.engine.firstcall import FirstCall
-from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
-from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
+from contactalpha.engine.firstcall import twin_rows
+from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, scales_kernel, xi_of_load_kernel
+from contactalpha.engine.table import EPS_MIN, XI_MAX, tabulated_or_nan
+from contactalpha.engine.threads import flat_owned, run_rows
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE
@@ -37,31 +38,37 @@ from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
 from .result import ContactParameters, Deferred
 
 
-@njit(cache=True, error_model="numpy")
-def _xi_of_loads(A):
-    """``engine.scaling``'s Eq. 10 (its jitted ``xi_of_load_kernel``) over an array, in one loop."""
-    out = np.empty(A.size)
-    flat = A.ravel()
-    for i in range(flat.size):
-        out[i] = xi_of_load_kernel(flat[i])
-    return out.reshape(A.shape)
-
-
-# Its first calls on a cold numba cache run as its Python twin (``engine.firstcall``).
-_xi_of_loads_first = FirstCall(_xi_of_loads)
+@twin_rows
+@njit(cache=True, nogil=True, error_model="numpy")
+def _hertz_load_factor_rows(mass, stiffness, speed, accel, xi, scale_ok, start, stop):
+    """Rows ``start .. stop - 1``: ``engine.scaling``'s delta_star, ``A = a delta_star / v^2`` and
+    its Eq. 10 (``xi_of_load_kernel``), NaN where A is not below ``A_ROUNDS_TO_ONE`` or xi rounds
+    to 1; ``scale_ok`` False where delta_star or t_star is beyond the doubles."""
+    for i in range(start, stop):
+        v = speed[i]
+        d, t = scales_kernel(mass[i], stiffness[i], v)
+        scale_ok[i] = 0.0 < d < np.inf and 0.0 < t < np.inf
+        A = accel[i] * d / (v * v)
+        x = xi_of_load_kernel(A) if A < A_ROUNDS_TO_ONE else np.nan
+        xi[i] = x if x < 1.0 else np.nan
 
 
 def hertz_load_factor(mass, stiffness, approach_speed, accel):
     """The paper's influence factor xi (Eq. 10) of arrays of Hunt-Crossley scenes.
 
-    ``engine.scaling.influence_factor``'s direct path (``A = a delta* / v^2``), with Eq. 10 solved
-    in one compiled loop; a load so large that xi rounds to 1 gives NaN here.
+    ``engine.scaling.influence_factor``'s direct path (``A = a delta* / v^2``), each row in one
+    compiled pass (in ``engine.threads``' threads); a load so large that xi rounds to 1 gives NaN
+    here, a scene whose length or time scale is beyond the doubles the ``ValueError`` of
+    ``engine.scaling.length_scale``.
     """
-    with np.errstate(all="ignore"):
-        A = accel * length_scale(mass, stiffness, approach_speed) / approach_speed**2
-    A = np.where(np.isfinite(A) & (A < A_ROUNDS_TO_ONE), A, np.nan)
-    xi = _xi_of_loads_first(np.ascontiguousarray(A, dtype=float))
-    return np.where(xi < 1.0, xi, np.nan)
+    m, k, v, a = np.broadcast_arrays(mass, stiffness, approach_speed, accel)
+    xi = np.empty(m.shape)
+    scale_ok = np.empty(m.shape, dtype=np.bool_)
+    flat = [flat_owned(x) for x in (m, k, v, a)]
+    run_rows(_hertz_load_factor_rows, xi.size, *flat, xi.reshape(-1), scale_ok.reshape(-1))
+    if not scale_ok.all():
+        length_scale(mass, stiffness, approach_speed)  # raises, naming the first such scene
+    return xi
 
 
 def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
@@ -186,11 +193,11 @@ def batched_parameters(
     load_factor = _load_factor(law)
     xi = load_factor(m, k, v, a)
     lo_e, hi_xi = _domain(law)
-    inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
-    damping = np.full(e.shape, np.nan)
     if law.fast is ENGINE_TABLE:  # n = 3/2: the front door's own xi and table, bit for bit
-        damping[inside] = alpha_tabulated(e[inside], xi[inside], restitution=restitution)
+        damping = tabulated_or_nan(e, xi, restitution)  # NaN outside [EPS_MIN, 1] x [0, XI_MAX]
     else:
+        inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
+        damping = np.full(e.shape, np.nan)
         damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
     ok = np.isfinite(damping)
     p = np.where(ok, damping, 0.0)
