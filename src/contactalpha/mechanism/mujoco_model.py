@@ -122,10 +122,28 @@ def _forces_tau(model, data, forces):
     return tau
 
 
+def normal_rows(model, condim):
+    """How many constraint rows carry the normal force: 2 (condim - 1) pyramid edges, else 1.
+
+    A pyramidal contact (``mj_instantiateContact``) has no normal row: its edges ``J_n +- mu J_t``
+    all sit at the contact's distance, and ``mj_makeImpedance`` gives them one common ``R``.
+    Where the tangential motion is decoupled from the normal (``J_t M^-1 J_n^T = 0``) and the
+    contact does not slide, the edges' forces are equal in pairs and the normal force ``F`` (their
+    sum) obeys the frictionless row with ``R / (2 (condim - 1))``; so does ``diagA`` (which
+    ``mj_makeImpedance`` resets to ``R imp / (1 - imp)``).
+    """
+    mj = _mujoco()
+    if condim > 1 and model.opt.cone == mj.mjtCone.mjCONE_PYRAMIDAL:
+        return 2 * (condim - 1)
+    return 1
+
+
 def contact_row(model, data, g1, g2):
     """``(point, normal, gap, row)`` of the pair's contact at ``data``'s configuration.
 
-    ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact.
+    ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact;
+    for a pyramidal cone ``diagA`` and ``R`` are those of the normal force's equivalent row
+    (``normal_rows``: the edges' values over their number), ``cone`` and ``rows`` say which.
     ``R`` is MuJoCo's with the margin raised by ``ROW_MARGIN``: where solimp's width is at most
     that (MuJoCo's default 0.001), at the impedance ``solimp[1]``.
     Raises ValueError when MuJoCo builds no contact between the two (contype/conaffinity, an
@@ -153,9 +171,12 @@ def contact_row(model, data, g1, g2):
             )
         c = data.contact[i]
         adr = int(c.efc_address)
+        rows = normal_rows(model, int(c.dim))
         row = {
-            "diagA": float(data.efc_diagA[adr]),
-            "R": float(data.efc_R[adr]),
+            "diagA": float(data.efc_diagA[adr]) / rows,
+            "R": float(data.efc_R[adr]) / rows,
+            "cone": "pyramidal" if rows > 1 else ("elliptic" if c.dim > 1 else "frictionless"),
+            "rows": rows,
             "solref": tuple(float(x) for x in c.solref),
             "solimp": tuple(float(x) for x in c.solimp),
             "condim": int(c.dim),
