@@ -111,9 +111,8 @@ def test_newton_per_shape_ke_kd_deliver_each_worlds_target(jax, mujoco, newton):
     h = 2.0 * np.pi / omega.max() / 4000  # at least 4,000 steps per undamped period in every world
     nstep = int(0.8 * 2.0 * np.pi / omega.min() / h)
     z, w = _newton_drop(newton, s, ke, kd, d, h, nstep)
-    got = np.array(
-        [measure_steps(z[i], w[i], s["accel"][i], h, s["approach_speed"][i], FREE_RTOL_F32).e_n for i in range(6)]
-    )
+    v, a = s["approach_speed"], s["accel"]
+    got = np.array([measure_steps(z[i], w[i], a[i], h, v[i], FREE_RTOL_F32).e_n for i in range(6)])
     solref = np.asarray(out["engines"]["mujoco"]["solref"])
     mujoco_e = np.array([_mujoco_drop(s, i, solref[i], d, h, nstep) for i in range(6)])
     np.testing.assert_allclose(got, mujoco_e, atol=1e-4)  # Newton steps like MuJoCo (float32)
