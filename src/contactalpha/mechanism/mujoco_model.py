@@ -261,7 +261,7 @@ def mujoco_drop(
     pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
     phase : in [0, 1): the first step starts ``phase`` of a step before touchdown, on the free
         motion (``stepping.flight.touchdown_state``'s convention: the stored velocity is that of
-        half a step later, as semi-implicit Euler stores it).
+        half a step earlier, as semi-implicit Euler stores it).
     """
     mj = _mujoco()
     m = load_model(model)
@@ -304,7 +304,12 @@ def mujoco_drop(
 
 
 def _back_in_time(m, d, tc):
-    """Move ``d`` back by ``tc`` on its free motion; store the velocity half a step later."""
+    """Move ``d`` back by ``tc`` on its free motion; store the velocity of half a step earlier.
+
+    Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
+    positions on the free motion when the stored velocity is the one half a step before the
+    stored position's time (``stepping.flight.touchdown_state``).
+    """
     mj = _mujoco()
     mj.mj_forward(m, d)
     qacc = np.array(d.qacc_smooth)
@@ -313,7 +318,7 @@ def _back_in_time(m, d, tc):
     qpos = np.array(d.qpos)
     mj.mj_integratePos(m, qpos, mean, -tc)
     d.qpos[:] = qpos
-    d.qvel[:] = d.qvel - tc * qacc + 0.5 * h * qacc
+    d.qvel[:] = d.qvel - (tc + 0.5 * h) * qacc
 
 
 def _gap_rate_at_start(m, qpos, qvel, g1, g2):
