@@ -21,11 +21,10 @@ Importing this module does not need MuJoCo.
 """
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import MechanismContact, approach, pressing_accel
+from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 
 INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
@@ -220,31 +219,6 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     )  # fmt: skip
 
 
-@dataclass(frozen=True)
-class MechanismDrop:
-    """A drop of a mechanism in an engine from the touchdown state.
-
-    ``e_n`` Newton's restitution of the gap (NaN: no rebound within ``duration``); ``exit_speed``
-    m/s; ``contact_time`` s from touchdown to the rebound; ``inv_mass_range`` (min, max) of
-    ``J M^-1 J^T`` over the steps in contact and ``inv_mass_touch`` at touchdown, 1/kg;
-    ``steps`` in contact; ``timestep`` s.
-    """
-
-    e_n: float
-    exit_speed: float
-    contact_time: float
-    inv_mass_touch: float
-    inv_mass_range: tuple
-    steps: int
-    timestep: float
-
-    @property
-    def mass_change(self):
-        """Largest relative change of the effective mass over the contact (vs touchdown)."""
-        lo, hi = self.inv_mass_range
-        return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
-
-
 def mujoco_drop(
     model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None, phase=0.0
 ):
@@ -299,8 +273,7 @@ def mujoco_drop(
         mj.mj_step2(m, d)
     t = np.arange(len(gaps)) * h
     exit_speed, t_exit = rebound_speed(t, gaps)
-    rng = (min(inv_masses), max(inv_masses)) if inv_masses else (math.nan, math.nan)
-    return MechanismDrop(exit_speed / speed0, exit_speed, t_exit, inv_touch, rng, len(inv_masses), h)
+    return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, h)
 
 
 def _back_in_time(m, d, tc):

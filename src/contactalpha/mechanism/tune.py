@@ -397,7 +397,6 @@ def _checked(result, timestep, refined=False):
     if result.engine == "mujoco":
         source = result.output if result.output is not None else _in_memory_mjcf(result)
         drop = mujoco_drop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
-        change = drop.mass_change
     elif result.output is None:
         raise ValueError(f"check with engine {result.engine!r} needs output (the tuned model or script)")
     elif result.engine == "pybullet":
@@ -405,15 +404,14 @@ def _checked(result, timestep, refined=False):
             raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
         drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
                              speed=c.approach_speed, joint_names=_joint_names(c))  # fmt: skip
-        change = math.nan
     else:
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
         step = result.timestep
-        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
-                             report=period / DRAKE_SAMPLES if step is None else step,
-                             time_step=0.0 if step is None else step)  # fmt: skip
-        drop, change = None, math.nan
-    delivered = drop.e_n if drop is not None else e
+        drop = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
+                          report=period / DRAKE_SAMPLES if step is None else step,
+                          time_step=0.0 if step is None else step)  # fmt: skip
+    change = drop.mass_change
+    delivered = drop.e_n
     notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
     if np.isfinite(change):
         notes.append(f"effective mass moves by {change:.3g} (relative) over the contact")
@@ -421,7 +419,10 @@ def _checked(result, timestep, refined=False):
             warnings.warn(
                 f"the effective mass moves by {change:.3g} over the contact (above {MASS_CHANGE_WARN}): "
                 + ("refined on this drop, it holds for this touchdown state only" if refined
-                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"),
+                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"
+                   if result.engine == "mujoco" else
+                   f"the law and the step map are solved at touchdown's value; {result.engine} delivers "
+                   f"{delivered:.4g}"),
                 MassChangeWarning, stacklevel=3,
             )  # fmt: skip
     return replace(result, notes=notes, delivered=delivered, mass_change=change, drop=drop)
