@@ -123,13 +123,18 @@ def _phases(n):
 @pytest.mark.parametrize(("target", "steps"), [(0.3, 16), (0.6, 16), (0.9, 128)])
 def test_drake_discrete_plant_delivers_the_phase_mean(pydrake, tmp_path, target, steps):
     """Drake's discrete plant (lagged, 1 ms), 16 phases; e_N 0.9 needs about 100 steps per contact."""
+    import warnings
+
     from contactalpha.mechanism.drake_model import drake_drop
-    from contactalpha.mechanism.tune import tune
+    from contactalpha.mechanism.tune import MassChangeWarning, tune
 
     h = 1e-3
     out = tmp_path / "arm_tuned.urdf"
-    got = tune(ARM, PAIR, target, engine="drake", qvel=QVEL, stiffness=_stiffness(steps, h), output=out,
-               timestep=h, check=True)  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MassChangeWarning)  # 128 steps: m_eff moves by 1.3 %
+        got = tune(ARM, PAIR, target, engine="drake", qvel=QVEL, stiffness=_stiffness(steps, h), output=out,
+                   timestep=h, check=True)  # fmt: skip
+    assert got.mass_change < 0.02
     inv = got.discrete.inverse
     assert inv.status == "ok"
     assert got.parameters["hunt_crossley_dissipation"] == pytest.approx(inv.damping, rel=1e-12)

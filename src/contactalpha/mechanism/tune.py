@@ -26,7 +26,7 @@ from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
 from . import write
-from .discrete import DEFAULT_STEP, MAP_PARAMETERS, step_answer
+from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
@@ -224,20 +224,23 @@ def _drake_tune(contact, target, stiffness, impedance, timestep, discrete):
 def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete):
     """The step's answer for Drake's discrete plant or PyBullet: its map at the contact's m_eff and load.
 
-    ``timestep`` None is the engine's ``discrete.DEFAULT_STEP`` (None for Drake: its continuous
-    plant, no step).  Returns ``(params, notes, cp, step)`` with the block rebuilt from the
+    ``timestep`` None is the engine's ``discrete.ENGINE_STEPS`` default (None for Drake: its
+    continuous plant, no step).  Returns ``(params, notes, cp, step)`` with the block rebuilt from the
     inverse's damping where ``_step_notes`` uses it.
     """
-    h = DEFAULT_STEP[engine] if timestep is None else float(timestep)
+    es = ENGINE_STEPS[engine]
+    h = es.default_step if timestep is None else float(timestep)
     if h is None or discrete is False:
         return params, notes, cp, None
     if contact.accel <= 0.0:
         notes.append(f"{engine}'s step map needs a pressing load: the continuous answer is kept")
         return params, notes, cp, None
     s = stepper(engine)
-    step = step_answer(engine, MAP_PARAMETERS[engine](params, contact), contact, target, h)
-    unit = {"drake": "hunt_crossley_dissipation", "pybullet": "contactDamping"}[engine]
-    use, lines = _step_notes(engine, step, target, discrete, f"{unit} = {step.inverse.damping:.9g} each")
+    step = step_answer(engine, es.parameters(params, contact), contact, target, h)
+    use, lines = _step_notes(
+        engine, step, target, discrete, f"{es.damping} = {step.inverse.damping:.9g} each"
+    )
+    lines.append(es.note)
     if use:
         zeta = float(s.law_damping(step.inverse.p, contact.approach_speed))
         a = adapter(engine)
@@ -440,9 +443,9 @@ def _step_of(engine, contact, timestep):
     """The step ``tune`` works at when no step map ran: MuJoCo's model step, the engines' defaults."""
     if timestep is not None:
         return float(timestep)
-    if engine == "mujoco":
-        return float(contact.engine_row["timestep"])
-    return DEFAULT_STEP[engine]
+    if engine in ENGINE_STEPS:
+        return ENGINE_STEPS[engine].default_step
+    return float(contact.engine_row["timestep"])  # MuJoCo: the model's
 
 
 def _in_memory_mjcf(result):
