@@ -77,9 +77,34 @@ def pybullet_p(block, contact, breaking=COMPOUND_BREAKING):
     return p
 
 
-# Engine -> map parameters of its ``contact_parameters`` block for a mechanism's contact.
-MAP_PARAMETERS = {"drake": drake_p, "pybullet": pybullet_p}
-# The step each engine's ``tune`` uses when none is given (None: the continuous plant, no step).
-DEFAULT_STEP = {"drake": None, "pybullet": pybullet_map.TIMESTEP}
 # Drake's discrete contact approximations the map reproduces.
 DRAKE_APPROXIMATIONS = drake_map.APPROXIMATIONS
+
+
+@dataclass(frozen=True)
+class EngineStep:
+    """How ``tune`` steps an engine other than MuJoCo.
+
+    ``parameters``: (block, contact) -> the map's ``p``; ``default_step``: s, when none is given
+    (None: a continuous plant, no step); ``damping``: the block's per-body damping key; ``note``:
+    what the map covers.
+    """
+
+    parameters: object
+    default_step: float | None
+    damping: str
+    note: str
+
+
+ENGINE_STEPS = {
+    "drake": EngineStep(
+        drake_p, None, "hunt_crossley_dissipation",
+        f"Drake's step map: point contact with the discrete approximations {DRAKE_APPROXIMATIONS} "
+        "(not sap, which ignores hunt_crossley_dissipation)",
+    ),
+    "pybullet": EngineStep(
+        pybullet_p, pybullet_map.TIMESTEP, "contactDamping",
+        "PyBullet's step map: a URDF's links (contact only once they penetrate), frictionless, "
+        "no link damping, joint motors off",
+    ),
+}  # fmt: skip

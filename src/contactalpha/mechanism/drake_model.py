@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .contact import MechanismContact, approach, pressing_accel
+from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
 
@@ -159,7 +159,7 @@ def drake_drop(
     model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None, time_step=0.0,
     approximation="lagged", phase=0.0,
 ):  # fmt: skip
-    """``(e_n, exit_speed, contact_time)`` of the plant with point contact from touchdown.
+    """``MechanismDrop`` of the plant with point contact from touchdown.
 
     The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.
     ``report``: the gap's sampling interval, s; ``forces``: {body: (fx, fy, fz)} constant, N, world
@@ -197,17 +197,19 @@ def drake_drop(
         dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
         sim.get_mutable_integrator().set_target_accuracy(accuracy)
     sim.Initialize()
-    times, gaps = [0.0], [p.closest(g1, g2)[2]]
+    times, gaps, inv_masses = [0.0], [p.closest(g1, g2)[2]], []
     n = int(math.ceil(duration / report))
     for i in range(1, n + 1):
         sim.AdvanceTo(i * report)
-        gap = p.closest(g1, g2)[2]
+        _, _, gap, J = p.gap_row(g1, g2)
+        if gap < 0.0:  # J M^-1 J^T in contact: how far the effective mass moves
+            inv_masses.append(float(J @ np.linalg.solve(p.plant.CalcMassMatrix(p.context), J)))
         times.append(i * report)
         gaps.append(gap)
         if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
             break
     exit_speed, t_exit = rebound_speed(times, gaps)
-    return exit_speed / speed0, exit_speed, t_exit
+    return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, report)
 
 
 def _generalized_forces(p, forces):

@@ -21,11 +21,10 @@ Importing this module does not need MuJoCo.
 """
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import MechanismContact, approach, pressing_accel
+from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 
 INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
@@ -220,31 +219,6 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     )  # fmt: skip
 
 
-@dataclass(frozen=True)
-class MechanismDrop:
-    """A drop of a mechanism in an engine from the touchdown state.
-
-    ``e_n`` Newton's restitution of the gap (NaN: no rebound within ``duration``); ``exit_speed``
-    m/s; ``contact_time`` s from touchdown to the rebound; ``inv_mass_range`` (min, max) of
-    ``J M^-1 J^T`` over the steps in contact and ``inv_mass_touch`` at touchdown, 1/kg;
-    ``steps`` in contact; ``timestep`` s.
-    """
-
-    e_n: float
-    exit_speed: float
-    contact_time: float
-    inv_mass_touch: float
-    inv_mass_range: tuple
-    steps: int
-    timestep: float
-
-    @property
-    def mass_change(self):
-        """Largest relative change of the effective mass over the contact (vs touchdown)."""
-        lo, hi = self.inv_mass_range
-        return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
-
-
 def mujoco_drop(
     model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None, phase=0.0
 ):
@@ -261,7 +235,7 @@ def mujoco_drop(
     pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
     phase : in [0, 1): the first step starts ``phase`` of a step before touchdown, on the free
         motion (``stepping.flight.touchdown_state``'s convention: the stored velocity is that of
-        half a step later, as semi-implicit Euler stores it).
+        half a step earlier, as semi-implicit Euler stores it).
     """
     mj = _mujoco()
     m = load_model(model)
@@ -299,12 +273,16 @@ def mujoco_drop(
         mj.mj_step2(m, d)
     t = np.arange(len(gaps)) * h
     exit_speed, t_exit = rebound_speed(t, gaps)
-    rng = (min(inv_masses), max(inv_masses)) if inv_masses else (math.nan, math.nan)
-    return MechanismDrop(exit_speed / speed0, exit_speed, t_exit, inv_touch, rng, len(inv_masses), h)
+    return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, h)
 
 
 def _back_in_time(m, d, tc):
-    """Move ``d`` back by ``tc`` on its free motion; store the velocity half a step later."""
+    """Move ``d`` back by ``tc`` on its free motion; store the velocity of half a step earlier.
+
+    Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
+    positions on the free motion when the stored velocity is the one half a step before the
+    stored position's time (``stepping.flight.touchdown_state``).
+    """
     mj = _mujoco()
     mj.mj_forward(m, d)
     qacc = np.array(d.qacc_smooth)
@@ -313,7 +291,7 @@ def _back_in_time(m, d, tc):
     qpos = np.array(d.qpos)
     mj.mj_integratePos(m, qpos, mean, -tc)
     d.qpos[:] = qpos
-    d.qvel[:] = d.qvel - tc * qacc + 0.5 * h * qacc
+    d.qvel[:] = d.qvel - (tc + 0.5 * h) * qacc
 
 
 def _gap_rate_at_start(m, qpos, qvel, g1, g2):

@@ -18,10 +18,10 @@ Importing this module does not need PyBullet.
 import math
 import runpy
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
 
 import numpy as np
 
+from .contact import MechanismDrop
 from .crossing import rebound_speed
 
 INSTALL_HINT = "dropping a model in PyBullet needs pybullet: pip install pybullet (or contactalpha[engines])"
@@ -76,16 +76,6 @@ def movable_joints(body, client):
     return idx, names
 
 
-@dataclass(frozen=True)
-class PyBulletDrop:
-    """``e_n`` (NaN: no rebound in the duration), ``exit_speed`` m/s, ``steps`` in contact, ``timestep`` s."""
-
-    e_n: float
-    exit_speed: float
-    steps: int
-    timestep: float
-
-
 def _state(pb, body, joints, q, v, client):
     for j, qj, vj in zip(joints, q, v, strict=True):
         pb.resetJointState(body, j, float(qj), float(vj), physicsClientId=client)
@@ -94,6 +84,30 @@ def _state(pb, body, joints, q, v, client):
 def _gap(pb, body, links, client):
     pts = pb.getClosestPoints(body, body, 1.0, links[0], links[1], physicsClientId=client)
     return min(p[8] for p in pts) if pts else math.inf
+
+
+def _point_jacobian(pb, body, link, point, q, client):
+    """(3, n) translational Jacobian of the world ``point`` fixed to ``link`` (zero for the base)."""
+    if link < 0:
+        return np.zeros((3, len(q)))
+    state = pb.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=client)
+    R = np.array(pb.getMatrixFromQuaternion(state[5])).reshape(3, 3)
+    local = R.T @ (np.asarray(point) - np.asarray(state[4]))  # in the link's frame
+    zero = [0.0] * len(q)
+    lin, _ = pb.calculateJacobian(body, link, list(local), list(q), zero, zero, physicsClientId=client)
+    return np.array(lin)
+
+
+def _inv_mass(pb, body, links, joints, client):
+    """``J M^-1 J^T`` of the gap row at the current state (PyBullet's mass matrix and Jacobians)."""
+    q = [s[0] for s in pb.getJointStates(body, joints, physicsClientId=client)]
+    pt = pb.getClosestPoints(body, body, 1.0, links[0], links[1], physicsClientId=client)[0]
+    normal = -np.asarray(pt[7])  # contactNormalOnB points from geometry 2 to 1
+    point = 0.5 * (np.asarray(pt[5]) + np.asarray(pt[6]))
+    J = normal @ (_point_jacobian(pb, body, links[1], point, q, client)
+                  - _point_jacobian(pb, body, links[0], point, q, client))  # fmt: skip
+    M = np.array(pb.calculateMassMatrix(body, q, physicsClientId=client))
+    return float(J @ np.linalg.solve(M, J))
 
 
 def _free_qacc(pb, body, q, v, client):
@@ -108,7 +122,7 @@ def pybullet_drop(
     urdf, pair, qpos, qvel, *, timestep, script=None, stiffness=None, damping=None, phase=0.0, duration=1.0,
     link_damping=False, friction=0.0, speed=None, joint_names=None,
 ):  # fmt: skip
-    """Drop the URDF's mechanism in PyBullet from the touchdown state; ``PyBulletDrop``.
+    """Drop the URDF's mechanism in PyBullet from the touchdown state; ``MechanismDrop``.
 
     Parameters
     ----------
@@ -162,16 +176,16 @@ def pybullet_drop(
         qacc = _free_qacc(pb, body, q0, v0, client)
         tc = float(phase) * h
         _state(pb, body, joints, q0 - tc * v0 + 0.5 * tc * tc * qacc, v0 - (tc + 0.5 * h) * qacc, client)
-        gaps, steps = [], 0
+        gaps, inv_masses = [], []
         for _ in range(int(math.ceil(duration / h))):
             gaps.append(_gap(pb, body, links, client))
             if gaps[-1] < 0.0:
-                steps += 1
+                inv_masses.append(_inv_mass(pb, body, links, joints, client))
             if len(gaps) > 3 and gaps[-1] > 0.0 and min(gaps) < 0.0 and gaps[-2] >= 0.0:
                 break
             pb.stepSimulation(physicsClientId=client)
-        exit_speed, _ = rebound_speed(np.arange(len(gaps)) * h, gaps)
-        return PyBulletDrop(exit_speed / float(speed), exit_speed, steps, h)
+        exit_speed, t_exit = rebound_speed(np.arange(len(gaps)) * h, gaps)
+        return MechanismDrop.of(exit_speed / float(speed), exit_speed, t_exit, inv_masses, h)
     finally:
         pb.disconnect(client)
 

@@ -26,7 +26,7 @@ from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
 from . import write
-from .discrete import DEFAULT_STEP, MAP_PARAMETERS, step_answer
+from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
@@ -224,20 +224,23 @@ def _drake_tune(contact, target, stiffness, impedance, timestep, discrete):
 def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete):
     """The step's answer for Drake's discrete plant or PyBullet: its map at the contact's m_eff and load.
 
-    ``timestep`` None is the engine's ``discrete.DEFAULT_STEP`` (None for Drake: its continuous
-    plant, no step).  Returns ``(params, notes, cp, step)`` with the block rebuilt from the
+    ``timestep`` None is the engine's ``discrete.ENGINE_STEPS`` default (None for Drake: its
+    continuous plant, no step).  Returns ``(params, notes, cp, step)`` with the block rebuilt from the
     inverse's damping where ``_step_notes`` uses it.
     """
-    h = DEFAULT_STEP[engine] if timestep is None else float(timestep)
+    es = ENGINE_STEPS[engine]
+    h = es.default_step if timestep is None else float(timestep)
     if h is None or discrete is False:
         return params, notes, cp, None
     if contact.accel <= 0.0:
         notes.append(f"{engine}'s step map needs a pressing load: the continuous answer is kept")
         return params, notes, cp, None
     s = stepper(engine)
-    step = step_answer(engine, MAP_PARAMETERS[engine](params, contact), contact, target, h)
-    unit = {"drake": "hunt_crossley_dissipation", "pybullet": "contactDamping"}[engine]
-    use, lines = _step_notes(engine, step, target, discrete, f"{unit} = {step.inverse.damping:.9g} each")
+    step = step_answer(engine, es.parameters(params, contact), contact, target, h)
+    use, lines = _step_notes(
+        engine, step, target, discrete, f"{es.damping} = {step.inverse.damping:.9g} each"
+    )
+    lines.append(es.note)
     if use:
         zeta = float(s.law_damping(step.inverse.p, contact.approach_speed))
         a = adapter(engine)
@@ -397,7 +400,6 @@ def _checked(result, timestep, refined=False):
     if result.engine == "mujoco":
         source = result.output if result.output is not None else _in_memory_mjcf(result)
         drop = mujoco_drop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
-        change = drop.mass_change
     elif result.output is None:
         raise ValueError(f"check with engine {result.engine!r} needs output (the tuned model or script)")
     elif result.engine == "pybullet":
@@ -405,15 +407,14 @@ def _checked(result, timestep, refined=False):
             raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
         drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
                              speed=c.approach_speed, joint_names=_joint_names(c))  # fmt: skip
-        change = math.nan
     else:
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
         step = result.timestep
-        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
-                             report=period / DRAKE_SAMPLES if step is None else step,
-                             time_step=0.0 if step is None else step)  # fmt: skip
-        drop, change = None, math.nan
-    delivered = drop.e_n if drop is not None else e
+        drop = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
+                          report=period / DRAKE_SAMPLES if step is None else step,
+                          time_step=0.0 if step is None else step)  # fmt: skip
+    change = drop.mass_change
+    delivered = drop.e_n
     notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
     if np.isfinite(change):
         notes.append(f"effective mass moves by {change:.3g} (relative) over the contact")
@@ -421,7 +422,10 @@ def _checked(result, timestep, refined=False):
             warnings.warn(
                 f"the effective mass moves by {change:.3g} over the contact (above {MASS_CHANGE_WARN}): "
                 + ("refined on this drop, it holds for this touchdown state only" if refined
-                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"),
+                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"
+                   if result.engine == "mujoco" else
+                   f"the law and the step map are solved at touchdown's value; {result.engine} delivers "
+                   f"{delivered:.4g}"),
                 MassChangeWarning, stacklevel=3,
             )  # fmt: skip
     return replace(result, notes=notes, delivered=delivered, mass_change=change, drop=drop)
@@ -439,9 +443,9 @@ def _step_of(engine, contact, timestep):
     """The step ``tune`` works at when no step map ran: MuJoCo's model step, the engines' defaults."""
     if timestep is not None:
         return float(timestep)
-    if engine == "mujoco":
-        return float(contact.engine_row["timestep"])
-    return DEFAULT_STEP[engine]
+    if engine in ENGINE_STEPS:
+        return ENGINE_STEPS[engine].default_step
+    return float(contact.engine_row["timestep"])  # MuJoCo: the model's
 
 
 def _in_memory_mjcf(result):
