@@ -96,14 +96,15 @@ def steps_taken(A):
     """Newton steps (the confirming one included) until ``xi_of_load_kernel`` stops, and 2-cycles."""
     steps, cycles = [], 0
     for a in A:
-        xm, before = (1.0 + 2.0 * a) ** (2.0 / 3.0), np.nan
-        for s in range(scaling.XI_NEWTON_STEPS):
+        xm, before, taken = (1.0 + 2.0 * a) ** (2.0 / 3.0), np.nan, 0
+        while taken < scaling.XI_NEWTON_STEPS:
             nxt = scaling._xi_newton_step(a, xm)
+            taken += 1
             if nxt == xm or nxt == before:
                 cycles += nxt == before
                 break
             before, xm = xm, nxt
-        steps.append(s + 1)
+        steps.append(taken)
     return float(np.mean(steps)), cycles / len(A)
 
 

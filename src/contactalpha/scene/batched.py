@@ -41,9 +41,12 @@ from .result import ContactParameters, Deferred
 @twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
 def _hertz_load_factor_rows(mass, stiffness, speed, accel, xi, scale_ok, start, stop):
-    """Rows ``start .. stop - 1``: ``engine.scaling``'s delta_star, ``A = a delta_star / v^2`` and
-    its Eq. 10 (``xi_of_load_kernel``), NaN where A is not below ``A_ROUNDS_TO_ONE`` or xi rounds
-    to 1; ``scale_ok`` False where delta_star or t_star is beyond the doubles."""
+    """Rows ``start .. stop - 1`` of the load factor: delta_star, A and Eq. 10, into ``xi``.
+
+    ``engine.scaling``'s delta_star, ``A = a delta_star / v^2`` and its Eq. 10
+    (``xi_of_load_kernel``); NaN where A is not below ``A_ROUNDS_TO_ONE`` or xi rounds to 1;
+    ``scale_ok`` False where delta_star or t_star is beyond the doubles.
+    """
     for i in range(start, stop):
         v = speed[i]
         d, t = scales_kernel(mass[i], stiffness[i], v)
