@@ -67,8 +67,8 @@ def test_drake_tuned_sdf(pydrake, case, tmp_path):
         out = tmp_path / f"{case.name}_{target}.sdf"
         got = tune(model, case.pair, target, qvel=case.qvel_drake, stiffness=k, forces=case.forces,
                    engine="drake", output=out)  # fmt: skip
-        e_n, _, _ = drake_drop(out, case.pair, got.contact.qpos, got.contact.qvel, report=case.timestep * 2,
-                               forces=case.forces)  # fmt: skip
+        e_n = drake_drop(out, case.pair, got.contact.qpos, got.contact.qvel, report=case.timestep * 2,
+                         forces=case.forces).e_n  # fmt: skip
         assert e_n == pytest.approx(target, abs=TOL)
     assert _digest(model) == before
 

@@ -62,3 +62,12 @@ def test_n1_laws_batched_damping_is_the_laws_exact_inverse():
         assert out.damping[i] == pytest.approx(float(exact), rel=1e-7)
         c = 2 * out.damping[i] * ([1e4, 2e4][i] * 0.5) ** 0.5
         assert out.engines["pybullet"]["pair_damping"][i] == pytest.approx(c, rel=1e-14)
+
+
+def test_a_scene_whose_length_scale_is_beyond_the_doubles_refuses_the_batch():
+    # The load factor's row kernel flags the scale; the batch then raises length_scale's error.
+    mass = np.array([1.0, 1e-300, 1.0])
+    stiffness = np.array([1e8, 1e300, 1e8])
+    speed = np.array([1.0, 1e-300, 1.0])
+    with pytest.raises(ValueError, match=r"mass = 1e-300 kg, stiffness = 1e\+300 .*beyond the range of double"):
+        contact_parameters(mass=mass, stiffness=stiffness, approach_speed=speed, accel=9.81, e_N=0.5)

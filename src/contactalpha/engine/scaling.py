@@ -57,6 +57,8 @@ def _scales(m_e, k, v0):
 # The same arithmetic compiled, for arrays: numpy's own SIMD power can differ from libm's pow in the
 # last bit, and the scalar path (Python floats, libm) must give the array path's numbers.
 _scales_jit = njit(cache=True, error_model="numpy")(_scales)
+# For other modules' row kernels (the batched front door's load factor).
+scales_kernel = _scales_jit
 
 
 @njit(cache=True, error_model="numpy")
@@ -160,17 +162,24 @@ xi_newton_step_kernel = njit(cache=True, error_model="numpy", inline="always")(_
 
 
 def _xi_of_load_float(A):
-    """``_xi_of_load`` of one float, the same bits, stopping where a step returns its own input.
+    """``_xi_of_load`` of one float, the same bits, stopping where the rest of the steps are known.
 
-    Every later step would return that input again (a fixed point of a deterministic step), so
-    the early stop changes no bit; a 1-ulp cycle runs all ``XI_NEWTON_STEPS`` as before.
+    The step is a deterministic function of ``xm``: where it returns its own input every later
+    step would too (a fixed point), and where it returns the value of two steps before, the
+    iteration alternates between two neighbours for good (a 1-ulp cycle, about one load in ten),
+    so the fixed count of steps ends on the one of the count's parity.  Either stop changes no bit.
     """
     xm = (1.0 + 2.0 * A) ** (2.0 / 3.0)
-    for _ in range(XI_NEWTON_STEPS):
+    before = math.nan
+    for step in range(XI_NEWTON_STEPS):
         nxt = xi_newton_step_kernel(A, xm)
         if nxt == xm:
             break
-        xm = nxt
+        if nxt == before:  # x_{step+1} = x_{step-1}: the last step, XI_NEWTON_STEPS, lands on
+            if (XI_NEWTON_STEPS - step) % 2 == 1:  # x_{step-1} where XI_NEWTON_STEPS - step is odd
+                xm = nxt
+            break
+        before, xm = xm, nxt
     return A * xm / (0.5 + A * xm)
 
 
@@ -279,6 +288,20 @@ def influence_factor(
         check_positive(n, val)
         for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
     )
+    return _influence_factor_arrays(m_e, k, v0, a)
+
+
+def influence_factor_unchecked(mass, stiffness, approach_speed, accel):
+    """``influence_factor`` of inputs already checked (the front doors'): the same numbers, no checks."""
+    xi = _influence_factor_plain(mass, stiffness, approach_speed, accel)
+    if xi is not None:
+        return xi
+    scene = (mass, stiffness, approach_speed, accel)
+    return _influence_factor_arrays(*(np.asarray(x, dtype=float) for x in scene))
+
+
+def _influence_factor_arrays(m_e, k, v0, a):
+    """``influence_factor``'s array path (also plain floats at a zero load or past the plain path's reach)."""
     with np.errstate(all="ignore"):
         m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_b.shape), np.empty(m_b.shape)

@@ -472,6 +472,17 @@ def alpha_tabulated(
     return out[()] if out.ndim == 0 else out
 
 
+def tabulated_or_nan(values, xi, restitution="energetic"):
+    """The shipped table's alpha over arrays, NaN outside its domain (and for NaN): no checks.
+
+    For callers that have checked their own input and mark the rows outside (the batched front
+    door); ``alpha_tabulated``'s numbers where it gives one.
+    """
+    default, _, rows, arrays = _lookup(restitution)
+    v, x = np.broadcast_arrays(values, xi)
+    return lookup_many(rows, flat_owned(v), flat_owned(x), arrays(default)).reshape(v.shape)
+
+
 def jit_alpha_tabulated(path: str | Path | None = None, restitution: str = "energetic") -> Callable:
     """Return a numba-jitted scalar ``f(eps, xi) -> alpha`` for users' own jitted loops.
 

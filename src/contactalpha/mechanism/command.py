@@ -34,7 +34,10 @@ def add_parser(make, number):
         "--check", action="store_true", help="drop the tuned model in the engine and report its e_N"
     )
     t.add_argument(
-        "--timestep", type=number, help="MuJoCo's step for --check/--refine, s (default the model's)"
+        "--timestep",
+        type=number,
+        help="the engine's step, s: its discrete answer and --check's drop "
+        "(default: MuJoCo the model's, PyBullet 1/240, Drake the continuous plant)",
     )
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip

@@ -145,3 +145,36 @@ def pressing_accel(jacobian, mass_matrix, tau):
     return -float(
         np.asarray(jacobian, dtype=float) @ np.linalg.solve(mass_matrix, np.asarray(tau, dtype=float))
     )
+
+
+@dataclass(frozen=True)
+class MechanismDrop:
+    """A drop of a mechanism in an engine (MuJoCo, Drake, PyBullet) from the touchdown state.
+
+    ``e_n`` Newton's restitution of the gap (NaN: no rebound within ``duration``); ``exit_speed``
+    m/s; ``contact_time`` s from touchdown to the rebound; ``inv_mass_range`` (min, max) of
+    ``J M^-1 J^T`` over the steps in contact and ``inv_mass_touch`` at touchdown, 1/kg;
+    ``steps`` in contact; ``timestep`` s.
+    """
+
+    e_n: float
+    exit_speed: float
+    contact_time: float
+    inv_mass_touch: float
+    inv_mass_range: tuple
+    steps: int
+    timestep: float
+
+    @classmethod
+    def of(cls, e_n, exit_speed, contact_time, inv_masses, timestep):
+        """The drop from its e_N, exit speed, contact time and ``J M^-1 J^T`` at each step in contact."""
+        inv = [float(x) for x in inv_masses]
+        rng = (min(inv), max(inv)) if inv else (math.nan, math.nan)
+        touch = inv[0] if inv else math.nan
+        return cls(float(e_n), float(exit_speed), float(contact_time), touch, rng, len(inv), float(timestep))
+
+    @property
+    def mass_change(self):
+        """Largest relative change of the effective mass over the contact (vs touchdown)."""
+        lo, hi = self.inv_mass_range
+        return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))

@@ -21,8 +21,9 @@ import math
 
 import numpy as np
 
-from .contact import MechanismContact, approach, pressing_accel
+from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
+from .discrete import DRAKE_APPROXIMATIONS
 
 INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
@@ -40,12 +41,16 @@ def _drake():
 class _Plant:
     """A parsed model: diagram, plant, scene graph, root and plant contexts."""
 
-    def __init__(self, model_path, point_contact=False):
+    def __init__(self, model_path, point_contact=False, time_step=0.0, approximation=None):
         dk = _drake()
         builder = dk.DiagramBuilder()
-        self.plant, self.scene_graph = dk.AddMultibodyPlantSceneGraph(builder, 0.0)
+        self.plant, self.scene_graph = dk.AddMultibodyPlantSceneGraph(builder, float(time_step))
         if point_contact:
             self.plant.set_contact_model(dk.ContactModel.kPoint)
+        if time_step > 0.0:
+            self.plant.set_discrete_contact_approximation(
+                getattr(dk.DiscreteContactApproximation, "k" + approximation.capitalize())
+            )
         try:
             dk.Parser(self.plant).AddModels(str(model_path))
         except RuntimeError as err:
@@ -150,20 +155,33 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     )  # fmt: skip
 
 
-def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None):
-    """``(e_n, exit_speed, contact_time)`` of the continuous plant with point contact from touchdown.
+def drake_drop(
+    model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None, time_step=0.0,
+    approximation="lagged", phase=0.0,
+):  # fmt: skip
+    """``MechanismDrop`` of the plant with point contact from touchdown.
 
     The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.
     ``report``: the gap's sampling interval, s; ``forces``: {body: (fx, fy, fz)} constant, N, world
-    axes, at the bodies' centres of mass.
+    axes, at the bodies' centres of mass.  ``time_step`` > 0 runs the discrete plant with the
+    discrete contact ``approximation`` (``DRAKE_APPROXIMATIONS``), sampled at every step
+    (``report`` is then the step), and ``phase`` in [0, 1) starts it that fraction of a step
+    before touchdown on the free motion (``_back_in_time``).
     """
     dk = _drake()
-    p = _Plant(model_path, point_contact=True)
+    if time_step > 0.0 and approximation not in DRAKE_APPROXIMATIONS:
+        raise ValueError(
+            f"approximation = {approximation!r} is outside the valid choices {DRAKE_APPROXIMATIONS}"
+        )
+    p = _Plant(model_path, point_contact=True, time_step=time_step, approximation=approximation)
     g1, g2 = (p.geometry(name) for name in pair)
     if qpos is not None:
         _set(p.plant, p.context, "qpos", qpos, p.plant.num_positions())
     _set(p.plant, p.context, "qvel", qvel, p.plant.num_velocities())
     speed0 = -float(p.gap_row(g1, g2)[3] @ np.asarray(qvel, dtype=float))
+    if time_step > 0.0:
+        report = float(time_step)
+        _back_in_time(p, float(phase) * report, report, forces)
     sim = dk.Simulator(p.diagram, p.root)
     pushes = []
     for name, force in (forces or {}).items():
@@ -175,17 +193,50 @@ def drake_drop(model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accur
         pushes.append(push)
     if pushes:
         p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
-    dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
-    sim.get_mutable_integrator().set_target_accuracy(accuracy)
+    if time_step == 0.0:
+        dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
+        sim.get_mutable_integrator().set_target_accuracy(accuracy)
     sim.Initialize()
-    times, gaps = [0.0], [p.closest(g1, g2)[2]]
+    times, gaps, inv_masses = [0.0], [p.closest(g1, g2)[2]], []
     n = int(math.ceil(duration / report))
     for i in range(1, n + 1):
         sim.AdvanceTo(i * report)
-        gap = p.closest(g1, g2)[2]
+        _, _, gap, J = p.gap_row(g1, g2)
+        if gap < 0.0:  # J M^-1 J^T in contact: how far the effective mass moves
+            inv_masses.append(float(J @ np.linalg.solve(p.plant.CalcMassMatrix(p.context), J)))
         times.append(i * report)
         gaps.append(gap)
         if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
             break
     exit_speed, t_exit = rebound_speed(times, gaps)
-    return exit_speed / speed0, exit_speed, t_exit
+    return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, report)
+
+
+def _generalized_forces(p, forces):
+    """``J_com^T F`` summed over the named constant forces."""
+    dk = _drake()
+    tau = np.zeros(p.plant.num_velocities())
+    world = p.plant.world_frame()
+    for name, force in (forces or {}).items():
+        body = p.plant.GetBodyByName(str(name))
+        com = body.CalcCenterOfMassInBodyFrame(p.context)
+        Jc = p.plant.CalcJacobianTranslationalVelocity(
+            p.context, dk.JacobianWrtVariable.kV, body.body_frame(), com, world, world
+        )
+        tau += Jc.T @ np.asarray(force, dtype=float)
+    return tau
+
+
+def _back_in_time(p, tc, h, forces):
+    """Move the plant's state back by ``tc`` on its free motion (second order).
+
+    The velocity stored is that of half a step earlier, as the discrete plant's semi-implicit
+    update stores it (``stepping.flight``).
+    """
+    plant, ctx = p.plant, p.context
+    v = np.array(plant.GetVelocities(ctx))
+    tau = plant.CalcGravityGeneralizedForces(ctx) + _generalized_forces(p, forces) - plant.CalcBiasTerm(ctx)
+    vdot = np.linalg.solve(plant.CalcMassMatrix(ctx), tau)
+    qdot = plant.MapVelocityToQDot(ctx, -tc * v + 0.5 * tc * tc * vdot)
+    plant.SetPositions(ctx, np.array(plant.GetPositions(ctx)) + qdot)
+    plant.SetVelocities(ctx, v - (tc + 0.5 * h) * vdot)

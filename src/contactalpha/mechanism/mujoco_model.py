@@ -21,11 +21,10 @@ Importing this module does not need MuJoCo.
 """
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import MechanismContact, approach, pressing_accel
+from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 
 INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
@@ -122,10 +121,28 @@ def _forces_tau(model, data, forces):
     return tau
 
 
+def normal_rows(model, condim):
+    """How many constraint rows carry the normal force: 2 (condim - 1) pyramid edges, else 1.
+
+    A pyramidal contact (``mj_instantiateContact``) has no normal row: its edges ``J_n +- mu J_t``
+    all sit at the contact's distance, and ``mj_makeImpedance`` gives them one common ``R``.
+    Where the tangential motion is decoupled from the normal (``J_t M^-1 J_n^T = 0``) and the
+    contact does not slide, the edges' forces are equal in pairs and the normal force ``F`` (their
+    sum) obeys the frictionless row with ``R / (2 (condim - 1))``; so does ``diagA`` (which
+    ``mj_makeImpedance`` resets to ``R imp / (1 - imp)``).
+    """
+    mj = _mujoco()
+    if condim > 1 and model.opt.cone == mj.mjtCone.mjCONE_PYRAMIDAL:
+        return 2 * (condim - 1)
+    return 1
+
+
 def contact_row(model, data, g1, g2):
     """``(point, normal, gap, row)`` of the pair's contact at ``data``'s configuration.
 
-    ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact.
+    ``row`` holds MuJoCo's ``diagA``, ``R``, ``solref``, ``solimp`` and ``condim`` of the contact;
+    for a pyramidal cone ``diagA`` and ``R`` are those of the normal force's equivalent row
+    (``normal_rows``: the edges' values over their number), ``cone`` and ``rows`` say which.
     ``R`` is MuJoCo's with the margin raised by ``ROW_MARGIN``: where solimp's width is at most
     that (MuJoCo's default 0.001), at the impedance ``solimp[1]``.
     Raises ValueError when MuJoCo builds no contact between the two (contype/conaffinity, an
@@ -153,9 +170,12 @@ def contact_row(model, data, g1, g2):
             )
         c = data.contact[i]
         adr = int(c.efc_address)
+        rows = normal_rows(model, int(c.dim))
         row = {
-            "diagA": float(data.efc_diagA[adr]),
-            "R": float(data.efc_R[adr]),
+            "diagA": float(data.efc_diagA[adr]) / rows,
+            "R": float(data.efc_R[adr]) / rows,
+            "cone": "pyramidal" if rows > 1 else ("elliptic" if c.dim > 1 else "frictionless"),
+            "rows": rows,
             "solref": tuple(float(x) for x in c.solref),
             "solimp": tuple(float(x) for x in c.solimp),
             "condim": int(c.dim),
@@ -199,31 +219,6 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     )  # fmt: skip
 
 
-@dataclass(frozen=True)
-class MechanismDrop:
-    """A drop of a mechanism in an engine from the touchdown state.
-
-    ``e_n`` Newton's restitution of the gap (NaN: no rebound within ``duration``); ``exit_speed``
-    m/s; ``contact_time`` s from touchdown to the rebound; ``inv_mass_range`` (min, max) of
-    ``J M^-1 J^T`` over the steps in contact and ``inv_mass_touch`` at touchdown, 1/kg;
-    ``steps`` in contact; ``timestep`` s.
-    """
-
-    e_n: float
-    exit_speed: float
-    contact_time: float
-    inv_mass_touch: float
-    inv_mass_range: tuple
-    steps: int
-    timestep: float
-
-    @property
-    def mass_change(self):
-        """Largest relative change of the effective mass over the contact (vs touchdown)."""
-        lo, hi = self.inv_mass_range
-        return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))
-
-
 def mujoco_drop(
     model, pair, qpos, qvel, *, timestep=None, duration=1.0, forces=None, pair_solref=None, phase=0.0
 ):
@@ -240,7 +235,7 @@ def mujoco_drop(
     pair_solref : (2,) solref put on the model's ``<pair>`` of the two geometries (in memory).
     phase : in [0, 1): the first step starts ``phase`` of a step before touchdown, on the free
         motion (``stepping.flight.touchdown_state``'s convention: the stored velocity is that of
-        half a step later, as semi-implicit Euler stores it).
+        half a step earlier, as semi-implicit Euler stores it).
     """
     mj = _mujoco()
     m = load_model(model)
@@ -278,12 +273,16 @@ def mujoco_drop(
         mj.mj_step2(m, d)
     t = np.arange(len(gaps)) * h
     exit_speed, t_exit = rebound_speed(t, gaps)
-    rng = (min(inv_masses), max(inv_masses)) if inv_masses else (math.nan, math.nan)
-    return MechanismDrop(exit_speed / speed0, exit_speed, t_exit, inv_touch, rng, len(inv_masses), h)
+    return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, h)
 
 
 def _back_in_time(m, d, tc):
-    """Move ``d`` back by ``tc`` on its free motion; store the velocity half a step later."""
+    """Move ``d`` back by ``tc`` on its free motion; store the velocity of half a step earlier.
+
+    Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
+    positions on the free motion when the stored velocity is the one half a step before the
+    stored position's time (``stepping.flight.touchdown_state``).
+    """
     mj = _mujoco()
     mj.mj_forward(m, d)
     qacc = np.array(d.qacc_smooth)
@@ -292,7 +291,7 @@ def _back_in_time(m, d, tc):
     qpos = np.array(d.qpos)
     mj.mj_integratePos(m, qpos, mean, -tc)
     d.qpos[:] = qpos
-    d.qvel[:] = d.qvel - tc * qacc + 0.5 * h * qacc
+    d.qvel[:] = d.qvel - (tc + 0.5 * h) * qacc
 
 
 def _gap_rate_at_start(m, qpos, qvel, g1, g2):

@@ -43,9 +43,9 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.mujoco_soft import IMPEDANCE, direct_mode
 from contactalpha.laws import get_law
 from contactalpha.scene.parameters import contact_parameters
-from contactalpha.stepping.delivered import over_phase
-from contactalpha.stepping.inverse import damping_for
 from contactalpha.stepping.registry import stepper
+
+from .discrete import step_answer
 
 # The law MuJoCo's soft contact applies (``adapters.mujoco_soft``).
 MUJOCO_LAW = "mujoco_soft"
@@ -158,23 +158,8 @@ def current_stiffness(contact):
     return contact.effective_mass * d_e * d * K
 
 
-@dataclass(frozen=True)
-class DiscreteAnswer:
-    """MuJoCo's step for the contact.
-
-    ``continuous`` (``PhaseStats`` of the continuous answer at the step), ``inverse``
-    (``stepping.inverse.StepInverse``: the damping whose phase mean is the target), ``timestep``
-    s, and ``diag_ratio`` = diagA m_eff (the map's mechanism slot).
-    """
-
-    continuous: object
-    inverse: object
-    timestep: float
-    diag_ratio: float
-
-
 def discrete_answer(contact, tuning, target, timestep):
-    """The phase-mean inverse of MuJoCo's step map for the contact (``stepping``), or None.
+    """``discrete.DiscreteAnswer``: the phase-mean inverse of MuJoCo's step map for the contact, or None.
 
     The map is a body on a plane with the row's ``diag_ratio = diagA m_eff``; the stiffness and
     impedance stay those of ``tuning``.  None where the map does not apply: no pressing load (the
@@ -187,7 +172,4 @@ def discrete_answer(contact, tuning, target, timestep):
     ratio = contact.engine_row["diagA"] * contact.effective_mass
     p = s.pack(stiffness=-tuning.solref[0], damping=-tuning.solref[1], impedance=tuning.impedance,
                diag_ratio=ratio)  # fmt: skip
-    v, a = contact.approach_speed, contact.accel
-    stats = over_phase("mujoco", p, timestep, v, a)
-    inverse = damping_for("mujoco", p, timestep, v, a, target)
-    return DiscreteAnswer(stats, inverse, float(timestep), ratio)
+    return step_answer("mujoco", p, contact, target, timestep, ratio)

@@ -19,13 +19,18 @@ import numpy as np
 
 from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
+from contactalpha.adapters.registry import adapter
+from contactalpha.scene.law_scene import EngineScene
 from contactalpha.scene.parameters import contact_parameters
+from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
 from . import write
+from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
+from .pybullet_model import collision_links, pybullet_drop
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
@@ -96,7 +101,9 @@ class Tuning:
     ``contact`` (MechanismContact), ``engine``, ``parameters`` (the engine's names and units),
     ``notes`` (text lines), ``output`` (the written path or None), ``delivered`` (the e_N of the
     engine's own drop with ``check``, else NaN), ``mass_change`` (relative change of m_eff over
-    that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``).
+    that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``),
+    ``discrete`` (``discrete.DiscreteAnswer`` of the engine's step map, or None where no step
+    was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous).
     """
 
     contact: object
@@ -108,6 +115,8 @@ class Tuning:
     mass_change: float = math.nan
     details: object = None
     drop: object = field(default=None, repr=False)
+    discrete: object = None
+    timestep: float | None = None
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
@@ -128,33 +137,49 @@ def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
         f"({t.free_body['solref'][0]:.9g}, {t.free_body['solref'][1]:.9g})",
     ]
     if step is not None:
-        st, inv = step.continuous, step.inverse
-        notes.append(
-            f"at MuJoCo's step {h:g} s the law's answer delivers a phase mean {st.mean:.6g} "
-            f"(one drop: {st.minimum:.6g} to {st.maximum:.6g}; {st.steps_min}-{st.steps_max} steps)"
-        )
-        use = discrete is True or abs(st.mean - target) > DISCRETE_TOL
-        if use and inv.status == "ok":
-            params["solref"] = (t.solref[0], -inv.damping)
-            notes.append(
-                f"discrete answer (phase-mean inverse of MuJoCo's step): solref[1] = "
-                f"{-inv.damping:.9g}; one drop sees {inv.stats.minimum:.6g} to {inv.stats.maximum:.6g}"
-            )
-        elif use:
-            notes.append(
-                f"no damping reaches e_N {target} at this step ({inv.status}); "
-                f"largest step that reaches it: {inv.timestep_reachable:.3g} s"
-            )
+        use, lines = _step_notes("MuJoCo", step, target, discrete, f"solref[1] = {-step.inverse.damping:.9g}")
+        notes += lines
+        if use:
+            params["solref"] = (t.solref[0], -step.inverse.damping)
     elif discrete is not False:
         notes.append(
             "MuJoCo's step map does not apply (no pressing load, or its integrator): continuous answer"
         )
     if row["condim"] > 1:
+        pyramid = (f"; the {row['cone']} cone's {row['rows']} edge rows act on the normal as one row "
+                   f"with their R over {row['rows']}" if row.get("rows", 1) > 1 else "")  # fmt: skip
         notes.append(
-            f"condim {row['condim']}: the correction is exact for the normal row "
-            "(condim 1 or an elliptic cone)"
+            f"condim {row['condim']}{pyramid}: exact for a contact whose tangential motion is decoupled "
+            "from the normal and that does not slide; friction coupled to the normal (a contact point "
+            "off the line of the normal's action) changes e_N: check with a drop"
         )
-    return params, notes, (t if step is None else replace(t, discrete=step))
+    return params, notes, (t if step is None else replace(t, discrete=step)), step
+
+
+def _step_notes(engine, step, target, discrete, written):
+    """``(use, notes)``: whether the step's phase-mean inverse replaces the continuous answer.
+
+    It does where the continuous answer's phase mean at the step misses ``target`` by more than
+    ``DISCRETE_TOL`` (``discrete`` None), always (True), and only where the inverse reached it.
+    """
+    st, inv = step.continuous, step.inverse
+    notes = [
+        f"at {engine}'s step {step.timestep:g} s the law's answer delivers a phase mean {st.mean:.6g} "
+        f"(one drop: {st.minimum:.6g} to {st.maximum:.6g}; {st.steps_min}-{st.steps_max} steps)"
+    ]
+    use = discrete is True or abs(st.mean - target) > DISCRETE_TOL
+    if use and inv.status == "ok":
+        notes.append(
+            f"discrete answer (phase-mean inverse of {engine}'s step at m_eff): {written}; "
+            f"one drop sees {inv.stats.minimum:.6g} to {inv.stats.maximum:.6g}"
+        )
+        return True, notes
+    if use:
+        notes.append(
+            f"no damping reaches e_N {target} at this step ({inv.status}; nearest phase mean "
+            f"{inv.nearest:.6g}); largest step that reaches it: {inv.timestep_reachable:.3g} s"
+        )
+    return False, notes
 
 
 def _write_mujoco(contact, output, params):
@@ -193,7 +218,37 @@ def _drake_tune(contact, target, stiffness, impedance, timestep, discrete):
     cp, params = _front_door(contact, target, stiffness, "drake")
     notes = [f"law {cp.law}: alpha = {cp.damping:.12g} at xi = {cp.xi:.9g}; each geometry gets 2k "
              "and d (Drake combines k1 k2/(k1 + k2), (k2 d1 + k1 d2)/(k1 + k2))"]  # fmt: skip
-    return params, notes, cp
+    return _engine_step(contact, "drake", cp, params, notes, target, timestep, discrete)
+
+
+def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete):
+    """The step's answer for Drake's discrete plant or PyBullet: its map at the contact's m_eff and load.
+
+    ``timestep`` None is the engine's ``discrete.ENGINE_STEPS`` default (None for Drake: its
+    continuous plant, no step).  Returns ``(params, notes, cp, step)`` with the block rebuilt from the
+    inverse's damping where ``_step_notes`` uses it.
+    """
+    es = ENGINE_STEPS[engine]
+    h = es.default_step if timestep is None else float(timestep)
+    if h is None or discrete is False:
+        return params, notes, cp, None
+    if contact.accel <= 0.0:
+        notes.append(f"{engine}'s step map needs a pressing load: the continuous answer is kept")
+        return params, notes, cp, None
+    s = stepper(engine)
+    step = step_answer(engine, es.parameters(params, contact), contact, target, h)
+    use, lines = _step_notes(
+        engine, step, target, discrete, f"{es.damping} = {step.inverse.damping:.9g} each"
+    )
+    lines.append(es.note)
+    if use:
+        zeta = float(s.law_damping(step.inverse.p, contact.approach_speed))
+        a = adapter(engine)
+        settings = replace(a.settings, **{s.step_setting: h})
+        k = float(params["pair_stiffness"])
+        scene = EngineScene(contact.effective_mass, k, contact.approach_speed, None)
+        params = a.parameters(zeta, scene, settings)
+    return params, notes + lines, cp, step
 
 
 def _write_drake(contact, output, params):
@@ -207,13 +262,14 @@ def _stamp(contact):
 
 def _pybullet_tune(contact, target, stiffness, impedance, timestep, discrete):
     cp, params = _front_door(contact, target, stiffness, "pybullet")
-    notes = [f"law {cp.law}: zeta = {cp.damping:.12g} at xi = {cp.xi:.9g} (continuous law at m_eff; "
-             "Bullet's own step and its multibody solver are not modelled: check with a drop)"]  # fmt: skip
-    return params, notes, cp
+    notes = [f"law {cp.law}: zeta = {cp.damping:.12g} at xi = {cp.xi:.9g} (continuous law at m_eff)"]
+    return _engine_step(contact, "pybullet", cp, params, notes, target, timestep, discrete)
 
 
 def _write_pybullet(contact, output, params, notes):
-    return write.write_pybullet(contact.model, output, contact.pair, params, notes)
+    urdf = Path(contact.model).suffix.lower() == ".urdf"
+    links = collision_links(contact.model, contact.pair) if urdf else (None, None)
+    return write.write_pybullet(contact.model, output, contact.pair, params, notes, links)
 
 
 def _need(stiffness, engine):
@@ -237,7 +293,7 @@ class Tuner:
 TUNERS = (
     Tuner("mujoco", "mujoco", ".xml", _mujoco_tune, lambda c, o, p, n: _write_mujoco(c, o, p), True),
     Tuner("drake", "drake", ".sdf", _drake_tune, lambda c, o, p, n: _write_drake(c, o, p), True),
-    Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, False),
+    Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, True),
 )
 TUNER_NAMES = tuple(t.name for t in TUNERS)
 
@@ -278,12 +334,15 @@ def tune(
     forces : {body: (fx, fy, fz)} constant forces, N, at bodies' centres of mass, world axes.
     impedance : MuJoCo's constant solimp d.
     output : path written (None: nothing written).
-    check : drop the tuned model in the engine from touchdown (MuJoCo, Drake; needs ``output``
-        for Drake) and report the delivered e_N and the effective mass's change.
-    timestep : MuJoCo's step, s (default the model's): the discrete answer's and the check's.
-    discrete : MuJoCo: None uses the phase-mean inverse of MuJoCo's step map (``stepping``) where
-        the continuous answer's phase mean at the step misses the target by more than
-        ``DISCRETE_TOL``; True always, False never.
+    check : drop the tuned model in the engine from touchdown and report the delivered e_N
+        (MuJoCo also the effective mass's change).  Drake and PyBullet need ``output``; PyBullet
+        drops the URDF with the written script (``pybullet_model.pybullet_drop``).
+    timestep : the engine's step, s: the discrete answer's and the check's.  Default: MuJoCo's
+        model step; PyBullet's 1/240 s; Drake's continuous plant (no step; give one for the
+        discrete plant, e.g. its default 1e-3).
+    discrete : None uses the phase-mean inverse of the engine's step map (``stepping``, at the
+        contact's m_eff and load; ``discrete``) where the continuous answer's phase mean at the
+        step misses the target by more than ``DISCRETE_TOL``; True always, False never.
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
@@ -298,14 +357,15 @@ def tune(
         write.check_output(model, output)
     reader = t.reader if t.reader is not None else None
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
-    params, notes, details = t.solve(contact, target, stiffness, impedance, timestep, discrete)
+    params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
     if not contact.at_touch:
         notes.append(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
             "values are at it, not at first touch"
         )
     written = t.write(contact, output, params, notes) if output is not None else None
-    result = Tuning(contact, t.name, params, notes, written, details=details)
+    h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
+    result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h)
     if refine:
         if t.name != "mujoco" or output is None:
             raise ValueError("refine works with engine 'mujoco' and an output file")
@@ -332,7 +392,7 @@ def _refined(result, target, timestep):
     _write_mujoco(c, result.output, params)
     notes = [*result.notes, f"refined on MuJoCo's drop from touchdown: zeta {tuning.zeta:.9g} -> "
              f"{ref.damping:.9g} ({ref.status}; the law's value delivered {ref.e_n_start:.6g})"]  # fmt: skip
-    return Tuning(c, result.engine, params, notes, result.output, details=tuning)
+    return replace(result, parameters=params, notes=notes)
 
 
 def _checked(result, timestep, refined=False):
@@ -340,15 +400,21 @@ def _checked(result, timestep, refined=False):
     if result.engine == "mujoco":
         source = result.output if result.output is not None else _in_memory_mjcf(result)
         drop = mujoco_drop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
-        change = drop.mass_change
+    elif result.output is None:
+        raise ValueError(f"check with engine {result.engine!r} needs output (the tuned model or script)")
+    elif result.engine == "pybullet":
+        if Path(c.model).suffix.lower() != ".urdf":
+            raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
+        drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
+                             speed=c.approach_speed, joint_names=_joint_names(c))  # fmt: skip
     else:
-        if result.output is None:
-            raise ValueError("check with engine 'drake' needs output (the tuned model file)")
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
-        e, _, _ = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
-                             report=period / DRAKE_SAMPLES)  # fmt: skip
-        drop, change = None, math.nan
-    delivered = drop.e_n if drop is not None else e
+        step = result.timestep
+        drop = drake_drop(result.output, c.pair, c.qpos, c.qvel, forces=c.forces,
+                          report=period / DRAKE_SAMPLES if step is None else step,
+                          time_step=0.0 if step is None else step)  # fmt: skip
+    change = drop.mass_change
+    delivered = drop.e_n
     notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
     if np.isfinite(change):
         notes.append(f"effective mass moves by {change:.3g} (relative) over the contact")
@@ -356,11 +422,30 @@ def _checked(result, timestep, refined=False):
             warnings.warn(
                 f"the effective mass moves by {change:.3g} over the contact (above {MASS_CHANGE_WARN}): "
                 + ("refined on this drop, it holds for this touchdown state only" if refined
-                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"),
+                   else "the law is solved at touchdown's value: refine on the engine's drop (refine=True)"
+                   if result.engine == "mujoco" else
+                   f"the law and the step map are solved at touchdown's value; {result.engine} delivers "
+                   f"{delivered:.4g}"),
                 MassChangeWarning, stacklevel=3,
             )  # fmt: skip
-    return Tuning(result.contact, result.engine, result.parameters, notes, result.output, delivered, change,
-                  result.details, drop)  # fmt: skip
+    return replace(result, notes=notes, delivered=delivered, mass_change=change, drop=drop)
+
+
+def _joint_names(contact):
+    """The joints of the reader's coordinates, by name (MuJoCo's reader; None for Drake's: URDF order)."""
+    if contact.engine != "mujoco":
+        return None
+    m = load_model(contact.model)
+    return [m.joint(i).name for i in range(m.njnt)]
+
+
+def _step_of(engine, contact, timestep):
+    """The step ``tune`` works at when no step map ran: MuJoCo's model step, the engines' defaults."""
+    if timestep is not None:
+        return float(timestep)
+    if engine in ENGINE_STEPS:
+        return ENGINE_STEPS[engine].default_step
+    return float(contact.engine_row["timestep"])  # MuJoCo: the model's
 
 
 def _in_memory_mjcf(result):

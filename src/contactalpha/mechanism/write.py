@@ -6,9 +6,11 @@
   MuJoCo compiles from it (``mj_saveLastXML``) with the pair added; MuJoCo writes that file with
   6 significant digits, so its poses and inertias (and m_eff) differ from the URDF's by ~1e-6.
 - SDF or URDF for Drake: ``<drake:proximity_properties>`` in each of the two ``<collision>``
-  elements (Drake has no per-pair parameters; ``internal::CombinePointContactParameters``
-  combines the two geometries', so each gets ``2k`` and the dissipation ``d``).
-- PyBullet: a short Python script of ``changeDynamics`` calls (each body ``2k`` and ``c/2``).
+  elements, a URDF's values in ``value`` attributes, an SDF's as text (Drake has no per-pair
+  parameters; ``internal::CombinePointContactParameters`` combines the two geometries', so each
+  gets ``2k`` and the dissipation ``d``).
+- PyBullet: a short Python script of ``changeDynamics`` calls (each body ``2k`` and ``c/2``), with
+  ``apply_to(body)`` finding the two URDF links by name.
 
 A relative asset folder or include of the model is made absolute when the output lies in another
 folder, so the written file loads from where it is.
@@ -118,7 +120,10 @@ def write_drake(model_path, output, pair, per_geometry, *, stamp="tuned"):
             elem = props.find(f"{{{DRAKE_NS}}}{key}")
             if elem is None:
                 elem = ET.SubElement(props, f"{{{DRAKE_NS}}}{key}")
-            elem.text = repr(float(value))
+            if root.tag == "robot":  # URDF: Drake reads the value attribute
+                elem.set("value", repr(float(value)))
+            else:  # SDF: the element's text
+                elem.text = repr(float(value))
     _absolute_uris(root, Path(model_path).parent, out.parent)
     _stamp(root, stamp)
     ET.indent(root)
@@ -141,24 +146,56 @@ def _absolute_uris(root, source_dir, out_dir):
 PYBULLET_SCRIPT = '''"""contactalpha tune: PyBullet contact parameters for {pair0} / {pair1} of {model}.
 
 {notes}
+
+Load the model as the values assume: ``loadURDF(path, useFixedBase=..., flags=URDF_USE_SELF_COLLISION
+| URDF_USE_INERTIA_FROM_FILE)`` (without the second flag PyBullet recomputes the inertias from the
+collision shapes, and the effective mass differs).  The values are for a frictionless contact
+without PyBullet's link damping (linearDamping, angularDamping 0.04 by default) and with the
+joints' default velocity motors switched off (setJointMotorControlArray with forces 0).
 """
 
 import pybullet as pb
+
+# The URDF links that carry the two geometries (None: the model is not a URDF).
+LINKS = ({link0!r}, {link1!r})
+CONTACT_STIFFNESS = {k!r}
+CONTACT_DAMPING = {c!r}
 
 
 def apply(body_a, link_a, body_b, link_b, client=0):
     """Set the tuned stiffness and damping on both sides of the contact (after loading the model)."""
     for body, link in ((body_a, link_a), (body_b, link_b)):
-        pb.changeDynamics(body, link, contactStiffness={k!r}, contactDamping={c!r}, physicsClientId=client)
+        pb.changeDynamics(body, link, contactStiffness=CONTACT_STIFFNESS, contactDamping=CONTACT_DAMPING,
+                          physicsClientId=client)
+
+
+def link_index(body, name, client=0):
+    """PyBullet's index of the link called ``name`` in ``body`` (-1 for the base)."""
+    if pb.getBodyInfo(body, physicsClientId=client)[0].decode() == name:
+        return -1
+    for j in range(pb.getNumJoints(body, physicsClientId=client)):
+        if pb.getJointInfo(body, j, physicsClientId=client)[12].decode() == name:
+            return j
+    raise ValueError(f"no link {{name!r}} in body {{body}}")
+
+
+def apply_to(body, client=0, other=None):
+    """``apply`` for the URDF loaded as ``body`` (both links in it, or the second in ``other``)."""
+    other = body if other is None else other
+    apply(body, link_index(body, LINKS[0], client), other, link_index(other, LINKS[1], client), client)
 '''
 
 
-def write_pybullet(model_path, output, pair, params, notes):
-    """Write a Python script applying ``params`` (per-body ``contactStiffness``, ``contactDamping``)."""
+def write_pybullet(model_path, output, pair, params, notes, links=(None, None)):
+    """Write a Python script applying ``params`` (per-body ``contactStiffness``, ``contactDamping``).
+
+    ``links``: the URDF link names of the two geometries (the script's ``apply_to`` finds them).
+    """
     out = check_output(model_path, output)
     text = PYBULLET_SCRIPT.format(
         pair0=pair[0], pair1=pair[1], model=model_path, notes="\n".join(notes),
         k=float(params["contactStiffness"]), c=float(params["contactDamping"]),
+        link0=links[0], link1=links[1],
     )  # fmt: skip
     write_text_atomic(out, text)
     return out

@@ -25,43 +25,54 @@ import numpy as np
 from numba import njit
 
 from contactalpha.adapters.registry import check_radius_used, engine_parameters
-from contactalpha.engine.firstcall import FirstCall
-from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, xi_of_load_kernel
-from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
+from contactalpha.engine.firstcall import twin_rows
+from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, scales_kernel, xi_of_load_kernel
+from contactalpha.engine.table import EPS_MIN, XI_MAX, tabulated_or_nan
+from contactalpha.engine.threads import flat_owned, run_rows
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
-from contactalpha.laws.fast import ENGINE_TABLE
+from contactalpha.laws.fast import ENGINE_TABLE, fast_damping_unchecked
+from contactalpha.laws.maps import impact_unchecked
 from contactalpha.validation import check_range
 
 from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
 from .result import ContactParameters, Deferred
 
 
-@njit(cache=True, error_model="numpy")
-def _xi_of_loads(A):
-    """``engine.scaling``'s Eq. 10 (its jitted ``xi_of_load_kernel``) over an array, in one loop."""
-    out = np.empty(A.size)
-    flat = A.ravel()
-    for i in range(flat.size):
-        out[i] = xi_of_load_kernel(flat[i])
-    return out.reshape(A.shape)
+@twin_rows
+@njit(cache=True, nogil=True, error_model="numpy")
+def _hertz_load_factor_rows(mass, stiffness, speed, accel, xi, scale_ok, start, stop):
+    """Rows ``start .. stop - 1`` of the load factor: delta_star, A and Eq. 10, into ``xi``.
 
-
-# Its first calls on a cold numba cache run as its Python twin (``engine.firstcall``).
-_xi_of_loads_first = FirstCall(_xi_of_loads)
+    ``engine.scaling``'s delta_star, ``A = a delta_star / v^2`` and its Eq. 10
+    (``xi_of_load_kernel``); NaN where A is not below ``A_ROUNDS_TO_ONE`` or xi rounds to 1;
+    ``scale_ok`` False where delta_star or t_star is beyond the doubles.
+    """
+    for i in range(start, stop):
+        v = speed[i]
+        d, t = scales_kernel(mass[i], stiffness[i], v)
+        scale_ok[i] = 0.0 < d < np.inf and 0.0 < t < np.inf
+        A = accel[i] * d / (v * v)
+        x = xi_of_load_kernel(A) if A < A_ROUNDS_TO_ONE else np.nan
+        xi[i] = x if x < 1.0 else np.nan
 
 
 def hertz_load_factor(mass, stiffness, approach_speed, accel):
     """The paper's influence factor xi (Eq. 10) of arrays of Hunt-Crossley scenes.
 
-    ``engine.scaling.influence_factor``'s direct path (``A = a delta* / v^2``), with Eq. 10 solved
-    in one compiled loop; a load so large that xi rounds to 1 gives NaN here.
+    ``engine.scaling.influence_factor``'s direct path (``A = a delta* / v^2``), each row in one
+    compiled pass (in ``engine.threads``' threads); a load so large that xi rounds to 1 gives NaN
+    here, a scene whose length or time scale is beyond the doubles the ``ValueError`` of
+    ``engine.scaling.length_scale``.
     """
-    with np.errstate(all="ignore"):
-        A = accel * length_scale(mass, stiffness, approach_speed) / approach_speed**2
-    A = np.where(np.isfinite(A) & (A < A_ROUNDS_TO_ONE), A, np.nan)
-    xi = _xi_of_loads_first(np.ascontiguousarray(A, dtype=float))
-    return np.where(xi < 1.0, xi, np.nan)
+    m, k, v, a = np.broadcast_arrays(mass, stiffness, approach_speed, accel)
+    xi = np.empty(m.shape)
+    scale_ok = np.empty(m.shape, dtype=np.bool_)
+    flat = [flat_owned(x) for x in (m, k, v, a)]
+    run_rows(_hertz_load_factor_rows, xi.size, *flat, xi.reshape(-1), scale_ok.reshape(-1))
+    if not scale_ok.all():
+        length_scale(mass, stiffness, approach_speed)  # raises, naming the first such scene
+    return xi
 
 
 def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
@@ -95,11 +106,11 @@ def _load_factor(law):
 
 
 def law_load_factor(law, mass, stiffness, approach_speed, accel):
-    """Load factor xi of arrays of scenes of ``law``; NaN where the load is so large that it rounds to 1."""
-    A = np.asarray(law.load(mass, stiffness, approach_speed, accel), dtype=float)
+    """Load factor xi of checked scenes of ``law``; NaN where the load is so large that xi rounds to 1."""
+    A = np.asarray(law.load_unchecked(mass, stiffness, approach_speed, accel), dtype=float)
     xi = np.full(A.shape, np.nan)
     finite = np.isfinite(A)
-    xi[finite] = law.load_factor(A[finite])
+    xi[finite] = law.load_factor_unchecked(A[finite])
     return np.where(xi < 1.0, xi, np.nan)
 
 
@@ -148,6 +159,7 @@ def batched_parameters(
     restitution="kinematic",
     law="hunt_crossley",
     radius=None,
+    force=None,
 ):
     """Every engine's parameters for arrays of scenes (see the module docstring).
 
@@ -155,8 +167,8 @@ def batched_parameters(
     ----------
     mass, stiffness, approach_speed : array_like
         kg, the law's physical stiffness (N/m^1.5 for n = 3/2, N/m for n = 1), m/s; all > 0.
-    accel : array_like
-        Acceleration of the load pressing the bodies together, m/s^2 (>= 0).
+    accel : array_like or None
+        Acceleration of the load pressing the bodies together, m/s^2 (>= 0); None with ``force``.
     target : array_like
         Target restitution in (0, 1].
     restitution : {"kinematic", "energetic"}
@@ -165,6 +177,8 @@ def batched_parameters(
         The contact law (``contactalpha.laws``).
     radius : array_like, optional
         Sphere radius, m (adds OpenSim's stiffness).
+    force : array_like, optional
+        The load as a force, N (>= 0), instead of ``accel``: ``accel = force / mass``.
 
     Returns
     -------
@@ -178,7 +192,12 @@ def batched_parameters(
         check_rows(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
-    a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
+    if (accel is None) == (force is None):
+        raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
+    if force is None:
+        a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
+    else:
+        a = check_rows("force", force, 0.0, np.inf, hi_open=True) / m
     e = check_rows(name, target, 0.0, 1.0, lo_open=True)
     r = None if radius is None else check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
     m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
@@ -186,12 +205,12 @@ def batched_parameters(
     load_factor = _load_factor(law)
     xi = load_factor(m, k, v, a)
     lo_e, hi_xi = _domain(law)
-    inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
-    damping = np.full(e.shape, np.nan)
     if law.fast is ENGINE_TABLE:  # n = 3/2: the front door's own xi and table, bit for bit
-        damping[inside] = alpha_tabulated(e[inside], xi[inside], restitution=restitution)
+        damping = tabulated_or_nan(e, xi, restitution)  # NaN outside [EPS_MIN, 1] x [0, XI_MAX]
     else:
-        damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
+        inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
+        damping = np.full(e.shape, np.nan)
+        damping[inside] = fast_damping_unchecked(law, e[inside], xi[inside], restitution)
     ok = np.isfinite(damping)
     p = np.where(ok, damping, 0.0)
 
@@ -202,7 +221,7 @@ def batched_parameters(
         # Each row's impact, integrated once when one of its fields is first read (``Deferred``);
         # a row whose impact fails reads NaN there.
         if "hit" not in cache:
-            cache["hit"] = law.impact(p, np.where(ok, xi, 0.0))
+            cache["hit"] = impact_unchecked(law, p, np.where(ok, xi, 0.0))
         hit = cache["hit"]
         return hit, ok & (np.asarray(hit.status) == "ok")
 
@@ -227,7 +246,7 @@ def batched_parameters(
         xi=rows(xi),
         damping_name=law.damping,
         damping=rows(damping),
-        physical_damping=rows(law.physical_damping(p, m, k, v)),
+        physical_damping=rows(law.physical_damping_unchecked(p, m, k, v)),
         physical_unit=law.physical_unit,
         eps=impact_field("eps"),
         e_n=impact_field("e_n"),
@@ -235,7 +254,7 @@ def batched_parameters(
         ok=ok,
         reason=_reasons(law, e, xi, ok),
         accel=a,
-        delta_star=rows(law.length_scale(m, k, v)),
+        delta_star=rows(law.length_scale_unchecked(m, k, v)),
         source=np.where(ok, "table" if law.fast is ENGINE_TABLE else law.fast.name, "none"),
         engines={name: {key: _masked(x, ok) for key, x in block.items()} for name, block in engines.items()},
         e_n_half_speed=speed_field(SPEED_FACTORS[0]),
