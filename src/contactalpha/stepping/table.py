@@ -20,7 +20,7 @@ estimate (``O_ERROR``): the largest change of the mean at the root when one of t
 four-node stencils (damping, step, load) is shifted by one node either way.  A row whose estimate exceeds ``ERROR_TOL``, or that lies outside the
 grid, gets the status ``INACCURATE`` or ``OUTSIDE`` and no number: the front door solves those
 rows exactly (``inverse.damping_for``).  The estimate is checked against the exact inverse at
-random scenes in ``tests/stepping/test_table.py``.
+random scenes in ``tests/stepping/test_step_table.py``.
 
 A table file is refused, never evaluated, when its format, grid or SHA-256 differ from what it
 records (``load_step_table``).
