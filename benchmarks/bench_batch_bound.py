@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+from bench_core import best_of  # this folder's runner (a script's folder is on sys.path)
 from numba import njit
 
 from contactalpha.engine import scaling
@@ -96,14 +97,15 @@ def steps_taken(A):
     """Newton steps (the confirming one included) until ``xi_of_load_kernel`` stops, and 2-cycles."""
     steps, cycles = [], 0
     for a in A:
-        xm, before = (1.0 + 2.0 * a) ** (2.0 / 3.0), np.nan
-        for s in range(scaling.XI_NEWTON_STEPS):
+        xm, before, taken = (1.0 + 2.0 * a) ** (2.0 / 3.0), np.nan, 0
+        while taken < scaling.XI_NEWTON_STEPS:
             nxt = scaling._xi_newton_step(a, xm)
+            taken += 1
             if nxt == xm or nxt == before:
                 cycles += nxt == before
                 break
             before, xm = xm, nxt
-        steps.append(s + 1)
+        steps.append(taken)
     return float(np.mean(steps)), cycles / len(A)
 
 
@@ -118,15 +120,6 @@ def edge_fraction(e_n, xi):
     return float(hits.mean())
 
 
-def best(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
-
-
 def measure(n, repeat):
     rng = np.random.default_rng(0)
     m, k = rng.uniform(0.1, 2.0, n), 10.0 ** rng.uniform(6.0, 9.0, n)
@@ -138,13 +131,13 @@ def measure(n, repeat):
     r["compile_s"] = time.perf_counter() - t
     xi = hertz_load_factor(m, k, v, a)
     alpha_tabulated(e[:8], xi[:8], restitution="kinematic")
-    r["front"] = best(lambda: contact_parameters(**scenes), repeat)
-    r["table"] = best(lambda: alpha_tabulated(e, xi, restitution="kinematic"), repeat)
+    r["front"] = best_of(lambda: contact_parameters(**scenes), repeat)
+    r["table"] = best_of(lambda: alpha_tabulated(e, xi, restitution="kinematic"), repeat)
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        r["front_1"] = best(lambda: contact_parameters(**scenes), repeat)
-        r["table_1"] = best(lambda: alpha_tabulated(e, xi, restitution="kinematic"), repeat)
+        r["front_1"] = best_of(lambda: contact_parameters(**scenes), repeat)
+        r["table_1"] = best_of(lambda: alpha_tabulated(e, xi, restitution="kinematic"), repeat)
     finally:
         numba.set_num_threads(threads)
     # The stages, one thread, by their own kernels.
@@ -159,14 +152,14 @@ def measure(n, repeat):
         (kinematic_alpha_from_table_rows, (e, xi, *tab, out, 0, 8)),
     ):
         f(*[x[:8] if isinstance(x, np.ndarray) else x for x in args])
-    r["scales"] = best(lambda: _scales_loop(m, k, v, out), repeat)
-    r["newton"] = best(lambda: _newton_loop(A, out), repeat)
-    r["newton_before"] = best(lambda: _newton_before(A, out), repeat)
-    r["load_kernel"] = best(lambda: _hertz_load_factor_rows(m, k, v, a, out, ok, 0, n), repeat)
-    r["lookup_kernel"] = best(lambda: kinematic_alpha_from_table_rows(e, xi, *tab, out, 0, n), repeat)
+    r["scales"] = best_of(lambda: _scales_loop(m, k, v, out), repeat)
+    r["newton"] = best_of(lambda: _newton_loop(A, out), repeat)
+    r["newton_before"] = best_of(lambda: _newton_before(A, out), repeat)
+    r["load_kernel"] = best_of(lambda: _hertz_load_factor_rows(m, k, v, a, out, ok, 0, n), repeat)
+    r["lookup_kernel"] = best_of(lambda: kinematic_alpha_from_table_rows(e, xi, *tab, out, 0, n), repeat)
     lo = e < 0.55
     e_in, xi_in = np.ascontiguousarray(e[lo]), np.ascontiguousarray(xi[lo])
-    r["lookup_inner"] = best(
+    r["lookup_inner"] = best_of(
         lambda: kinematic_alpha_from_table_rows(e_in, xi_in, *tab, out, 0, e_in.size), repeat
     ) * (n / e_in.size)
     r["edge_share"] = edge_fraction(e, xi)
@@ -174,7 +167,7 @@ def measure(n, repeat):
     x = rng.uniform(1.0, 2.0, n)
     for which, name in enumerate(("pow", "log", "exp")):
         _libm(x[:8], which)
-        r[name] = best(lambda w=which: _libm(x, w), repeat)
+        r[name] = best_of(lambda w=which: _libm(x, w), repeat)
     r["load_after"] = os.getloadavg()[0]
     return r
 

@@ -35,3 +35,9 @@ def mjx(jax):
 def mujoco_warp():
     _require("warp", 'pip install -e ".[batched-engines]"')
     return _require("mujoco_warp", 'pip install -e ".[batched-engines]"')
+
+
+@pytest.fixture(scope="session")
+def newton():
+    _require("warp", 'pip install -e ".[batched-engines]"')
+    return _require("newton", 'pip install -e ".[batched-engines]"')

@@ -105,8 +105,13 @@ def impact(law, p, xi, **settings):
     """Both restitutions and the end state at damping ``p`` and load factor ``xi`` (broadcast)."""
     settings = check_settings(law, settings)
     pp = check_range(law.damping, p, 0.0, np.inf, hi_open=True)
-    xx = check_load_factor(law, xi)
-    pp, xx = np.broadcast_arrays(pp, xx)
+    return impact_unchecked(law, pp, check_load_factor(law, xi), settings)
+
+
+def impact_unchecked(law, p, xi, settings=None):
+    """``impact`` of a damping, a load factor and settings already checked: for the inner layers."""
+    settings = {} if settings is None else settings
+    pp, xx = np.broadcast_arrays(np.asarray(p, dtype=float), np.asarray(xi, dtype=float))
     shape = pp.shape
     pf = np.ascontiguousarray(pp, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
@@ -162,8 +167,13 @@ def damping_for(law, target, xi, restitution="energetic", **settings):
     """
     settings = check_settings(law, settings)
     tt = check_target(law, target, restitution)
-    xx = check_load_factor(law, xi)
-    tt, xx = np.broadcast_arrays(tt, xx)
+    return damping_for_unchecked(law, tt, check_load_factor(law, xi), restitution, settings)
+
+
+def damping_for_unchecked(law, target, xi, restitution, settings=None):
+    """``damping_for`` of a target, a load factor and settings already checked: for the inner layers."""
+    settings = {} if settings is None else settings
+    tt, xx = np.broadcast_arrays(np.asarray(target, dtype=float), np.asarray(xi, dtype=float))
     shape = tt.shape
     tf = np.ascontiguousarray(tt, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()

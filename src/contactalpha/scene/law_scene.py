@@ -15,6 +15,7 @@ from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.codes import NO_BRACKET, OK, STATUS
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
+from contactalpha.laws.maps import damping_for_unchecked, impact_unchecked
 
 from .result import ContactParameters
 
@@ -39,13 +40,13 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
     blocks (``adapters.registry.engine_parameters``) convert it to their own units.
     """
     law = get_law(law)
-    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
+    xi = float(law.scene_load_factor_unchecked(mass, stiffness, approach_speed, accel))
     if value == 0.0:
         raise ValueError(
             f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
             f"of law {law.name!r}"
         )
-    sol = law.damping_for(value, xi, restitution)
+    sol = damping_for_unchecked(law, value, xi, restitution)
     if not sol.ok:
         raise RuntimeError(
             f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} "
@@ -61,7 +62,7 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         xi=xi,
         damping_name=law.damping,
         damping=p,
-        physical_damping=float(law.physical_damping(p, mass, stiffness, approach_speed)),
+        physical_damping=float(law.physical_damping_unchecked(p, mass, stiffness, approach_speed)),
         physical_unit=law.physical_unit,
         eps=float(sol.eps),
         e_n=float(sol.e_n),
@@ -69,7 +70,7 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         ok=True,
         reason="",
         accel=accel,
-        delta_star=float(law.length_scale(mass, stiffness, approach_speed)),
+        delta_star=float(law.length_scale_unchecked(mass, stiffness, approach_speed)),
         source="solver",
         engines=engine_parameters(law, p, scene),
         e_n_half_speed=e_n_half,
@@ -88,12 +89,13 @@ def fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, factor, lo
     speed = np.asarray(approach_speed, dtype=float) * factor
     with np.errstate(all="ignore"):
         if load_factor is None:
-            xi = np.asarray(law.load_factor(law.load(mass, stiffness, speed, accel)), dtype=float)
+            A = law.load_unchecked(mass, stiffness, speed, accel)
+            xi = np.asarray(law.load_factor_unchecked(A), dtype=float)
         else:
             xi = np.asarray(load_factor(mass, stiffness, speed, accel), dtype=float)
     p_f = np.asarray(p, dtype=float) * factor ** -law.damping_unit[3]
     good = np.isfinite(p_f) & (xi < 1.0)
-    r = law.impact(np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
+    r = impact_unchecked(law, np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
     e_n = np.where(good & (np.asarray(r.status) == "ok"), r.e_n, np.nan)
     return float(e_n) if e_n.ndim == 0 else e_n
 

@@ -7,8 +7,9 @@ carries ``geom_solref`` and ``geom_solimp`` (both geoms: MuJoCo takes the minimu
 solrefs and the mean of the solimps, the values themselves for equal ones), ``body_mass`` with
 the contact's inverse weight ``body_invweight0`` (MuJoCo's regulariser reads it; it scales as
 1/m for this body) and ``opt.timestep``; ``jax.vmap`` maps over exactly these fields
-(``in_axes``: None elsewhere).  Each world starts at touchdown (phase 0 of its first step,
-``adapters.stepped.touchdown_state``) and its e_N is read by ``adapters.stepped.measure_steps``.
+(``in_axes``: None elsewhere).  Each world starts a given fraction of a step before touchdown
+(its phase; 0 by default, ``adapters.stepped.touchdown_state``), and its e_N is read by
+``adapters.stepped.measure_steps``.
 """
 
 from types import SimpleNamespace
@@ -56,13 +57,21 @@ def batched_model(model, mass, solref, solimp, timestep):
     return batched, in_axes
 
 
-def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep):
-    """Heights ``z`` (m above touchdown) and upward speeds ``v`` of every world, shape (n, nstep + 1)."""
+def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep, phase=0.0):
+    """Heights ``z`` (m above touchdown) and upward speeds ``v`` of every world, shape (n, nstep + 1).
+
+    ``phase`` (per world or one for all, in [0, 1)): the fraction of a step before touchdown at
+    which each world starts (``adapters.stepped.touchdown_state``).
+    """
     from mujoco import mjx
 
     batched, in_axes = batched_model(model, mass, solref, solimp, timestep)
+    phase = np.broadcast_to(np.asarray(phase, dtype=float), np.shape(mass))
     start = np.array(
-        [touchdown_state(v, a, h, 0.0) for v, a, h in zip(approach_speed, accel, timestep, strict=True)]
+        [
+            touchdown_state(v, a, h, f)
+            for v, a, h, f in zip(approach_speed, accel, timestep, phase, strict=True)
+        ]
     )
     data = mjx.make_data(mjx.put_model(model))
     push = -np.asarray(mass) * np.asarray(accel)

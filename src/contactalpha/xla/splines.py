@@ -2,15 +2,23 @@
 
 The same splines as ``engine.bspline`` (coefficients from the shipped files): the span comes from
 the uniform grid (``engine.bspline._uniform_span``: the interval holding ``x``, clamped to the
-grid), the six non-zero basis functions from de Boor's recursion (L. Piegl & W. Tiller, *The NURBS
-Book*, algorithm A2.2) on the grid's clamped knots, which covers the ends too.  Several
-splines of one table (its regions) are stacked, padded to the largest, and picked per point by a
-region index, so that a point costs one spline whatever its region.
+grid).  A 1-D spline (a table's cut curves) takes its six non-zero basis functions from de Boor's
+recursion (L. Piegl & W. Tiller, *The NURBS Book*, algorithm A2.2) on the grid's clamped knots,
+which covers the ends too.  A 2-D spline is stored per grid cell as its polynomial: on each cell
+a tensor quintic is ``sum_mq P[m, q] dx^m dy^q`` exactly, in the offsets ``dx``, ``dy`` from the
+cell's centre, its 36 Taylor coefficients computed once from the B-spline by SciPy (derivatives
+at the centre); a point then reads one contiguous row of 36 numbers and runs Horner's scheme,
+where the B-spline form gathered 36 scattered coefficients and ran two basis recursions (the
+polynomial agrees with it to 3e-14 in the tables' ``L``).  Several splines of one table (its
+regions) are stacked, padded to the largest, and picked per point by a region index, so that a
+point costs one spline whatever its region.
 
-A stacked spline is a dict of arrays: ``c`` (R, nx + 4, ny + 4) coefficients and ``grid`` (R, 6):
-(first node, spacing, node count) per direction.  ``stack`` checks that the stored knots are the
-grid's (the evaluator computes them).
+A stacked spline is a dict of arrays: ``pp`` (R, nx - 1, ny - 1, 36) cell polynomials and ``grid``
+(R, 6): (first node, spacing, node count) per direction.  ``stack`` checks that the stored knots
+are the grid's (the evaluator computes them).
 """
+
+import math
 
 import jax.numpy as jnp
 import numpy as np
@@ -58,15 +66,37 @@ def eval_1d(c, grid, x):
 def eval_2d(spl, region, x, y):
     """Value at ``(x, y)`` of region ``region``'s tensor spline of the stacked ``spl``."""
     grid = spl["grid"][region]
-    jx, X, nx = _span(x, grid[..., :3])
-    jy, Y, ny = _span(y, grid[..., 3:])
-    Nx = _basis(jx, X, nx)
-    Ny = _basis(jy, Y, ny)
-    k = jnp.arange(DEGREE + 1)
-    ix = (jx.astype(jnp.int32)[..., None] + k)[..., :, None]
-    iy = (jy.astype(jnp.int32)[..., None] + k)[..., None, :]
-    block = spl["c"][region[..., None, None], ix, iy]
-    return jnp.einsum("...i,...ij,...j->...", Nx, block, Ny)
+    jx, X, _ = _span(x, grid[..., :3])
+    jy, Y, _ = _span(y, grid[..., 3:])
+    dx = (X - jx - 0.5) * grid[..., 1]
+    dy = (Y - jy - 0.5) * grid[..., 4]
+    P = spl["pp"][region, jx.astype(jnp.int32), jy.astype(jnp.int32)]  # (..., 36): P[m, q] at 6 m + q
+    value = jnp.zeros_like(dx)
+    for m in range(DEGREE, -1, -1):
+        row = P[..., 6 * m + DEGREE]
+        for q in range(DEGREE - 1, -1, -1):
+            row = row * dy + P[..., 6 * m + q]
+        value = value * dx + row
+    return value
+
+
+def cell_polynomials(tx, ty, c, grid):
+    """Taylor coefficients ``P[jx, jy, 6 m + q]`` of a tensor quintic about each cell's centre.
+
+    ``P[.., 6 m + q]`` multiplies ``dx^m dy^q``; ``(tx, ty, c)`` the B-spline, ``grid`` its
+    (first node, spacing, node count) per direction.  Along x, then along y, the m-th derivative
+    at the centre over m!: the quintic is one polynomial on each cell, so this is exact.
+    """
+    from scipy.interpolate import BSpline
+
+    x0, hx, nx, y0, hy, ny = (float(v) for v in grid)
+    mid_x = x0 + (np.arange(int(nx) - 1) + 0.5) * hx
+    mid_y = y0 + (np.arange(int(ny) - 1) + 0.5) * hy
+    along_x = BSpline(tx, c, DEGREE)
+    dx = np.stack([along_x(mid_x, nu=m) / math.factorial(m) for m in range(DEGREE + 1)], axis=-1)
+    along_y = BSpline(ty, np.moveaxis(dx, 1, 0), DEGREE)  # (ny + 4, nx - 1, 6): y-coefficients
+    P = np.stack([along_y(mid_y, nu=q) / math.factorial(q) for q in range(DEGREE + 1)], axis=-1)
+    return np.moveaxis(P, 0, 1).reshape(int(nx) - 1, int(ny) - 1, (DEGREE + 1) ** 2)
 
 
 def grid_knots(grid):
@@ -87,8 +117,9 @@ def stack(regions):
     for r, (tx, ty, _, grid) in enumerate(regions):
         check_knots(tx, grid[:3], f"region {r}, first axis")
         check_knots(ty, grid[3:], f"region {r}, second axis")
-    cx = max(r[2].shape[0] for r in regions)
-    cy = max(r[2].shape[1] for r in regions)
-    c = np.stack([np.pad(r[2], ((0, cx - r[2].shape[0]), (0, cy - r[2].shape[1]))) for r in regions])
+    cells = [cell_polynomials(*r) for r in regions]
+    cx = max(p.shape[0] for p in cells)
+    cy = max(p.shape[1] for p in cells)
+    pp = np.stack([np.pad(p, ((0, cx - p.shape[0]), (0, cy - p.shape[1]), (0, 0))) for p in cells])
     grid = np.stack([np.asarray(r[3], dtype=float) for r in regions])
-    return {"c": jnp.asarray(c), "grid": jnp.asarray(grid)}
+    return {"pp": jnp.asarray(pp), "grid": jnp.asarray(grid)}
