@@ -22,7 +22,7 @@ import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
 from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
-from contactalpha.engine.driver import frozen_instance, impact
+from contactalpha.engine.driver import frozen_instance, impact_unchecked
 from contactalpha.engine.scaling import influence_factor_unchecked, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
@@ -184,7 +184,7 @@ def contact_parameters(
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise eps_zero_without_load()
     alpha, source = _alpha(value, xi, restitution)
-    r = impact(alpha, xi)
+    r = impact_unchecked(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
     engines = engine_parameters(chosen, alpha, EngineScene(m, k, v, sphere))
@@ -300,5 +300,5 @@ def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
         xi = influence_factor_unchecked(mass, stiffness, speed * factor, accel)
     except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
         return math.nan
-    r = impact(alpha * factor, xi)
+    r = impact_unchecked(alpha * factor, xi)
     return float(r.e_n) if r.status == "ok" else math.nan
