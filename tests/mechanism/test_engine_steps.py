@@ -114,6 +114,14 @@ def test_cli_tune_pybullet_at_a_step(mujoco, tmp_path, capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "pybullet's step 0.001 s" in text and out.is_file()
+    stepped = float(text.split("pybullet.contactDamping")[1].split()[0])
+    assert main([*argv, "--discrete", "never"]) == 0
+    law = float(capsys.readouterr().out.split("pybullet.contactDamping")[1].split()[0])
+    assert law != pytest.approx(stepped, rel=1e-3)
+    with pytest.raises(SystemExit) as stop:
+        main([*argv, "--discrete", "sometimes"])
+    assert stop.value.code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
 def _phases(n):
