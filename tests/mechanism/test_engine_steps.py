@@ -290,3 +290,23 @@ def test_drake_check_reads_the_arm_mass_change(pydrake, tmp_path):
     # the tip turns by at most ~2 depth / L: m_eff = I / (L cos theta)^2 moves by ~theta^2
     assert 0.0 < got.mass_change < 1e-3
     assert got.drop.steps > 10
+
+
+@pytest.mark.parametrize("approximation", ["similar", "tamsi"])
+def test_drake_other_approximations_follow_the_same_map(pydrake, tmp_path, approximation):
+    """``similar`` and ``tamsi`` solve the same frictionless impulse as ``lagged``: the tuned arm's drops
+    at 8 phases follow the map as closely (TAMSI is deprecated in Drake: its warning is silenced)."""
+    import warnings
+
+    from contactalpha.mechanism.drake_model import drake_drop
+    from contactalpha.mechanism.tune import tune
+
+    h, out = 1e-3, tmp_path / "arm.urdf"
+    got = tune(ARM, PAIR, 0.6, engine="drake", qvel=QVEL, stiffness=_stiffness(16, h), output=out, timestep=h)
+    inv, c = got.discrete.inverse, got.contact
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        engine = [drake_drop(out, PAIR, c.qpos, c.qvel, time_step=h, phase=f, approximation=approximation).e_n
+                  for f in _phases(8)]  # fmt: skip
+    by_map = [run_drop(kernels.DRAKE, inv.p, h, f, SPEED, ACCEL, 10**6)[0] for f in _phases(8)]
+    assert np.max(np.abs(np.array(engine) - by_map)) < 1e-4
