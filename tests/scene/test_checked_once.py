@@ -74,6 +74,7 @@ def _read_every_field(cp):
 def test_scalar_call_checks_each_input_once(counted, route):
     contact_parameters(**SCENE, **route)
     assert {name: counted[name] for name in INPUTS} == dict.fromkeys(INPUTS, 1)
+    assert counted["xi"] == counted["A"] == 0  # derived inside: never re-checked
 
 
 @pytest.mark.parametrize("route", ROUTES, ids=_route_id)
@@ -82,6 +83,7 @@ def test_batch_checks_each_input_once(counted, route):
     scenes = dict(SCENE, e_N=rng.uniform(0.3, 0.9, 100), mass=rng.uniform(0.1, 1.0, 100))
     _read_every_field(contact_parameters(**scenes, **route))
     assert {name: counted[name] for name in INPUTS} == dict.fromkeys(INPUTS, 1)
+    assert counted["xi"] == counted["A"] == 0
 
 
 @pytest.mark.parametrize("batch", [False, True], ids=["scalar", "batch"])

@@ -76,7 +76,7 @@ def _flat_unchecked(law, a, b):
     shape = aa.shape
     af = np.ascontiguousarray(aa, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     return af, xf, A, shape
 
 

@@ -118,7 +118,11 @@ class ContactLaw:
         ``W = A x_m = xi / (2 (1 - xi))`` and ``x_m^(n+1) = 1 + 2 (1 - d) W`` (the undamped
         loaded maximum), so ``A = W / x_m``.
         """
-        x = check_range("xi", xi, 0.0, 1.0, hi_open=True)
+        return self.scaled_load_unchecked(check_range("xi", xi, 0.0, 1.0, hi_open=True))
+
+    def scaled_load_unchecked(self, xi):
+        """``scaled_load`` of a load factor already checked: for the inner layers."""
+        x = np.asarray(xi, dtype=float)
         w = 0.5 * x / (1.0 - x)
         x_m = (1.0 + 2.0 * (1.0 - self.impedance) * w) ** (1.0 / (self.exponent + 1.0))
         return _plain(w / x_m)

@@ -115,7 +115,7 @@ def impact_unchecked(law, p, xi, settings=None):
     shape = pp.shape
     pf = np.ascontiguousarray(pp, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     rows = law.backend.impact(law, pf, A, xf, **settings)
     return LawImpact(
         eps=_shaped(rows[:, 0], shape),
@@ -177,7 +177,7 @@ def damping_for_unchecked(law, target, xi, restitution, settings=None):
     shape = tt.shape
     tf = np.ascontiguousarray(tt, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     kinematic = restitution == "kinematic"
     p, status = law.backend.damping(law, tf, kinematic, A, xf, **settings)
     p = np.where(status == OK, p, np.nan)

@@ -22,7 +22,7 @@ import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
 from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
-from contactalpha.engine.driver import frozen_instance, impact
+from contactalpha.engine.driver import frozen_instance, impact_unchecked
 from contactalpha.engine.scaling import influence_factor_unchecked, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
@@ -31,6 +31,7 @@ from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
+from .stepped_batch import at_step_batch
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
@@ -134,7 +135,10 @@ def contact_parameters(
         is then for the mean over a uniformly random touchdown phase at that step, through the
         engine's discrete map (``contactalpha.stepping``, docs/stepping.md); ``engines[engine]``
         holds those parameters and ``stepped`` the predicted mean, minimum and maximum.  Needs
-        ``engine`` and a load; one scene only.  Without it the answer is the continuous law's.
+        ``engine`` and a load.  For a batch (array inputs) and an e_N target, MuJoCo's answer
+        comes from its step table at formula speed (``stepping.table``; rows it cannot answer
+        within its accuracy are solved exactly, as every row of the other engines is).  Without
+        it the answer is the continuous law's.
     verify : int, optional
         With ``timestep``: run the installed engine at this many touchdown phases and report the
         measured mean, minimum and maximum in ``stepped.verify``.
@@ -180,7 +184,7 @@ def contact_parameters(
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise eps_zero_without_load()
     alpha, source = _alpha(value, xi, restitution)
-    r = impact(alpha, xi)
+    r = impact_unchecked(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
     engines = engine_parameters(chosen, alpha, EngineScene(m, k, v, sphere))
@@ -217,7 +221,16 @@ def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
-        raise ValueError("timestep= takes one scene; call contact_parameters once per scene")
+        if verify is not None:
+            raise ValueError("verify= takes one scene; a batch at the step is checked one scene at a time")
+        if engine is None:
+            raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
+        own = radius if radius is None or _law_reads_radius(_law_of(law, engine)) else None
+        cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
+                                radius=own, law=law, engine=engine)  # fmt: skip
+        target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
+        return at_step_batch(cp, cp.engine, timestep, mass, stiffness, approach_speed, cp.accel, radius,
+                             target, restitution)  # fmt: skip
     # A map that reads the geometry (PyBullet's breaking threshold) takes the radius even where the
     # continuous law's parameters do not.
     own = radius
@@ -287,5 +300,5 @@ def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
         xi = influence_factor_unchecked(mass, stiffness, speed * factor, accel)
     except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
         return math.nan
-    r = impact(alpha * factor, xi)
+    r = impact_unchecked(alpha * factor, xi)
     return float(r.e_n) if r.status == "ok" else math.nan
