@@ -164,3 +164,14 @@ def test_advise_on_a_law_checks_the_scene_once(counted):
     advise(0.5, 0.5, 2e4, 0.5, accel=9.81, law="mujoco_soft")
     names = ("approach_speed", "mass", "stiffness", "accel")
     assert {name: counted[name] for name in names} == dict.fromkeys(names, 1)
+
+
+@pytest.mark.parametrize("load", [("--accel", "accel"), ("--force", "force")], ids=["accel", "force"])
+def test_cli_params_engine_checks_each_input_once(counted, load, capsys):
+    option, name = load
+    argv = ["params", "--engine", "mujoco", "--e-n", "0.5", "--mass", "0.5", "--stiffness", "2e4",
+            "--speed", "0.5", option, "4.3"]  # fmt: skip
+    assert main(argv) == 0
+    names = ("approach_speed", "mass", "stiffness", "e_N", name)
+    assert {n: counted[n] for n in names} == dict.fromkeys(names, 1)
+    assert "solref" in capsys.readouterr().out
