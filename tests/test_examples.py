@@ -119,6 +119,20 @@ def test_robot_model_tuning_hits_the_target_and_reads_the_leg(mujoco, capsys):
     assert abs(_printed(out, "delivered e_N") - 0.5) < abs(_printed(out, "free-body e_N") - 0.5)
 
 
+def test_engine_steps_deliver_the_target_in_drake_and_pybullet(pydrake, pybullet, mujoco, capfd):
+    """The arm's m_eff and load by hand; each engine's 16 drops average the target (the law's
+    answer does not)."""
+    runpy.run_path(str(EXAMPLES / "engine_steps.py"), run_name="__main__")
+    out = capfd.readouterr().out
+    i_hinge = 0.04 + 1.5 / 9.0  # Iyy + m d^2, d = 1/3 m
+    assert _printed(out, "  effective mass") == pytest.approx(i_hinge / 0.25, rel=1e-11)
+    assert _printed(out, "  free accel") == pytest.approx(0.5 * 1.5 * 9.81 / 3.0 / i_hinge, rel=1e-11)
+    means = [float(x) for x in re.findall(r"engine, mean of 16 drops\s+([0-9.]+)", out)]
+    laws = [float(x) for x in re.findall(r"law's answer, phase mean\s+([0-9.]+)", out)]
+    assert len(means) == 2 and all(m == pytest.approx(0.6, abs=1e-3) for m in means)
+    assert all(abs(law - 0.6) > 0.1 for law in laws)
+
+
 @pytest.mark.integration
 def test_mjx_sysid_recovers_the_recorded_damping(mujoco, capsys):
     """The gradient-descent fit through the JAX front door and MJX finds MuJoCo's own damping."""

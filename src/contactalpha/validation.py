@@ -114,6 +114,13 @@ def check_count(name, value, lo, hi):
 
 def check_scalar(name, value, lo, hi, *, lo_open=False, hi_open=False):
     """Return ``value`` as a float, or raise unless it is one real number in range (no bool, text, list)."""
+    if (
+        type(value) in PLAIN_FLOATS
+        and (value > lo if lo_open else value >= lo)
+        and (value < hi if hi_open else value <= hi)
+        and math.isfinite(value)
+    ):
+        return float(value)  # a plain float inside the range: the front doors' fast path
     if isinstance(value, bool | np.bool_ | str | bytes) or np.ndim(value) != 0:
         raise ValueError(f"{name} = {reprlib.repr(value)} is not one real number; valid: a float")
     return float(check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open))

@@ -91,12 +91,19 @@ def _stepping():
     # One phase mean and one inverse through the steppers' kernel table (every engine's map).
     from contactalpha.stepping.delivered import at_phases, over_phase
     from contactalpha.stepping.inverse import damping_for
-    from contactalpha.stepping.registry import stepper
+    from contactalpha.stepping.registry import STEPPERS, stepper
+    from contactalpha.stepping.table import step_table
 
     p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
     over_phase("mujoco", p, 0.002, 0.5, 9.81)
     at_phases("mujoco", p, 0.002, _points(2, 0.5), 0.5, 9.81)
     damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5)
+    # The step tables' batch inverse and forward lookups.
+    for s in STEPPERS:
+        if s.table is not None:
+            tab = step_table(s.name, s.table)
+            tab.inverse(_points(2, 0.1), _points(2, 0.2), _points(2, 0.5))
+            tab.forward(_points(2, 0.1), _points(2, 0.2), _points(2, 0.2))
 
 
 def _scene():

@@ -101,3 +101,29 @@ def test_calibrate_has_one_fallback_rule(top, target):
     else:
         assert ref.status == "unreachable" and params == {}
         assert engine.calls[-1] == 0.5 and got.e_n == pytest.approx(top - 0.05, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("steps", "spread", "says", "never"),
+    [
+        (8, 0.002, r"spans 8 steps \(coarse below 20\) and .* by up to 0\.002 \(over the tolerance 0\.001\)", None),
+        (8, 0.0005, r"spans 8 steps \(coarse below 20\); .* by up to 0\.0005 \(within the tolerance 0\.001\)",
+         "over the tolerance"),
+        (35, 0.002, r"by up to 0\.002 \(over the tolerance 0\.001\), though the contact spans 35 steps "
+         r"\(20 or more: not coarse\)", "coarse below"),
+    ],
+    ids=["both", "coarse", "spread"],
+)  # fmt: skip
+def test_coarse_warning_says_what_triggered_it(steps, spread, says, never):
+    from contactalpha.adapters.stepped import ContactStepsWarning, warn_if_coarse
+
+    with pytest.warns(ContactStepsWarning, match=says) as record:
+        warn_if_coarse("toy", Delivered(0.5, spread, steps, True), 1e-3)
+    assert len(record) == 1 and (never is None or never not in str(record[0].message))
+
+
+def test_fine_contact_within_tolerance_does_not_warn(recwarn):
+    from contactalpha.adapters.stepped import warn_if_coarse
+
+    warn_if_coarse("toy", Delivered(0.5, 0.0005, 35, True), 1e-3)
+    assert not recwarn.list

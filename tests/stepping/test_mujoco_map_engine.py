@@ -111,3 +111,35 @@ def test_the_adapters_reading_takes_the_first_impact_not_a_deeper_later_one():
     assert np.argmin(z) > 20  # the deepest point is the second impact's
     e_map = run_drop(MUJOCO, p, H, phase, v, a, 10_000)[0]
     assert measure_steps(z, w, a, H, v).e_n == pytest.approx(e_map, rel=1e-12)
+
+
+def test_a_batch_at_the_step_is_what_mujoco_delivers():
+    """Table rows of a batch at 2 ms, dropped in MuJoCo at 128 phases: MuJoCo's e_N per phase is the
+    map's, so the exact mean of the table's parameters (within 2e-3 of the target) is MuJoCo's."""
+    from contactalpha import contact_parameters
+    from contactalpha.stepping.delivered import over_phase
+
+    rng = np.random.default_rng(21)
+    n = 6
+    m = np.exp(rng.uniform(np.log(0.1), np.log(5.0), n))
+    k = m * (math.pi / (rng.uniform(15.0, 40.0, n) * H)) ** 2
+    v = rng.uniform(0.5, 2.0, n)
+    e = rng.uniform(0.3, 0.9, n)
+    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=G, e_N=e, engine="mujoco", timestep=H)
+    rows = [i for i in range(n) if cp.stepped.source[i] == "table"][:3]
+    assert len(rows) == 3
+    phases = np.arange(128) / 128
+    for i in rows:
+        stiffness, damping = -cp.block["solref"][0][i], -cp.block["solref"][1][i]
+        model, data = _engine(float(m[i]), "Euler")
+        model.geom_solref[:] = (-stiffness, -damping)
+        p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=MuJoCoSettings().impedance)
+        steps = int(3.0 * 2.0 * math.pi / math.sqrt(stiffness) / H) + 4
+        measured = []
+        for phase in phases:
+            z0, w0 = touchdown_state(float(v[i]), G, H, phase)
+            z, w = _run(model, data, z0, w0, 0.0, steps)
+            measured.append(measure_steps(z, w, G, H, v[i]).e_n)
+        assert np.allclose(at_phases("mujoco", p, H, phases, v[i], G)["e_n"], measured, rtol=1e-9, atol=1e-12)
+        assert abs(over_phase("mujoco", p, H, v[i], G).mean - e[i]) <= 2e-3
+        assert cp.stepped.minimum[i] <= np.mean(measured) <= cp.stepped.maximum[i]

@@ -93,8 +93,14 @@ def opensim_stiffness(stiffness, radius):
     float or ndarray
         ``E_i = 3 k / sqrt(2 R)``, to give both the sphere and the half space.
     """
-    k = check_positive("stiffness", stiffness)
-    r = check_positive("radius", radius)
+    return opensim_stiffness_unchecked(
+        check_positive("stiffness", stiffness), check_positive("radius", radius)
+    )
+
+
+def opensim_stiffness_unchecked(stiffness, radius):
+    """``opensim_stiffness`` of inputs already checked (the front doors'): for the inner layers."""
+    k, r = np.asarray(stiffness, dtype=float), np.asarray(radius, dtype=float)
     return _out(3.0 * k / np.sqrt(2.0 * r))
 
 
@@ -121,8 +127,12 @@ def opensim_dissipation(alpha, approach_speed):
     """
     if _plain(alpha, 0.0) and _plain(approach_speed, 0.0) and approach_speed > 0.0:
         return 2.0 * alpha / (3.0 * approach_speed)  # scalar fast path, same arithmetic
-    a = check_alpha(alpha)
-    v = check_positive("approach_speed", approach_speed)
+    return opensim_dissipation_unchecked(check_alpha(alpha), check_positive("approach_speed", approach_speed))
+
+
+def opensim_dissipation_unchecked(alpha, approach_speed):
+    """``opensim_dissipation`` of inputs already checked (the front doors'): for the inner layers."""
+    a, v = np.asarray(alpha, dtype=float), np.asarray(approach_speed, dtype=float)
     return _out(2.0 * a / (3.0 * v))
 
 

@@ -25,11 +25,17 @@ import numpy as np
 from contactalpha import models
 from contactalpha.adapters.base import Adapter
 from contactalpha.adapters.contract import DropScene, Samples
-from contactalpha.adapters.engine_conventions import opensim_alpha, opensim_dissipation, opensim_stiffness
+from contactalpha.adapters.engine_conventions import (
+    opensim_alpha,
+    opensim_dissipation,
+    opensim_dissipation_unchecked,
+    opensim_stiffness,
+    opensim_stiffness_unchecked,
+)
 from contactalpha.adapters.measure import measure_impact
 from contactalpha.engine.scaling import time_scale
 from contactalpha.laws import get_law
-from contactalpha.validation import check_positive, check_range
+from contactalpha.validation import check_alpha, check_positive, check_range
 
 INSTALL_HINT = 'OpenSim is an optional engine: pip install -e ".[engines]" (PyPI package "opensim")'
 # Default integrator accuracy of OpenSim's Manager (relative, per step).
@@ -223,10 +229,11 @@ class OpenSimAdapter(Adapter):
         """``dissipation`` c = 2 alpha / (3 v_minus), s/m, and each geometry's ``stiffness``, Pa.
 
         The stiffness needs the sphere's radius: without one (``scene.radius`` None) it is left out.
+        ``scene`` holds checked values (a ``DropScene``, or the front door's scene).
         """
-        out = {"dissipation": opensim_dissipation(damping, scene.approach_speed)}
+        out = {"dissipation": opensim_dissipation_unchecked(check_alpha(damping), scene.approach_speed)}
         if scene.radius is not None:
-            out["stiffness"] = opensim_stiffness(scene.stiffness, scene.radius)
+            out["stiffness"] = opensim_stiffness_unchecked(scene.stiffness, scene.radius)
         return out
 
     def build_drop(self, scene, params, settings):

@@ -108,16 +108,27 @@ def summarise(e_n_per_phase, contact_steps, separated):
 
 
 def warn_if_coarse(engine, result, tol, min_steps=MIN_CONTACT_STEPS, stacklevel=3):
-    """Warn (``ContactStepsWarning``): a contact under ``min_steps`` steps or a phase spread over ``tol``."""
-    if result.contact_steps < min_steps or result.spread > tol:
-        warnings.warn(
-            f"{engine}: the contact spans {result.contact_steps} steps (coarse below {min_steps}) and "
-            f"one drop's e_N depends on where touchdown falls within a step by up to {result.spread:.3g} "
-            f"(tolerance {tol:g}); the mean over touchdown phases is what the parameters deliver; "
-            "a smaller time step narrows it",
-            ContactStepsWarning,
-            stacklevel=stacklevel,
-        )
+    """Warn (``ContactStepsWarning``): a contact under ``min_steps`` steps or a phase spread over ``tol``.
+
+    The message says which of the two triggered it.
+    """
+    coarse, spread = result.contact_steps < min_steps, result.spread > tol
+    if not (coarse or spread):
+        return
+    steps = f"the contact spans {result.contact_steps} steps"
+    phases = f"one drop's e_N depends on where touchdown falls within a step by up to {result.spread:.3g}"
+    if coarse and spread:
+        why = f"{steps} (coarse below {min_steps}) and {phases} (over the tolerance {tol:g})"
+    elif coarse:
+        why = f"{steps} (coarse below {min_steps}); {phases} (within the tolerance {tol:g})"
+    else:
+        why = f"{phases} (over the tolerance {tol:g}), though {steps} ({min_steps} or more: not coarse)"
+    warnings.warn(
+        f"{engine}: {why}; the mean over touchdown phases is what the parameters deliver; "
+        "a smaller time step narrows it",
+        ContactStepsWarning,
+        stacklevel=stacklevel,
+    )
 
 
 class SteppingAdapter(Adapter):

@@ -8,6 +8,7 @@ import numpy as np
 from numba import njit
 
 from contactalpha.validation import (
+    PLAIN_FLOATS,
     FloatOrArray,
     RealLike,
     check_alpha,
@@ -229,10 +230,17 @@ def impact(
     alpha = check_alpha(alpha)
     xi = check_xi(xi)
     rtol, atol = check_tolerances(rtol, atol)
-    max_steps = check_max_steps(max_steps)
-    alpha, xi = np.broadcast_arrays(alpha, xi)
+    return impact_unchecked(alpha, xi, rtol=rtol, atol=atol, max_steps=check_max_steps(max_steps))
+
+
+def impact_unchecked(alpha, xi, *, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
+    """``impact`` of a damping, a load factor and settings already checked: for the inner layers."""
+    if type(alpha) in PLAIN_FLOATS and type(xi) in PLAIN_FLOATS:
+        out, _ = SCALAR_KERNEL[0](alpha, scaled_load_unchecked(xi), rtol, atol, max_steps, NO_RECORD, np.inf)
+        return _scalar_result(out)
+    alpha, xi = np.broadcast_arrays(np.asarray(alpha, dtype=float), np.asarray(xi, dtype=float))
     shape = alpha.shape
-    A = scaled_load(xi)
+    A = scaled_load_unchecked(xi)
     alpha, A = flat_owned(alpha), flat_owned(A)
     table = impact_many(alpha, A, rtol, atol, max_steps)
     return _as_result(table, shape)

@@ -288,6 +288,20 @@ def influence_factor(
         check_positive(n, val)
         for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
     )
+    return _influence_factor_arrays(m_e, k, v0, a)
+
+
+def influence_factor_unchecked(mass, stiffness, approach_speed, accel):
+    """``influence_factor`` of inputs already checked (the front doors'): the same numbers, no checks."""
+    xi = _influence_factor_plain(mass, stiffness, approach_speed, accel)
+    if xi is not None:
+        return xi
+    scene = (mass, stiffness, approach_speed, accel)
+    return _influence_factor_arrays(*(np.asarray(x, dtype=float) for x in scene))
+
+
+def _influence_factor_arrays(m_e, k, v0, a):
+    """``influence_factor``'s array path (also plain floats at a zero load or past the plain path's reach)."""
     with np.errstate(all="ignore"):
         m_b, k_b, v_b = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_b.shape), np.empty(m_b.shape)

@@ -74,9 +74,9 @@ class EngineBackend:
 
     def impact(self, law, p, A, xi, rtol=RTOL, atol=ATOL, max_steps=MAX_STEPS):
         """Rows (eps, e_N, state, status, x_m, x_e, v_e, t_e) of impacts at flat ``p``, ``A``, ``xi``."""
-        from contactalpha.engine.driver import impact
+        from contactalpha.engine.driver import impact_unchecked
 
-        r = impact(p, xi, rtol=rtol, atol=atol, max_steps=max_steps)
+        r = impact_unchecked(p, xi, rtol=rtol, atol=atol, max_steps=max_steps)
         state = np.array([STATE_CODES[s] for s in np.atleast_1d(r.state)], dtype=float)
         status = np.array([_STATUS_CODES[s] for s in np.atleast_1d(r.status)], dtype=float)
         cols = (r.eps, r.e_n, state, status, r.x_max, r.x_end, r.v_end, r.t_end)

@@ -68,13 +68,15 @@ ENGINE_TABLE = EngineTable()
 def _flat(law, a, b, a_name, a_check):
     from .maps import check_load_factor
 
-    aa = a_check(a)
-    xx = check_load_factor(law, b)
-    aa, xx = np.broadcast_arrays(aa, xx)
+    return _flat_unchecked(law, a_check(a), check_load_factor(law, b))
+
+
+def _flat_unchecked(law, a, b):
+    aa, xx = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
     shape = aa.shape
     af = np.ascontiguousarray(aa, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     return af, xf, A, shape
 
 
@@ -116,7 +118,6 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
 
     from contactalpha.validation import check_flag
 
-    kinematic = restitution == "kinematic"
     fast = _fast_of(law)
     if check_flag("exact", exact):
         if fast.exact_inverse is None:
@@ -125,5 +126,14 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
             )
         fast = fast.exact_inverse
     tf, xf, A, shape = _flat(law, target, xi, "target", lambda v: check_target(law, v, restitution))
-    p, status = fast.damping(law, tf, kinematic, A, xf)
+    return _damping(law, fast, tf, xf, A, shape, restitution)
+
+
+def fast_damping_unchecked(law, target, xi, restitution):
+    """``fast_damping`` (not ``exact``) of a target and a load factor already checked: inner layers'."""
+    return _damping(law, _fast_of(law), *_flat_unchecked(law, target, xi), restitution)
+
+
+def _damping(law, fast, tf, xf, A, shape, restitution):
+    p, status = fast.damping(law, tf, restitution == "kinematic", A, xf)
     return _shaped(np.where(status == 0, p, np.nan), shape)

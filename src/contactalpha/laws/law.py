@@ -118,7 +118,11 @@ class ContactLaw:
         ``W = A x_m = xi / (2 (1 - xi))`` and ``x_m^(n+1) = 1 + 2 (1 - d) W`` (the undamped
         loaded maximum), so ``A = W / x_m``.
         """
-        x = check_range("xi", xi, 0.0, 1.0, hi_open=True)
+        return self.scaled_load_unchecked(check_range("xi", xi, 0.0, 1.0, hi_open=True))
+
+    def scaled_load_unchecked(self, xi):
+        """``scaled_load`` of a load factor already checked: for the inner layers."""
+        x = np.asarray(xi, dtype=float)
         w = 0.5 * x / (1.0 - x)
         x_m = (1.0 + 2.0 * (1.0 - self.impedance) * w) ** (1.0 / (self.exponent + 1.0))
         return _plain(w / x_m)
@@ -128,7 +132,11 @@ class ContactLaw:
 
         Past ``A_ROUNDS_TO_ONE`` xi is 1.0 in double precision for every law: ``A`` is capped there.
         """
-        a = np.minimum(check_range("A", A, 0.0, np.inf, hi_open=True), A_ROUNDS_TO_ONE)
+        return self.load_factor_unchecked(check_range("A", A, 0.0, np.inf, hi_open=True))
+
+    def load_factor_unchecked(self, A):
+        """``load_factor`` of a scaled load already checked (``A >= 0``, not NaN): for the inner layers."""
+        a = np.minimum(np.asarray(A, dtype=float), A_ROUNDS_TO_ONE)
         n1 = self.exponent + 1.0
         b = (1.0 - self.impedance) * a
         if self.exponent == 1.0:  # x^2 = 1 + 2 b x: the quadratic's positive root
@@ -156,10 +164,11 @@ class ContactLaw:
         From logarithms where the direct power under- or overflows; a ``ValueError`` names the
         inputs where the scale itself is beyond the doubles.
         """
-        m, k, v = (
-            check_positive(n, x)
-            for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
-        )
+        return self.length_scale_unchecked(*_checked_scene(mass, stiffness, approach_speed))
+
+    def length_scale_unchecked(self, mass, stiffness, approach_speed):
+        """``length_scale`` of inputs already checked (positive, finite): for the inner layers."""
+        m, k, v = (np.asarray(x, dtype=float) for x in (mass, stiffness, approach_speed))
         n1 = self.exponent + 1.0
         with np.errstate(all="ignore"):
             direct = (self._stiffness_coefficient * m * v * v / k) ** (1.0 / n1)
@@ -177,9 +186,12 @@ class ContactLaw:
     def load(self, mass, stiffness, approach_speed, accel):
         """Scaled load ``A = a delta_s / v^2`` of a scene (from logarithms where the product would
         under- or overflow; capped at ``A_ROUNDS_TO_ONE``, where xi is 1.0 for every law)."""
-        a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
-        v = check_positive("approach_speed", approach_speed)
-        d = self.length_scale(mass, stiffness, approach_speed)
+        return self.load_unchecked(*_checked_load(mass, stiffness, approach_speed, accel))
+
+    def load_unchecked(self, mass, stiffness, approach_speed, accel):
+        """``load`` of inputs already checked: for the inner layers."""
+        a, v = np.asarray(accel, dtype=float), np.asarray(approach_speed, dtype=float)
+        d = self.length_scale_unchecked(mass, stiffness, v)
         with np.errstate(all="ignore"):
             direct = a * d / (v * v)
             log_A = np.log(a) + np.log(d) - 2.0 * np.log(v)
@@ -188,7 +200,16 @@ class ContactLaw:
 
     def scene_load_factor(self, mass, stiffness, approach_speed, accel):
         """Load factor ``xi`` of a scene; a ``ValueError`` naming the scene where it rounds to 1.0."""
-        xi = self.load_factor(self.load(mass, stiffness, approach_speed, accel))
+        A = self.load_unchecked(*_checked_load(mass, stiffness, approach_speed, accel))
+        return self._xi_below_one(self.load_factor_unchecked(A), (mass, stiffness, approach_speed, accel))
+
+    def scene_load_factor_unchecked(self, mass, stiffness, approach_speed, accel):
+        """``scene_load_factor`` of inputs already checked: for the inner layers."""
+        xi = self.load_factor_unchecked(self.load_unchecked(mass, stiffness, approach_speed, accel))
+        return self._xi_below_one(xi, (mass, stiffness, approach_speed, accel))
+
+    def _xi_below_one(self, xi, scene):
+        mass, stiffness, approach_speed, accel = scene
         if np.any(np.asarray(xi) >= 1.0):
             raise ValueError(
                 f"accel = {accel!r} m/s^2 at approach_speed = {approach_speed!r} m/s (mass = {mass!r}, "
@@ -199,18 +220,21 @@ class ContactLaw:
 
     def physical_damping(self, p, mass, stiffness, approach_speed):
         """The engine's damping coefficient for dimensionless damping ``p`` (see ``damping_physical``)."""
-        factor, pm, pk, pv = self.damping_unit
-        m, k, v = (
-            check_positive(n, x)
-            for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
-        )
+        m, k, v = _checked_scene(mass, stiffness, approach_speed)
         p = check_range(self.damping, p, 0.0, np.inf, hi_open=True)
+        return self.physical_damping_unchecked(p, m, k, v)
+
+    def physical_damping_unchecked(self, p, mass, stiffness, approach_speed):
+        """``physical_damping`` of inputs already checked: for the inner layers."""
+        factor, pm, pk, pv = self.damping_unit
+        p, m, k, v = (np.asarray(x, dtype=float) for x in (p, mass, stiffness, approach_speed))
         return _plain(p * factor * m**pm * k**pk * v**pv)
 
     def damping_from_physical(self, c, mass, stiffness, approach_speed):
         """Dimensionless damping ``p`` of the engine's damping coefficient ``c`` (its inverse)."""
         c = check_range("damping", c, 0.0, np.inf, hi_open=True)
-        return _plain(c / self.physical_damping(1.0, mass, stiffness, approach_speed))
+        unit = self.physical_damping_unchecked(1.0, *_checked_scene(mass, stiffness, approach_speed))
+        return _plain(c / unit)
 
     # --- maps ---------------------------------------------------------------------------
     def impact(self, p, xi, **settings):
@@ -244,6 +268,22 @@ class ContactLaw:
         from .fast import fast_restitution
 
         return fast_restitution(self, p, xi, restitution)
+
+
+def _checked_scene(mass, stiffness, approach_speed):
+    """``(mass, stiffness, approach_speed)`` checked positive and finite, as float arrays."""
+    return (
+        check_positive("mass", mass),
+        check_positive("stiffness", stiffness),
+        check_positive("approach_speed", approach_speed),
+    )
+
+
+def _checked_load(mass, stiffness, approach_speed, accel):
+    """``(mass, stiffness, approach_speed, accel)`` checked, in ``ContactLaw.load``'s order of checks."""
+    a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
+    v = check_positive("approach_speed", approach_speed)
+    return check_positive("mass", mass), check_positive("stiffness", stiffness), v, a
 
 
 def _direct_or_log(direct, log_value):

@@ -105,12 +105,17 @@ def impact(law, p, xi, **settings):
     """Both restitutions and the end state at damping ``p`` and load factor ``xi`` (broadcast)."""
     settings = check_settings(law, settings)
     pp = check_range(law.damping, p, 0.0, np.inf, hi_open=True)
-    xx = check_load_factor(law, xi)
-    pp, xx = np.broadcast_arrays(pp, xx)
+    return impact_unchecked(law, pp, check_load_factor(law, xi), settings)
+
+
+def impact_unchecked(law, p, xi, settings=None):
+    """``impact`` of a damping, a load factor and settings already checked: for the inner layers."""
+    settings = {} if settings is None else settings
+    pp, xx = np.broadcast_arrays(np.asarray(p, dtype=float), np.asarray(xi, dtype=float))
     shape = pp.shape
     pf = np.ascontiguousarray(pp, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     rows = law.backend.impact(law, pf, A, xf, **settings)
     return LawImpact(
         eps=_shaped(rows[:, 0], shape),
@@ -162,12 +167,17 @@ def damping_for(law, target, xi, restitution="energetic", **settings):
     """
     settings = check_settings(law, settings)
     tt = check_target(law, target, restitution)
-    xx = check_load_factor(law, xi)
-    tt, xx = np.broadcast_arrays(tt, xx)
+    return damping_for_unchecked(law, tt, check_load_factor(law, xi), restitution, settings)
+
+
+def damping_for_unchecked(law, target, xi, restitution, settings=None):
+    """``damping_for`` of a target, a load factor and settings already checked: for the inner layers."""
+    settings = {} if settings is None else settings
+    tt, xx = np.broadcast_arrays(np.asarray(target, dtype=float), np.asarray(xi, dtype=float))
     shape = tt.shape
     tf = np.ascontiguousarray(tt, dtype=float).ravel()
     xf = np.ascontiguousarray(xx, dtype=float).ravel()
-    A = np.atleast_1d(law.scaled_load(xf)).astype(float)
+    A = np.atleast_1d(law.scaled_load_unchecked(xf)).astype(float)
     kinematic = restitution == "kinematic"
     p, status = law.backend.damping(law, tf, kinematic, A, xf, **settings)
     p = np.where(status == OK, p, np.nan)

@@ -3,6 +3,9 @@
 import sys
 import warnings
 
+# ``--discrete`` -> ``tune``'s ``discrete``.
+DISCRETE_CHOICES = {"auto": None, "always": True, "never": False}
+
 EXAMPLES = (
     "contactalpha tune robot.xml --pair floor foot --e-n 0.5 --speed 1.0 -o robot_tuned.xml",
     "contactalpha tune leg.sdf --pair floor foot --e-n 0.6 --qvel -0.8 0 0 --stiffness 6.6e8 --check",
@@ -39,6 +42,9 @@ def add_parser(make, number):
         help="the engine's step, s: its discrete answer and --check's drop "
         "(default: MuJoCo the model's, PyBullet 1/240, Drake the continuous plant)",
     )
+    t.add_argument("--discrete", choices=tuple(DISCRETE_CHOICES), default="auto",
+                   help="the step map's phase-mean answer: where the law's misses by more than 1e-3 "
+                   "(auto), always, or never")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
     return t
@@ -69,6 +75,7 @@ def run(args, parser):
                 engine=args.engine, stiffness=args.stiffness, forces=_forces(args.force, parser),
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
                 check=args.check, timestep=args.timestep, refine=args.refine,
+                discrete=DISCRETE_CHOICES[args.discrete],
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None

@@ -31,7 +31,8 @@ from contactalpha.engine.table import EPS_MIN, XI_MAX, tabulated_or_nan
 from contactalpha.engine.threads import flat_owned, run_rows
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
-from contactalpha.laws.fast import ENGINE_TABLE
+from contactalpha.laws.fast import ENGINE_TABLE, fast_damping_unchecked
+from contactalpha.laws.maps import impact_unchecked
 from contactalpha.validation import check_range
 
 from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
@@ -105,11 +106,11 @@ def _load_factor(law):
 
 
 def law_load_factor(law, mass, stiffness, approach_speed, accel):
-    """Load factor xi of arrays of scenes of ``law``; NaN where the load is so large that it rounds to 1."""
-    A = np.asarray(law.load(mass, stiffness, approach_speed, accel), dtype=float)
+    """Load factor xi of checked scenes of ``law``; NaN where the load is so large that xi rounds to 1."""
+    A = np.asarray(law.load_unchecked(mass, stiffness, approach_speed, accel), dtype=float)
     xi = np.full(A.shape, np.nan)
     finite = np.isfinite(A)
-    xi[finite] = law.load_factor(A[finite])
+    xi[finite] = law.load_factor_unchecked(A[finite])
     return np.where(xi < 1.0, xi, np.nan)
 
 
@@ -158,6 +159,7 @@ def batched_parameters(
     restitution="kinematic",
     law="hunt_crossley",
     radius=None,
+    force=None,
 ):
     """Every engine's parameters for arrays of scenes (see the module docstring).
 
@@ -165,8 +167,8 @@ def batched_parameters(
     ----------
     mass, stiffness, approach_speed : array_like
         kg, the law's physical stiffness (N/m^1.5 for n = 3/2, N/m for n = 1), m/s; all > 0.
-    accel : array_like
-        Acceleration of the load pressing the bodies together, m/s^2 (>= 0).
+    accel : array_like or None
+        Acceleration of the load pressing the bodies together, m/s^2 (>= 0); None with ``force``.
     target : array_like
         Target restitution in (0, 1].
     restitution : {"kinematic", "energetic"}
@@ -175,6 +177,8 @@ def batched_parameters(
         The contact law (``contactalpha.laws``).
     radius : array_like, optional
         Sphere radius, m (adds OpenSim's stiffness).
+    force : array_like, optional
+        The load as a force, N (>= 0), instead of ``accel``: ``accel = force / mass``.
 
     Returns
     -------
@@ -188,7 +192,12 @@ def batched_parameters(
         check_rows(n, x, 0.0, np.inf, lo_open=True, hi_open=True)
         for n, x in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed))
     )
-    a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
+    if (accel is None) == (force is None):
+        raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
+    if force is None:
+        a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
+    else:
+        a = check_rows("force", force, 0.0, np.inf, hi_open=True) / m
     e = check_rows(name, target, 0.0, 1.0, lo_open=True)
     r = None if radius is None else check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
     m, k, v, a, e, r_all = np.broadcast_arrays(m, k, v, a, e, 1.0 if r is None else r)
@@ -201,7 +210,7 @@ def batched_parameters(
     else:
         inside = np.isfinite(xi) & (xi <= hi_xi) & (e >= lo_e)
         damping = np.full(e.shape, np.nan)
-        damping[inside] = law.fast_damping(e[inside], xi[inside], restitution)
+        damping[inside] = fast_damping_unchecked(law, e[inside], xi[inside], restitution)
     ok = np.isfinite(damping)
     p = np.where(ok, damping, 0.0)
 
@@ -212,7 +221,7 @@ def batched_parameters(
         # Each row's impact, integrated once when one of its fields is first read (``Deferred``);
         # a row whose impact fails reads NaN there.
         if "hit" not in cache:
-            cache["hit"] = law.impact(p, np.where(ok, xi, 0.0))
+            cache["hit"] = impact_unchecked(law, p, np.where(ok, xi, 0.0))
         hit = cache["hit"]
         return hit, ok & (np.asarray(hit.status) == "ok")
 
@@ -237,7 +246,7 @@ def batched_parameters(
         xi=rows(xi),
         damping_name=law.damping,
         damping=rows(damping),
-        physical_damping=rows(law.physical_damping(p, m, k, v)),
+        physical_damping=rows(law.physical_damping_unchecked(p, m, k, v)),
         physical_unit=law.physical_unit,
         eps=impact_field("eps"),
         e_n=impact_field("e_n"),
@@ -245,7 +254,7 @@ def batched_parameters(
         ok=ok,
         reason=_reasons(law, e, xi, ok),
         accel=a,
-        delta_star=rows(law.length_scale(m, k, v)),
+        delta_star=rows(law.length_scale_unchecked(m, k, v)),
         source=np.where(ok, "table" if law.fast is ENGINE_TABLE else law.fast.name, "none"),
         engines={name: {key: _masked(x, ok) for key, x in block.items()} for name, block in engines.items()},
         e_n_half_speed=speed_field(SPEED_FACTORS[0]),

@@ -15,6 +15,7 @@ from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.codes import NO_BRACKET, OK, STATUS
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
+from contactalpha.laws.maps import check_settings, check_target, damping_for_unchecked, impact_unchecked
 
 from .result import ContactParameters
 
@@ -39,13 +40,13 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
     blocks (``adapters.registry.engine_parameters``) convert it to their own units.
     """
     law = get_law(law)
-    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
+    xi = float(law.scene_load_factor_unchecked(mass, stiffness, approach_speed, accel))
     if value == 0.0:
         raise ValueError(
             f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
             f"of law {law.name!r}"
         )
-    sol = law.damping_for(value, xi, restitution)
+    sol = damping_for_unchecked(law, value, xi, restitution)
     if not sol.ok:
         raise RuntimeError(
             f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} "
@@ -61,7 +62,7 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         xi=xi,
         damping_name=law.damping,
         damping=p,
-        physical_damping=float(law.physical_damping(p, mass, stiffness, approach_speed)),
+        physical_damping=float(law.physical_damping_unchecked(p, mass, stiffness, approach_speed)),
         physical_unit=law.physical_unit,
         eps=float(sol.eps),
         e_n=float(sol.e_n),
@@ -69,7 +70,7 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         ok=True,
         reason="",
         accel=accel,
-        delta_star=float(law.length_scale(mass, stiffness, approach_speed)),
+        delta_star=float(law.length_scale_unchecked(mass, stiffness, approach_speed)),
         source="solver",
         engines=engine_parameters(law, p, scene),
         e_n_half_speed=e_n_half,
@@ -88,12 +89,13 @@ def fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, factor, lo
     speed = np.asarray(approach_speed, dtype=float) * factor
     with np.errstate(all="ignore"):
         if load_factor is None:
-            xi = np.asarray(law.load_factor(law.load(mass, stiffness, speed, accel)), dtype=float)
+            A = law.load_unchecked(mass, stiffness, speed, accel)
+            xi = np.asarray(law.load_factor_unchecked(A), dtype=float)
         else:
             xi = np.asarray(load_factor(mass, stiffness, speed, accel), dtype=float)
     p_f = np.asarray(p, dtype=float) * factor ** -law.damping_unit[3]
     good = np.isfinite(p_f) & (xi < 1.0)
-    r = law.impact(np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
+    r = impact_unchecked(law, np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
     e_n = np.where(good & (np.asarray(r.status) == "ok"), r.e_n, np.nan)
     return float(e_n) if e_n.ndim == 0 else e_n
 
@@ -135,8 +137,8 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     from contactalpha import models
 
     law = get_law(law)
-    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
-    exact = law.damping_for(value, xi, restitution)
+    xi = float(law.scene_load_factor_unchecked(mass, stiffness, approach_speed, accel))
+    exact = damping_for_unchecked(law, value, xi, restitution)
     verdicts = []
     for model in models.REGISTRY:
         if model.law != law.name or restitution not in model.restitutions:
@@ -171,8 +173,11 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
 
 
 def _separates(law, value, restitution, A, settings):
-    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status)."""
-    sol = law.damping_for(value, law.load_factor(A), restitution, **settings)
+    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status).
+
+    ``value`` and ``settings`` checked (``law_boundary_load``).
+    """
+    sol = damping_for_unchecked(law, value, law.load_factor_unchecked(A), restitution, settings)
     if not sol.ok:
         return None, str(sol.status)
     return str(sol.state) == "separation", STATUS[OK]
@@ -189,6 +194,12 @@ LOAD_BRACKET_STEP = 10.0
 def law_boundary_load(law, eps, restitution="energetic", **settings):
     """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
     law = get_law(law)
+    settings = check_settings(law, settings)
+    return _boundary_load(law, float(check_target(law, eps, restitution)), restitution, settings)
+
+
+def _boundary_load(law, eps, restitution, settings):
+    """``law_boundary_load`` of a target and settings already checked."""
     lo = np.log(LOAD_BRACKET[0])
     s_lo, status = _separates(law, eps, restitution, LOAD_BRACKET[0], settings)
     if s_lo is None:
@@ -223,11 +234,11 @@ def law_critical_speed(law, eps, mass, stiffness, accel, **settings):
     out = np.zeros(eps.shape)
     status = np.full(eps.shape, STATUS[OK], dtype=object)
     n = law.exponent
-    unit = law.length_scale(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
+    unit = law.length_scale_unchecked(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
     for i, value in enumerate(eps):
         if value == 1.0:
             continue
-        A_b, status[i] = law_boundary_load(law, float(value), **settings)
+        A_b, status[i] = _boundary_load(law, float(value), "energetic", settings)
         out[i] = (accel * unit / A_b) ** ((n + 1.0) / (2.0 * n))
     return out, status
 

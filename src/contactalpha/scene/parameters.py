@@ -22,8 +22,8 @@ import numpy as np
 
 from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
 from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
-from contactalpha.engine.driver import frozen_instance, impact
-from contactalpha.engine.scaling import influence_factor, length_scale
+from contactalpha.engine.driver import frozen_instance, impact_unchecked
+from contactalpha.engine.scaling import influence_factor_unchecked, length_scale
 from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
@@ -31,6 +31,7 @@ from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
+from .stepped_batch import at_step_batch
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
@@ -40,22 +41,24 @@ LAW = DEFAULT_LAW
 
 
 def _positive(name, value):
-    if type(value) in PLAIN_FLOATS and 0.0 < value < math.inf:
-        return value
     return check_scalar(name, value, 0.0, math.inf, lo_open=True, hi_open=True)
 
 
 def scene_accel(mass: float, accel: float | None = None, force: float | None = None) -> float:
     """Relative acceleration of the load from exactly one of ``accel`` (m/s^2) and ``force`` (N)."""
+    load, is_force = _load(accel, force)
+    return load / _positive("mass", mass) if is_force else load
+
+
+def _load(accel, force):
+    """``(value, is_force)``: exactly one of ``accel`` and ``force``, checked."""
     if (accel is None) == (force is None):
         raise ValueError(
             f"give exactly one of accel (m/s^2) and force (N); got accel = {accel!r}, force = {force!r}"
         )
-    name, value = ("accel", accel) if force is None else ("force", force)
-    assert value is not None  # exactly one of them is given (checked above)
-    if not (type(value) in PLAIN_FLOATS and 0.0 <= value < math.inf):
-        value = check_scalar(name, value, 0.0, np.inf, hi_open=True)
-    return value if force is None else value / _positive("mass", mass)
+    if force is None:
+        return check_scalar("accel", accel, 0.0, np.inf, hi_open=True), False
+    return check_scalar("force", force, 0.0, np.inf, hi_open=True), True
 
 
 def _target(eps, e_n):
@@ -65,11 +68,8 @@ def _target(eps, e_n):
             f"give exactly one of eps (energetic) and e_N (kinematic); got eps = {eps!r}, e_N = {e_n!r}"
         )
     if e_n is None:
-        if not (type(eps) in PLAIN_FLOATS and 0.0 <= eps <= 1.0):
-            eps = check_scalar("eps", eps, 0.0, 1.0)
-        return eps, "energetic"
-    if not (type(e_n) in PLAIN_FLOATS and 0.0 <= e_n <= 1.0):
-        e_n = check_scalar("e_N", e_n, 0.0, 1.0)
+        return check_scalar("eps", eps, 0.0, 1.0), "energetic"
+    e_n = check_scalar("e_N", e_n, 0.0, 1.0)
     if e_n == 0.0:
         raise no_kinematic_inverse()
     return e_n, "kinematic"
@@ -135,7 +135,10 @@ def contact_parameters(
         is then for the mean over a uniformly random touchdown phase at that step, through the
         engine's discrete map (``contactalpha.stepping``, docs/stepping.md); ``engines[engine]``
         holds those parameters and ``stepped`` the predicted mean, minimum and maximum.  Needs
-        ``engine`` and a load; one scene only.  Without it the answer is the continuous law's.
+        ``engine`` and a load.  For a batch (array inputs) and an e_N target, MuJoCo's answer
+        comes from its step table at formula speed (``stepping.table``; rows it cannot answer
+        within its accuracy are solved exactly, as every row of the other engines is).  Without
+        it the answer is the continuous law's.
     verify : int, optional
         With ``timestep``: run the installed engine at this many touchdown phases and report the
         measured mean, minimum and maximum in ``stepped.verify``.
@@ -171,16 +174,17 @@ def contact_parameters(
     m = _positive("mass", mass)
     k = _positive("stiffness", stiffness)
     v = _positive("approach_speed", approach_speed)
-    a = scene_accel(m, accel, force)
+    load, is_force = _load(accel, force)
+    a = load / m if is_force else load
     sphere = None if radius is None else _positive("radius", radius)
     if chosen.name != DEFAULT_LAW:
         check_radius_used(chosen, radius)
         return _only(law_contact_parameters(chosen, value, restitution, m, k, v, a, sphere), engine)
-    xi = influence_factor(m, k, v, a)
+    xi = influence_factor_unchecked(m, k, v, a)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
         raise eps_zero_without_load()
     alpha, source = _alpha(value, xi, restitution)
-    r = impact(alpha, xi)
+    r = impact_unchecked(alpha, xi)
     if r.status != "ok":
         raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
     engines = engine_parameters(chosen, alpha, EngineScene(m, k, v, sphere))
@@ -192,7 +196,7 @@ def contact_parameters(
             xi=xi,
             damping_name=chosen.damping,
             damping=alpha,
-            physical_damping=chosen.physical_damping(alpha, m, k, v),
+            physical_damping=chosen.physical_damping_unchecked(alpha, m, k, v),
             physical_unit=chosen.physical_unit,
             eps=r.eps,
             e_n=r.e_n,
@@ -217,7 +221,16 @@ def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
-        raise ValueError("timestep= takes one scene; call contact_parameters once per scene")
+        if verify is not None:
+            raise ValueError("verify= takes one scene; a batch at the step is checked one scene at a time")
+        if engine is None:
+            raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
+        own = radius if radius is None or _law_reads_radius(_law_of(law, engine)) else None
+        cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
+                                radius=own, law=law, engine=engine)  # fmt: skip
+        target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
+        return at_step_batch(cp, cp.engine, timestep, mass, stiffness, approach_speed, cp.accel, radius,
+                             target, restitution)  # fmt: skip
     # A map that reads the geometry (PyBullet's breaking threshold) takes the radius even where the
     # continuous law's parameters do not.
     own = radius
@@ -267,7 +280,7 @@ def _batch(*values):
 
 def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law):
     """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
-    from contactalpha.scene.batched import batched_parameters, check_rows
+    from contactalpha.scene.batched import batched_parameters
 
     if (eps is None) == (e_n is None):
         raise ValueError("give exactly one of eps (energetic) and e_N (kinematic) arrays")
@@ -276,20 +289,16 @@ def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, la
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
             raise ValueError(f"{name} is required (SI units)")
-    if force is not None:
-        m = check_rows("mass", mass, 0.0, np.inf, lo_open=True, hi_open=True)
-        accel = check_rows("force", force, 0.0, np.inf, hi_open=True) / m
     target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
-    return batched_parameters(
-        mass, stiffness, approach_speed, accel, target, restitution=restitution, law=law, radius=radius
-    )
+    scene = (mass, stiffness, approach_speed, accel, target)
+    return batched_parameters(*scene, restitution=restitution, law=law, radius=radius, force=force)
 
 
 def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
     """Newton's e_N of an impact at ``factor`` times ``speed`` with the same damping ``mu = alpha k / v``."""
     try:
-        xi = influence_factor(mass, stiffness, speed * factor, accel)
+        xi = influence_factor_unchecked(mass, stiffness, speed * factor, accel)
     except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
         return math.nan
-    r = impact(alpha * factor, xi)
+    r = impact_unchecked(alpha * factor, xi)
     return float(r.e_n) if r.status == "ok" else math.nan

@@ -49,6 +49,15 @@ class SteppedAnswer:
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
         installed engine, or None.
+    source : "exact" (``stepping.inverse`` on the map) or, in a batch, "table" per row (the
+        engine's step table, ``stepping.table``).
+    mean_error : how far the mean may be from the target by the map: the inverse's own miss
+        (at most ``stepping.inverse.MEAN_TOL``) or the table's estimate (at most
+        ``stepping.table.ERROR_TOL``); NaN where there is no answer.
+
+    In a batch (array inputs) every per-scene field is an array of the scenes' shape (``source``
+    and ``status`` arrays of words); ``timestep_reachable`` is NaN there (one scene's call
+    searches it), and ``std`` is NaN in the rows the table answers.
     """
 
     engine: str
@@ -70,6 +79,8 @@ class SteppedAnswer:
     continuous_minimum: float
     continuous_maximum: float
     verify: dict | None = None
+    source: object = "exact"
+    mean_error: object = math.nan
 
 
 def needs_radius(engine):
@@ -117,6 +128,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         steps_min=inv.stats.steps_min, steps_max=inv.stats.steps_max, status=inv.status,
         nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
         continuous_mean=float(b_mean), continuous_minimum=float(b_lo), continuous_maximum=float(b_hi),
+        mean_error=float(abs(mean - target)),
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=answer)
 

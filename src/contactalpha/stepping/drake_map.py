@@ -118,8 +118,13 @@ def step_drake(z, w, p, h, accel):
 def from_block(block, mass, radius):
     """``p`` from Drake's block of ``contact_parameters`` (each geometry's stiffness and dissipation)."""
     del radius  # point contact: the map needs no geometry
-    k, d = float(block["point_contact_stiffness"]), float(block["hunt_crossley_dissipation"])
+    k, d = float(block["point_contact_stiffness"]), float(block_damping(block))
     return make_params(mass, k, d, k, d)
+
+
+def block_damping(block):
+    """Drake's own damping, each geometry's ``hunt_crossley_dissipation`` (s/m), of a block; arrays go through."""
+    return np.asarray(block["hunt_crossley_dissipation"], dtype=float)
 
 
 def law_damping(p, approach_speed):

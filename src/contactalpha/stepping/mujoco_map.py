@@ -75,6 +75,16 @@ def contact_time(p):
     return math.pi / math.sqrt(p[STIFFNESS])
 
 
+def stable_damping(x):
+    """The largest damping ratio at which the contact step ``x = omega h`` is stable.
+
+    The step of ``z'' = -omega^2 z - 2 zeta omega z'`` (velocity first, then position) has the
+    characteristic polynomial ``l^2 - (2 - 2 zeta x - x^2) l + (1 - 2 zeta x)``; both roots lie
+    in the unit disc while ``2 zeta x <= 2 - x^2 / 2``.
+    """
+    return (1.0 - 0.25 * x * x) / x
+
+
 def pack(stiffness, damping, impedance, diag_ratio=1.0):
     """``p`` from MuJoCo's direct-mode values (``solref = (-stiffness, -damping)``, ``solimp[0:2] = d``)."""
     p = np.empty(N_SLOTS)
@@ -85,7 +95,12 @@ def pack(stiffness, damping, impedance, diag_ratio=1.0):
 def from_block(block, mass, radius):
     """``p`` from the MuJoCo block of ``contact_parameters`` (direct-mode ``solref``, ``solimp``)."""
     del mass, radius  # per unit mass, and the map needs no geometry
-    return pack(-block["solref"][0], -block["solref"][1], block["solimp"][0])
+    return pack(-block["solref"][0], block_damping(block), block["solimp"][0])
+
+
+def block_damping(block):
+    """MuJoCo's own damping ``-solref[1]`` (direct mode, per unit mass) of a block; arrays go through."""
+    return -np.asarray(block["solref"][1], dtype=float)
 
 
 def law_damping(p, approach_speed):

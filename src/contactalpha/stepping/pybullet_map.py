@@ -140,8 +140,13 @@ def from_block(block, mass, radius):
     """
     if radius is None:
         raise ValueError("PyBullet's step needs radius= (its contact breaking threshold is 0.02 sqrt(3) r)")
-    k, c = float(block["contactStiffness"]), float(block["contactDamping"])
+    k, c = float(block["contactStiffness"]), float(block_damping(block))
     return make_params(mass, k, c, k, c, radius)
+
+
+def block_damping(block):
+    """PyBullet's own damping, each body's ``contactDamping`` (N s/m), of a block; arrays go through."""
+    return np.asarray(block["contactDamping"], dtype=float)
 
 
 def law_damping(p, approach_speed):
