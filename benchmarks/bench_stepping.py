@@ -7,7 +7,9 @@ Prints, measured side by side in this run (one thread; compile time first, separ
 - the answer of the front door at MuJoCo's 2 ms step (``contact_parameters(..., engine="mujoco",
   timestep=0.002)``: the inverse on the phase mean) against the continuous answer of the same
   call without a step (the baseline): seconds per scene and the ratio;
-- the check (``verify``): MuJoCo's own drop at 128 touchdown phases, seconds per scene.
+- a batch at 2 ms through MuJoCo's step table (``stepping.table``) against the continuous batch
+  of the same scenes (the baseline);
+- the check (``verify``): each installed engine's own drop at 128 touchdown phases, per scene.
 """
 
 import argparse
@@ -67,6 +69,7 @@ def main(argv=None):
     print(f"continuous answer: {base * 1e3:10.3f} ms/scene (baseline)")
     print(f"answer at 2 ms:    {stepped * 1e3:10.3f} ms/scene  ({1 / stepped:.0f} scenes/s; "
           f"{stepped / base:.0f} x the baseline)")  # fmt: skip
+    batch(100_000 if not args.quick else 10_000)
     import importlib.util
 
     # (engine, module, step, radius): each engine's verify at 128 phases, on a few of the scenes.
@@ -89,6 +92,33 @@ def main(argv=None):
                 verify += time.perf_counter() - start
         print(f"verify ({engine}, {h:g} s, 128 phases): {max(verify - answer, 0.0) / len(few) * 1e3:.0f} "
               f"ms/scene beside an answer of {answer / len(few) * 1e3:.0f} ms/scene")  # fmt: skip
+
+
+def batch(n):
+    """A batch at MuJoCo's 2 ms step through its step table, against the continuous batch (baseline)."""
+    from contactalpha import contact_parameters
+    from contactalpha.stepping.registry import stepper
+    from contactalpha.stepping.table import OK, O_STATUS, step_table
+
+    rng = np.random.default_rng(1)
+    m = np.exp(rng.uniform(np.log(0.02), np.log(20.0), n))
+    k = m * (np.pi / (rng.uniform(10.0, 60.0, n) * 0.002)) ** 2
+    v = rng.uniform(0.3, 3.0, n)
+    e = rng.uniform(0.1, 0.95, n)
+    tab = step_table("mujoco", stepper("mujoco").table)
+    x = 0.002 * np.sqrt(k / m)
+    for _ in range(2):  # the first run loads the table and the kernels
+        start = time.perf_counter()
+        cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine="mujoco")
+        t_cont = time.perf_counter() - start
+        start = time.perf_counter()
+        rows = tab.inverse(x, cp.xi, e)
+        tab.forward(x, cp.xi, cp.damping)
+        t_tab = time.perf_counter() - start
+    share = np.mean(rows[:, O_STATUS] == OK)
+    print(f"batch of {n} at 2 ms: the step table {n / t_tab:.0f} scenes/s ({share:.0%} of rows answered; the rest "
+          f"are solved one at a time), continuous batch {n / t_cont:.0f} scenes/s (baseline), both together "
+          f"{(t_cont + t_tab) / t_cont:.2f} x the baseline ({os.environ['NUMBA_NUM_THREADS']} thread(s))")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -321,14 +321,12 @@ def _print_engine(args, value, restitution):
     """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
     from contactalpha.io import json_text
     from contactalpha.scene.engine_params import engine_block, format_block
-    from contactalpha.scene.parameters import scene_accel
 
     from contactalpha.progress import Progress
 
-    accel = scene_accel(args.mass, args.accel, args.force)
     with Progress(f"contactalpha: refining on {args.engine}'s drops") as progress:
         params, notes = engine_block(
-            args.engine, value, args.mass, args.stiffness, args.speed, accel,
+            args.engine, value, args.mass, args.stiffness, args.speed, args.accel, force=args.force,
             restitution=restitution, radius=args.radius, refine=args.refine,
             timestep=args.timestep, verify=args.verify, progress=None if args.quiet else progress,
         )  # fmt: skip

@@ -290,3 +290,43 @@ def test_drake_check_reads_the_arm_mass_change(pydrake, tmp_path):
     # the tip turns by at most ~2 depth / L: m_eff = I / (L cos theta)^2 moves by ~theta^2
     assert 0.0 < got.mass_change < 1e-3
     assert got.drop.steps > 10
+
+
+@pytest.mark.parametrize("approximation", ["similar", "tamsi"])
+def test_drake_other_approximations_follow_the_same_map(pydrake, tmp_path, approximation):
+    """``similar`` and ``tamsi`` solve the same frictionless impulse as ``lagged``: the tuned arm's drops
+    at 8 phases follow the map as closely (TAMSI is deprecated in Drake: its warning is silenced)."""
+    import warnings
+
+    from contactalpha.mechanism.drake_model import drake_drop
+    from contactalpha.mechanism.tune import tune
+
+    h, out = 1e-3, tmp_path / "arm.urdf"
+    got = tune(ARM, PAIR, 0.6, engine="drake", qvel=QVEL, stiffness=_stiffness(16, h), output=out, timestep=h)
+    inv, c = got.discrete.inverse, got.contact
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        engine = [drake_drop(out, PAIR, c.qpos, c.qvel, time_step=h, phase=f, approximation=approximation).e_n
+                  for f in _phases(8)]  # fmt: skip
+    by_map = [run_drop(kernels.DRAKE, inv.p, h, f, SPEED, ACCEL, 10**6)[0] for f in _phases(8)]
+    assert np.max(np.abs(np.array(engine) - by_map)) < 1e-4
+
+
+def test_pybullet_check_applies_the_named_forces(pybullet, mujoco, tmp_path):
+    """A 5 N push down on the arm's centre of mass raises the load to 15.9 m/s^2: the check and the
+    drops apply it before every step (without it the same parameters give 0.55, not 0.40)."""
+    from contactalpha.mechanism.pybullet_model import pybullet_drop
+    from contactalpha.mechanism.tune import tune
+
+    h, out, push = pybullet_map.TIMESTEP, tmp_path / "arm.py", {"arm": (0.0, 0.0, -5.0)}
+    got = tune(ARM, PAIR, 0.4, engine="pybullet", qvel=QVEL, stiffness=_stiffness(24, h), forces=push,
+               output=out, check=True)  # fmt: skip
+    c, inv = got.contact, got.discrete.inverse
+    assert c.accel == pytest.approx(L * (MASS * G + 5.0) * D / I_HINGE, rel=1e-12)
+    at_zero = run_drop(kernels.PYBULLET, inv.p, h, 0.0, SPEED, c.accel, 10**6)[0]
+    assert got.delivered == pytest.approx(at_zero, abs=1e-3)
+    kw = dict(script=out, timestep=h, speed=SPEED)
+    pushed = [pybullet_drop(ARM, PAIR, c.qpos, c.qvel, phase=f, forces=push, **kw).e_n for f in _phases(16)]
+    assert np.mean(pushed) == pytest.approx(0.4, abs=1e-3)
+    free = [pybullet_drop(ARM, PAIR, c.qpos, c.qvel, phase=f, **kw).e_n for f in _phases(4)]
+    assert np.mean(free) > 0.5

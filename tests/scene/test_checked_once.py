@@ -23,7 +23,12 @@ from contactalpha.scene.parameters import contact_parameters
 SCENE = {"e_N": 0.5, "mass": 0.5, "stiffness": 2e4, "approach_speed": 0.5, "accel": 9.81}
 INPUTS = ("approach_speed", "mass", "stiffness", "e_N", "accel")
 # The checks' own names for an argument they do not take by name.
-FIXED_NAMES = {"check_eps": "eps", "check_xi": "xi", "check_alpha": "alpha", "check_restitution": "restitution"}
+FIXED_NAMES = {
+    "check_eps": "eps",
+    "check_xi": "xi",
+    "check_alpha": "alpha",
+    "check_restitution": "restitution",
+}
 # Every public way to ask: the default law, each engine, a law by name.
 ROUTES = [{}] + [{"engine": e} for e in ENGINE_NAMES] + [{"law": "mujoco_soft"}]
 
@@ -143,3 +148,30 @@ def test_cli_names_a_bad_speed(engine, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert len(err) == 1 and "approach_speed = -0.5 is outside the valid range (0.0, inf)" in err[0]
+
+
+def test_critical_speed_of_a_law_checks_each_input_once(counted):
+    from contactalpha.scene.threshold import critical_speed
+
+    critical_speed(np.array([0.4, 0.7]), 0.5, 2e4, 9.81, law="mujoco_soft")
+    names = ("eps", "mass", "stiffness", "accel", "check_tolerances", "check_max_steps")
+    assert {name: counted[name] for name in names} == dict.fromkeys(names, 1)
+
+
+def test_advise_on_a_law_checks_the_scene_once(counted):
+    from contactalpha.scene.advisor import advise
+
+    advise(0.5, 0.5, 2e4, 0.5, accel=9.81, law="mujoco_soft")
+    names = ("approach_speed", "mass", "stiffness", "accel")
+    assert {name: counted[name] for name in names} == dict.fromkeys(names, 1)
+
+
+@pytest.mark.parametrize("load", [("--accel", "accel"), ("--force", "force")], ids=["accel", "force"])
+def test_cli_params_engine_checks_each_input_once(counted, load, capsys):
+    option, name = load
+    argv = ["params", "--engine", "mujoco", "--e-n", "0.5", "--mass", "0.5", "--stiffness", "2e4",
+            "--speed", "0.5", option, "4.3"]  # fmt: skip
+    assert main(argv) == 0
+    names = ("approach_speed", "mass", "stiffness", "e_N", name)
+    assert {n: counted[n] for n in names} == dict.fromkeys(names, 1)
+    assert "solref" in capsys.readouterr().out

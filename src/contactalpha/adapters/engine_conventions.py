@@ -93,7 +93,9 @@ def opensim_stiffness(stiffness, radius):
     float or ndarray
         ``E_i = 3 k / sqrt(2 R)``, to give both the sphere and the half space.
     """
-    return opensim_stiffness_unchecked(check_positive("stiffness", stiffness), check_positive("radius", radius))
+    return opensim_stiffness_unchecked(
+        check_positive("stiffness", stiffness), check_positive("radius", radius)
+    )
 
 
 def opensim_stiffness_unchecked(stiffness, radius):

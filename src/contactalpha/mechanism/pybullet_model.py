@@ -10,7 +10,8 @@ for the other engines (``crossing.rebound_speed``).
 
 PyBullet's links carry a velocity damping (``linearDamping`` and ``angularDamping``, 0.04 by
 default) that the contact laws leave out: the drop sets both to 0 unless ``link_damping`` is kept.
-Fixed-base models with one-degree-of-freedom joints only; no constant forces.
+Fixed-base models with one-degree-of-freedom joints only; constant forces at links' centres of
+mass (``forces``) are applied before every step.
 
 Importing this module does not need PyBullet.
 """
@@ -110,17 +111,31 @@ def _inv_mass(pb, body, links, joints, client):
     return float(J @ np.linalg.solve(M, J))
 
 
-def _free_qacc(pb, body, q, v, client):
-    """Joint accelerations without contact: ``-M^-1 (C v - tau_gravity)`` from PyBullet's dynamics."""
+def _com(pb, body, link, client):
+    return np.asarray(pb.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=client)[0])
+
+
+def _push(pb, body, pushes, client):
+    """The constant forces at the links' centres of mass, for the next step (PyBullet clears them)."""
+    for link, force in pushes.items():
+        pb.applyExternalForce(body, link, list(map(float, force)), list(_com(pb, body, link, client)),
+                              pb.WORLD_FRAME, physicsClientId=client)  # fmt: skip
+
+
+def _free_qacc(pb, body, q, v, client, pushes):
+    """Joint accelerations without contact: ``M^-1 (tau_gravity + J_com^T F - C v)`` from PyBullet."""
     M = np.array(pb.calculateMassMatrix(body, list(q), physicsClientId=client))
+    tau = np.zeros(len(q))
+    for link, force in pushes.items():
+        tau += _point_jacobian(pb, body, link, _com(pb, body, link, client), q, client).T @ np.asarray(force)
     zero = [0.0] * len(q)
     bias = np.array(pb.calculateInverseDynamics(body, list(q), list(v), zero, physicsClientId=client))
-    return -np.linalg.solve(M, bias)
+    return np.linalg.solve(M, tau - bias)
 
 
 def pybullet_drop(
     urdf, pair, qpos, qvel, *, timestep, script=None, stiffness=None, damping=None, phase=0.0, duration=1.0,
-    link_damping=False, friction=0.0, speed=None, joint_names=None,
+    link_damping=False, friction=0.0, speed=None, joint_names=None, forces=None,
 ):  # fmt: skip
     """Drop the URDF's mechanism in PyBullet from the touchdown state; ``MechanismDrop``.
 
@@ -143,6 +158,8 @@ def pybullet_drop(
     speed : the approach speed e_N is relative to, m/s (default: the gap's rate at touchdown, by
         differences).
     joint_names : the joints ``qpos`` and ``qvel`` are ordered by (default PyBullet's order).
+    forces : {link: (fx, fy, fz)} constant forces at the links' centres of mass, N, world axes
+        (``applyExternalForce`` before every step).
     """
     if (script is None) == (stiffness is None or damping is None):
         raise ValueError("give either script= (the tuned script) or both stiffness= and damping=")
@@ -173,7 +190,11 @@ def pybullet_drop(
         h = float(timestep)
         if speed is None:
             speed = _touchdown_rate(pb, body, links, joints, q0, v0, client)
-        qacc = _free_qacc(pb, body, q0, v0, client)
+        pushes = dict(
+            zip(link_indices(body, list(forces or {}), client), (forces or {}).values(), strict=True)
+        )
+        _state(pb, body, joints, q0, v0, client)
+        qacc = _free_qacc(pb, body, q0, v0, client, pushes)
         tc = float(phase) * h
         _state(pb, body, joints, q0 - tc * v0 + 0.5 * tc * tc * qacc, v0 - (tc + 0.5 * h) * qacc, client)
         gaps, inv_masses = [], []
@@ -183,6 +204,7 @@ def pybullet_drop(
                 inv_masses.append(_inv_mass(pb, body, links, joints, client))
             if len(gaps) > 3 and gaps[-1] > 0.0 and min(gaps) < 0.0 and gaps[-2] >= 0.0:
                 break
+            _push(pb, body, pushes, client)
             pb.stepSimulation(physicsClientId=client)
         exit_speed, t_exit = rebound_speed(np.arange(len(gaps)) * h, gaps)
         return MechanismDrop.of(exit_speed / float(speed), exit_speed, t_exit, inv_masses, h)

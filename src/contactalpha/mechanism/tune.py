@@ -406,7 +406,8 @@ def _checked(result, timestep, refined=False):
         if Path(c.model).suffix.lower() != ".urdf":
             raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
         drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
-                             speed=c.approach_speed, joint_names=_joint_names(c))  # fmt: skip
+                             speed=c.approach_speed, joint_names=_joint_names(c),
+                             forces=c.forces)  # fmt: skip
     else:
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
         step = result.timestep

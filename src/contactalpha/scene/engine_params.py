@@ -10,7 +10,7 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
-from .parameters import contact_parameters
+from .parameters import contact_parameters, scene_accel
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import block_lines, stepped_lines
 
@@ -18,8 +18,9 @@ from .result import block_lines, stepped_lines
 REACHED = ("ok", "unchanged")
 
 
-def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, restitution="kinematic",
-                 radius=None, refine=False, timestep=None, verify=None, progress=None):  # fmt: skip
+def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *, force=None,
+                 restitution="kinematic", radius=None, refine=False, timestep=None, verify=None,
+                 progress=None):  # fmt: skip
     """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
 
     Parameters
@@ -30,6 +31,8 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         Target restitution (``restitution``: "kinematic" e_N or "energetic" eps).
     mass, stiffness, approach_speed, accel : float
         kg, the engine law's physical stiffness (N/m^1.5 for n = 3/2, N/m for n = 1), m/s, m/s^2 (load).
+    force : float, optional
+        The load as a force, N, instead of ``accel`` (give exactly one).
     radius : float, optional
         Sphere radius, m.
     refine : bool
@@ -54,7 +57,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         if refine:
             raise ValueError("give --refine or --timestep, not both: the step's answer needs no engine run")
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
-                                radius=radius, engine=engine, timestep=timestep, verify=verify,
+                                force=force, radius=radius, engine=engine, timestep=timestep, verify=verify,
                                 **{key: target})  # fmt: skip
         ans = cp.stepped
         if ans.status != "ok":
@@ -69,12 +72,13 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel, *, rest
         return cp.block, stepped_lines(ans)
     if not refine:
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
-                                radius=radius, engine=engine, **{key: target})  # fmt: skip
+                                force=force, radius=radius, engine=engine, **{key: target})  # fmt: skip
         notes = [f"law {cp.law}: {cp.damping_name} = {cp.damping:.15g} at xi = {cp.xi:.15g} ({cp.source})"]
         step = a.timestep(a.settings)
         if step is not None:
             notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
         return cp.block, notes
+    accel = scene_accel(mass, accel, force)
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:

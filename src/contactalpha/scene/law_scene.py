@@ -15,7 +15,7 @@ from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.codes import NO_BRACKET, OK, STATUS
 from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
-from contactalpha.laws.maps import damping_for_unchecked, impact_unchecked
+from contactalpha.laws.maps import check_settings, check_target, damping_for_unchecked, impact_unchecked
 
 from .result import ContactParameters
 
@@ -137,8 +137,8 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
     from contactalpha import models
 
     law = get_law(law)
-    xi = float(law.scene_load_factor(mass, stiffness, approach_speed, accel))
-    exact = law.damping_for(value, xi, restitution)
+    xi = float(law.scene_load_factor_unchecked(mass, stiffness, approach_speed, accel))
+    exact = damping_for_unchecked(law, value, xi, restitution)
     verdicts = []
     for model in models.REGISTRY:
         if model.law != law.name or restitution not in model.restitutions:
@@ -173,8 +173,11 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
 
 
 def _separates(law, value, restitution, A, settings):
-    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status)."""
-    sol = law.damping_for(value, law.load_factor(A), restitution, **settings)
+    """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status).
+
+    ``value`` and ``settings`` checked (``law_boundary_load``).
+    """
+    sol = damping_for_unchecked(law, value, law.load_factor_unchecked(A), restitution, settings)
     if not sol.ok:
         return None, str(sol.status)
     return str(sol.state) == "separation", STATUS[OK]
@@ -191,6 +194,12 @@ LOAD_BRACKET_STEP = 10.0
 def law_boundary_load(law, eps, restitution="energetic", **settings):
     """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
     law = get_law(law)
+    settings = check_settings(law, settings)
+    return _boundary_load(law, float(check_target(law, eps, restitution)), restitution, settings)
+
+
+def _boundary_load(law, eps, restitution, settings):
+    """``law_boundary_load`` of a target and settings already checked."""
     lo = np.log(LOAD_BRACKET[0])
     s_lo, status = _separates(law, eps, restitution, LOAD_BRACKET[0], settings)
     if s_lo is None:
@@ -225,11 +234,11 @@ def law_critical_speed(law, eps, mass, stiffness, accel, **settings):
     out = np.zeros(eps.shape)
     status = np.full(eps.shape, STATUS[OK], dtype=object)
     n = law.exponent
-    unit = law.length_scale(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
+    unit = law.length_scale_unchecked(mass, stiffness, 1.0)  # delta_s ~ v^(2/(n+1)), so A ~ v^(-2n/(n+1))
     for i, value in enumerate(eps):
         if value == 1.0:
             continue
-        A_b, status[i] = law_boundary_load(law, float(value), **settings)
+        A_b, status[i] = _boundary_load(law, float(value), "energetic", settings)
         out[i] = (accel * unit / A_b) ** ((n + 1.0) / (2.0 * n))
     return out, status
 
