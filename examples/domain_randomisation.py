@@ -6,7 +6,7 @@ push, with a random target restitution e_N.  ``contact_parameters(..., engine="m
 the arrays and gives every scene's ``solref`` and ``solimp`` (MuJoCo's soft contact, direct mode)
 for the damping that delivers its e_N under its load.  Three scenes are then dropped in MuJoCo
 itself, at a step small enough that MuJoCo's discrete contact is close to the continuous law (at
-the default 2 ms step use ``contactalpha params --engine mujoco --refine``).
+MuJoCo's default 2 ms step, add ``timestep="default"``: docs/stepping.md, "A batch at the step").
 
 Run: python examples/domain_randomisation.py   (needs ``pip install mujoco``)
 """

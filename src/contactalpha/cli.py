@@ -324,7 +324,13 @@ def _print_engine(args, value, restitution):
 
     from contactalpha.progress import Progress
 
-    with Progress(f"contactalpha: refining on {args.engine}'s drops") as progress:
+    if args.refine:
+        label = f"contactalpha: refining on {args.engine}'s drops"
+    elif args.timestep is not None:
+        label = f"contactalpha: solving at {args.engine}'s step" + (" and verifying in the engine" if args.verify else "")
+    else:
+        label = f"contactalpha: {args.engine}'s parameters"
+    with Progress(label) as progress:
         params, notes = engine_block(
             args.engine, value, args.mass, args.stiffness, args.speed, args.accel, force=args.force,
             restitution=restitution, radius=args.radius, refine=args.refine,

@@ -41,6 +41,18 @@ def test_drake_reads_hand_values(pydrake, case):
     _check(contact, case)
 
 
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_drake_reads_a_pair_in_either_order(pydrake, case):
+    """Drake returns a pair's closest points in its own order; the reader follows geometry 1 to 2."""
+    ahead = read_contact(case.path(".sdf"), case.pair, qvel=case.qvel_drake, forces=case.forces)
+    back = read_contact(case.path(".sdf"), case.pair[::-1], qvel=case.qvel_drake, forces=case.forces)
+    assert back.normal == pytest.approx(-ahead.normal, abs=1e-12)
+    assert back.point == pytest.approx(ahead.point, abs=1e-12)
+    assert back.effective_mass == pytest.approx(ahead.effective_mass, rel=1e-12)
+    assert back.accel == pytest.approx(ahead.accel, rel=1e-12)
+    assert back.approach_speed == pytest.approx(ahead.approach_speed, rel=1e-12)
+
+
 def test_leg_push_and_contact_point(mujoco):
     """A named force on the hip adds J M^-1 J_hip^T F; the contact point is the foot's lowest point."""
     case = CASES[2]

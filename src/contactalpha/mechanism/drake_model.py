@@ -87,9 +87,12 @@ class _Plant:
             raise ValueError(
                 f"Drake has no signed distance for this pair: {' '.join(str(err).split())[:200]}"
             ) from None
-        pa = qo.GetPoseInWorld(g1) @ r.p_ACa
-        pb = qo.GetPoseInWorld(g2) @ r.p_BCb
-        point, normal = 0.5 * (pa + pb), -np.asarray(r.nhat_BA_W)
+        # Drake may return the pair in its own order (id_A is geometry 2): then A and B swap.
+        p1, p2, n_21 = (r.p_ACa, r.p_BCb, np.asarray(r.nhat_BA_W)) if r.id_A == g1 else (
+            r.p_BCb, r.p_ACa, -np.asarray(r.nhat_BA_W))  # fmt: skip
+        pa = qo.GetPoseInWorld(g1) @ p1
+        pb = qo.GetPoseInWorld(g2) @ p2
+        point, normal = 0.5 * (pa + pb), -n_21
         if not np.all(np.isfinite(normal)):  # touching: the pair has no direction; geometry 1's normal
             normal = self._outward(qo, g1, point)
         return point, normal, float(r.distance)

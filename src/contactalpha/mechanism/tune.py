@@ -416,7 +416,10 @@ def _checked(result, timestep, refined=False):
                           time_step=0.0 if step is None else step)  # fmt: skip
     change = drop.mass_change
     delivered = drop.e_n
-    notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}"]
+    one = "" if result.timestep is None else (
+        " (one drop, touchdown at the start of a step: at a coarse step one drop lies anywhere in the "
+        "phase's range, and the mean over the phase is the target)")  # fmt: skip
+    notes = [*result.notes, f"{result.engine}'s own drop delivers e_N = {delivered:.6g}{one}"]
     if np.isfinite(change):
         notes.append(f"effective mass moves by {change:.3g} (relative) over the contact")
         if change > MASS_CHANGE_WARN:

@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from contactalpha.adapters.registry import adapter
+from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
 from contactalpha.stepping.delivered import over_phase
 from contactalpha.stepping.inverse import damping_for
@@ -117,8 +118,12 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     engines = dict(cp.engines)
     engines[engine] = {key: _nan_rows(x, ok, shape) for key, x in params.items()}
     reason = np.asarray(cp.reason, dtype=object).ravel().copy()
+    nearest = cols[:, _COLUMNS.index("nearest")]
     for i in np.flatnonzero(~ok & ok_in):
         reason[i] = f"at {engine}'s step {h:.6g} s: {status[i]}"
+        if status[i] == "unreachable" and np.isfinite(nearest[i]):
+            reason[i] += (f"; the nearest mean {restitution_name(restitution)} met is {nearest[i]:.4g} (one scene's "
+                          "call names the largest step that reaches the target)")  # fmt: skip
     out = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=e.reshape(shape),
