@@ -119,8 +119,13 @@ def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid
     check_positive("tol", tol)
     grid = check_count("grid", grid, 4, 1_000_000)
     max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
-    row = phase_mean(s.code, p, h, v, a, max_steps, float(tol), grid, MAX_INTERVALS, GL_X, GL_W)
-    return _stats(row)
+    return over_phase_unchecked(s, p, h, v, a, float(tol), grid, max_steps)
+
+
+def over_phase_unchecked(s, p, h, v, a, tol=QUAD_TOL, grid=GRID, max_steps=None):
+    """``over_phase`` for stepper ``s`` on values ``check_scene`` has passed (the root finders' core)."""
+    max_steps = step_limit(s, p, h) if max_steps is None else max_steps
+    return _stats(phase_mean(s.code, p, h, v, a, max_steps, tol, grid, MAX_INTERVALS, GL_X, GL_W))
 
 
 def _stats(row):

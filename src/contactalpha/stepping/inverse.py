@@ -19,7 +19,7 @@ from scipy.optimize import brentq
 
 from contactalpha.validation import check_range
 
-from .delivered import PhaseStats, check_restitution, check_scene, over_phase
+from .delivered import PhaseStats, check_restitution, check_scene, over_phase_unchecked
 from .registry import stepper
 
 # The phase mean at the solution is within this of the target (by the map).
@@ -65,7 +65,9 @@ class StepInverse:
 
 
 def _mean(engine, p, h, v, a, restitution):
-    st = over_phase(engine, p, h, v, a)
+    # The scene was checked where it entered (``damping_for``; a smaller step in the searches
+    # below keeps v >= a h / 2).
+    st = over_phase_unchecked(stepper(engine), p, h, v, a)
     return st.of(restitution)[0], st
 
 
