@@ -33,7 +33,7 @@ def _declared():
 
 # Import names whose distribution is named otherwise, for when it is not installed here (an
 # optional engine): installed, the distribution's own metadata says it.
-NOT_INSTALLED_NAMES = {"pydrake": "drake", "yaml": "pyyaml"}
+NOT_INSTALLED_NAMES = {"pydrake": "drake", "yaml": "pyyaml", "warp": "warp-lang"}
 
 
 def test_every_imported_distribution_is_declared():
