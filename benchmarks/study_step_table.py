@@ -44,7 +44,9 @@ def accuracy(n, push):
     m, k, v, a, e = scenes(n, push=push)
     s = stepper("mujoco")
     start = time.perf_counter()
-    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=0.002)
+    cp = contact_parameters(
+        mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=0.002
+    )
     seconds = time.perf_counter() - start
     st = cp.stepped
     src, status = st.source, st.status
@@ -72,7 +74,7 @@ def speed(n):
     """The table's batch inverse and the continuous batch it follows, on ``n`` scenes."""
     from contactalpha import contact_parameters
     from contactalpha.stepping.registry import stepper
-    from contactalpha.stepping.table import OK, O_STATUS, step_table
+    from contactalpha.stepping.table import O_STATUS, OK, step_table
 
     m, k, v, a, e = scenes(n, seed=11, push=False)
     tab = step_table("mujoco", stepper("mujoco").table)
@@ -84,9 +86,13 @@ def speed(n):
     tab.forward(0.002 * np.sqrt(k / m), cp.xi, cp.damping)
     t_tab = time.perf_counter() - start
     ok = np.mean(rows[:, O_STATUS] == OK)
-    print(f"{n} scenes, {os.environ['NUMBA_NUM_THREADS']} threads: continuous batch {n / t_cont:10.0f} scenes/s; "
-          f"the step table's inverse and forward {n / t_tab:10.0f} scenes/s ({ok:.0%} of rows answered); "
-          f"both {n / (t_cont + t_tab):10.0f} scenes/s, {(t_cont + t_tab) / t_cont:.2f} times the continuous batch")  # fmt: skip
+    threads = os.environ["NUMBA_NUM_THREADS"]
+    print(
+        f"{n} scenes, {threads} threads: continuous batch {n / t_cont:10.0f} scenes/s; "
+        f"the step table's inverse and forward {n / t_tab:10.0f} scenes/s ({ok:.0%} of rows answered); "
+        f"both {n / (t_cont + t_tab):10.0f} scenes/s, "
+        f"{(t_cont + t_tab) / t_cont:.2f} times the continuous batch"
+    )
 
 
 def main(argv=None):
@@ -97,7 +103,10 @@ def main(argv=None):
     start = time.perf_counter()
     m, k, v, a, e = scenes(2)
     contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=0.002)
-    print(f"first batch call (loads the table; compiles or loads the kernels): {time.perf_counter() - start:.2f} s")
+    print(
+        "first batch call (loads the table; compiles or loads the kernels): "
+        f"{time.perf_counter() - start:.2f} s"
+    )
     speed(100_000)
     speed(100_000)
     accuracy(n, push=False)

@@ -45,7 +45,11 @@ def test_the_table_is_the_maps_phase_mean_at_its_nodes_in_physical_units(table):
     law = get_law("mujoco_soft")
     checked = 0
     while checked < 12:
-        i, kx, j = rng.integers(1, GRID.n_x + 1), rng.integers(0, GRID.n_xi + 1), rng.integers(0, GRID.n_c + 1)
+        i, kx, j = (
+            rng.integers(1, GRID.n_x + 1),
+            rng.integers(0, GRID.n_xi + 1),
+            rng.integers(0, GRID.n_c + 1),
+        )
         cell = table.table[i, kx, j]
         if not np.isfinite(cell[F_MEAN]):
             continue
@@ -85,7 +89,9 @@ def scenes(n, seed, pushed=False):
 def test_a_batch_at_the_step_delivers_its_targets_by_the_map(pushed):
     # Under gravity alone the table answers most rows; pressed harder, most are solved exactly.
     m, k, v, a, e = scenes(8, seed=5, pushed=pushed)
-    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H)
+    cp = contact_parameters(
+        mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H
+    )
     st = cp.stepped
     assert np.all(cp.ok)
     assert np.sum(st.source == "table") >= (0 if pushed else 4)
@@ -104,7 +110,9 @@ def test_a_batch_at_the_step_delivers_its_targets_by_the_map(pushed):
 
 def test_batch_rows_agree_with_one_scenes_exact_answer():
     m, k, v, a, e = scenes(3, seed=9)
-    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H)
+    cp = contact_parameters(
+        mass=m, stiffness=k, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H
+    )
     for i in range(3):
         one = contact_parameters(mass=m[i], stiffness=k[i], approach_speed=v[i], accel=a[i], e_N=e[i],
                                  engine="mujoco", timestep=H)  # fmt: skip
@@ -120,7 +128,9 @@ def test_an_unreachable_row_is_nan_in_every_number_and_the_others_unchanged():
     m, k, v, a, e = scenes(3, seed=2)
     k2 = k.copy()
     k2[1] = m[1] * (2.5 / H) ** 2  # omega h = 2.5: past the explicit step's stability
-    cp = contact_parameters(mass=m, stiffness=k2, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H)
+    cp = contact_parameters(
+        mass=m, stiffness=k2, approach_speed=v, accel=a, e_N=e, engine="mujoco", timestep=H
+    )
     ref = contact_parameters(mass=m[[0, 2]], stiffness=k[[0, 2]], approach_speed=v[[0, 2]], accel=a[[0, 2]],
                              e_N=e[[0, 2]], engine="mujoco", timestep=H)  # fmt: skip
     assert list(cp.ok) == [True, False, True]
@@ -134,7 +144,9 @@ def test_an_unreachable_row_is_nan_in_every_number_and_the_others_unchanged():
 
 def test_an_eps_batch_and_a_batch_of_another_engine_are_solved_exactly():
     m, k, v, a, e = scenes(2, seed=4)
-    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, eps=e, engine="mujoco", timestep=H)
+    cp = contact_parameters(
+        mass=m, stiffness=k, approach_speed=v, accel=a, eps=e, engine="mujoco", timestep=H
+    )
     assert list(cp.stepped.source) == ["exact", "exact"]
     for i in range(2):
         p = mujoco_map.pack(-cp.block["solref"][0][i], -cp.block["solref"][1][i], 0.9)

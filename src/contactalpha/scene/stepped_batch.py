@@ -48,6 +48,7 @@ _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_
 
 def _block_row(block, i):
     """Row ``i`` of an engine block of arrays (tuples entry by entry)."""
+
     def pick(x):
         if isinstance(x, tuple):
             return tuple(pick(v) for v in x)
@@ -122,8 +123,11 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     for i in np.flatnonzero(~ok & ok_in):
         reason[i] = f"at {engine}'s step {h:.6g} s: {status[i]}"
         if status[i] == "unreachable" and np.isfinite(nearest[i]):
-            reason[i] += (f"; the nearest mean {restitution_name(restitution)} met is {nearest[i]:.4g} (one scene's "
-                          "call names the largest step that reaches the target)")  # fmt: skip
+            name = restitution_name(restitution)
+            reason[i] += (
+                f"; the nearest mean {name} met is {nearest[i]:.4g} "
+                "(one scene's call names the largest step that reaches the target)"
+            )
     out = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=e.reshape(shape),

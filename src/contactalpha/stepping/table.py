@@ -10,17 +10,20 @@ nearest nodes) give the squared phase mean at every damping node (the square: ne
 mean falls like a square root of the damping, its square linearly); the first node from zero
 damping upwards whose mean is below the target brackets the root (as ``inverse.damping_for``'s
 ladder does; a target above the mean at zero damping is out of reach, and one that no node
-brackets is left to the exact inverse); the cubic through the four nearest damping nodes is solved there by bisection.
+brackets is left to the exact inverse); the cubic through the four nearest damping nodes is
+solved there by bisection.
 The same weights give the range a single drop sees (linear in the damping) and the steps in
 contact (the outermost of the eight nearest nodes).
 
 **Its own accuracy.**  The mean is a continuous but not a smooth function of the step (it
 ripples where the steps in contact change), so the table cannot be exact.  Each row carries an
 estimate (``O_ERROR``): the largest change of the mean at the root when one of the three
-four-node stencils (damping, step, load) is shifted by one node either way.  A row whose estimate exceeds ``ERROR_TOL``, or that lies outside the
-grid, gets the status ``INACCURATE`` or ``OUTSIDE`` and no number: the front door solves those
-rows exactly (``inverse.damping_for``).  The estimate is checked against the exact inverse at
-random scenes in ``tests/stepping/test_step_table.py``.
+four-node stencils (damping, step, load) is shifted by one node either way.  A row whose
+estimate exceeds ``ERROR_TOL``, or that lies outside the grid, gets the status ``INACCURATE``
+or ``OUTSIDE`` and no number: the front door solves those rows exactly
+(``inverse.damping_for``).  The estimate is not a bound (kinks between nodes hide from it);
+what the rows it accepts deliver is checked against the map's exact phase mean at random scenes
+in ``tests/stepping/test_step_table.py``.
 
 A table file is refused, never evaluated, when its format, grid or SHA-256 differ from what it
 records (``load_step_table``).
@@ -36,7 +39,7 @@ import numpy as np
 from numba import njit, prange
 
 from contactalpha.engine.table import checksum
-from contactalpha.io import json_text, write_atomic
+from contactalpha.laws.table import save_law_tables
 
 DATA = Path(__file__).parents[1] / "data"
 TABLE_FORMAT = "step-table-1"
@@ -60,9 +63,11 @@ BISECTIONS = 60
 
 @dataclass(frozen=True)
 class StepTableGrid:
-    """A step table's uniform grid: ``n_x`` steps of ``x_max / n_x`` from 0 (the continuous law),
-    ``n_xi`` load factors from 0 to ``xi_max``, ``n_c`` dampings from 0 to ``c_max``; the
-    quadrature tolerance of each phase mean."""
+    """A step table's uniform grid, and the quadrature tolerance of each phase mean.
+
+    ``n_x`` steps of ``x_max / n_x`` from 0 (the continuous law), ``n_xi`` load factors from 0 to
+    ``xi_max``, ``n_c`` dampings from 0 to ``c_max``.
+    """
 
     x_max: float
     n_x: int
@@ -73,20 +78,26 @@ class StepTableGrid:
     quad_tol: float = 1e-9
 
     def steps(self):
+        """The step nodes ``x = omega h``."""
         return np.linspace(0.0, self.x_max, self.n_x + 1)
 
     def loads(self):
+        """The load-factor nodes ``xi``."""
         return np.linspace(0.0, self.xi_max, self.n_xi + 1)
 
     def dampings(self):
+        """The law's damping nodes."""
         return np.linspace(0.0, self.c_max, self.n_c + 1)
 
 
 @dataclass(frozen=True)
 class StepTableSpec:
-    """What a stepper's table is: the law of its scaling, its grid, ``unit_params(c)`` (the map's
-    ``p`` at mass 1 and stiffness 1, so omega = 1, with the law's damping ``c`` at speed 1) and
-    ``stable_damping(x)``, the law damping past which the step ``x`` is unstable (None: none)."""
+    """What a stepper's table is: its law, grid, unit parameters and stability limit.
+
+    ``law`` is the law of its scaling; ``unit_params(c)`` the map's ``p`` at mass 1 and stiffness 1
+    (so omega = 1) with the law's damping ``c`` at speed 1; ``stable_damping(x)`` the law damping
+    past which the step ``x`` is unstable (None: none).
+    """
 
     law: str
     grid: StepTableGrid
@@ -100,14 +111,11 @@ def table_path(engine):
 
 
 def save_step_table(arrays, meta, path):
-    """Write a step table with its meta (and the arrays' SHA-256) to ``path`` atomically."""
-    meta = dict(meta, sha256=checksum(arrays))
+    """Write a step table with its meta (and the arrays' SHA-256) to ``path`` atomically.
 
-    def write(tmp):
-        with open(tmp, "wb") as fh:
-            np.savez_compressed(fh, **arrays, meta=json_text(meta))
-
-    return write_atomic(Path(path), write)
+    The laws' table writer (``laws.table.save_law_tables``): one format for every shipped table.
+    """
+    return save_law_tables(arrays, meta, path)
 
 
 def load_step_table(path, grid):
@@ -123,10 +131,14 @@ def load_step_table(path, grid):
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as err:
         raise ValueError(f"step table {path} cannot be read ({type(err).__name__}: {err}); {hint}") from err
     if meta.get("format") != TABLE_FORMAT:
-        raise ValueError(f"step table {path} has format {meta.get('format')!r}, expected {TABLE_FORMAT}; {hint}")
+        raise ValueError(
+            f"step table {path} has format {meta.get('format')!r}, expected {TABLE_FORMAT}; {hint}"
+        )
     shape = (grid.n_x + 1, grid.n_xi + 1, grid.n_c + 1, N_FIELDS)
     if table.shape != shape or table.dtype != np.float64:
-        raise ValueError(f"step table {path}: shape {table.shape} {table.dtype}, expected {shape} float64; {hint}")
+        raise ValueError(
+            f"step table {path}: shape {table.shape} {table.dtype}, expected {shape} float64; {hint}"
+        )
     if checksum({"table": table}) != meta.get("sha256"):
         raise ValueError(f"step table {path}: its checksum differs from the recorded one; {hint}")
     return table, meta
@@ -134,8 +146,10 @@ def load_step_table(path, grid):
 
 @njit(cache=True)
 def _weights(u, n, shift=0):
-    """First node and cubic Lagrange weights at grid coordinate ``u`` (nodes 0..n-1, n >= 4);
-    ``shift`` moves the four-node stencil by that many nodes (kept inside the grid)."""
+    """First node and cubic Lagrange weights at grid coordinate ``u`` (nodes 0..n-1, n >= 4).
+
+    ``shift`` moves the four-node stencil by that many nodes (kept inside the grid).
+    """
     b = min(max(int(math.floor(u)) - 1 + shift, 0), n - 4)
     t = u - b
     w = np.empty(4)
@@ -150,8 +164,11 @@ def _weights(u, n, shift=0):
 def _cubic(u, b, ys):
     """The cubic through ``ys[b..b+3]`` (at nodes b..b+3) at coordinate ``u``."""
     t = u - b
-    return (-ys[b] * (t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0 + ys[b + 1] * t * (t - 2.0) * (t - 3.0) / 2.0
-            - ys[b + 2] * t * (t - 1.0) * (t - 3.0) / 2.0 + ys[b + 3] * t * (t - 1.0) * (t - 2.0) / 6.0)  # fmt: skip
+    w0 = -(t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0
+    w1 = t * (t - 2.0) * (t - 3.0) / 2.0
+    w2 = -t * (t - 1.0) * (t - 3.0) / 2.0
+    w3 = t * (t - 1.0) * (t - 2.0) / 6.0
+    return ys[b] * w0 + ys[b + 1] * w1 + ys[b + 2] * w2 + ys[b + 3] * w3
 
 
 @njit(cache=True)
@@ -338,7 +355,9 @@ class StepTable:
 
         A row whose error estimate exceeds ``tol`` is ``INACCURATE``, with no numbers.
         """
-        x, xi, target = (np.ascontiguousarray(v, dtype=float).ravel() for v in np.broadcast_arrays(x, xi, target))
+        x, xi, target = (
+            np.ascontiguousarray(v, dtype=float).ravel() for v in np.broadcast_arrays(x, xi, target)
+        )
         out = np.empty((x.size, N_OUT))
         _rows(self.table, self.squares, *self._spacing(), x, xi, target, float(tol), out)
         return out

@@ -106,7 +106,9 @@ def build(engine, progress=None):
         limit = np.array([math.inf if spec.stable_damping is None else spec.stable_damping(xs[i])])
         _build_cells(s.code, params, cs, xs[i : i + 1], limit, loads, g.quad_tol, out[i : i + 1])
         if progress is not None:
-            progress(f"{engine}: step {i} of {xs.size - 1} (x = {xs[i]:.4g}), {time.perf_counter() - t0:.0f} s")
+            progress(
+                f"{engine}: step {i} of {xs.size - 1} (x = {xs[i]:.4g}), {time.perf_counter() - t0:.0f} s"
+            )
     # x = 0: the continuous law, its range collapsed onto it.
     for k, xi in enumerate(xis):
         e = np.array([float(law.restitution(c, float(xi), "kinematic")) for c in cs])
@@ -132,7 +134,10 @@ def table_engines():
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m contactalpha.stepping.table_build", description=__doc__.split("\n")[0])
+    """``python -m contactalpha.stepping.table_build [ENGINE ...]``: rebuild the shipped step tables."""
+    ap = argparse.ArgumentParser(
+        prog="python -m contactalpha.stepping.table_build", description=__doc__.split("\n")[0]
+    )
     ap.add_argument("engines", nargs="*", help=f"engines (default all: {', '.join(table_engines())})")
     args = ap.parse_args(argv)
     for engine in args.engines or table_engines():
