@@ -140,10 +140,10 @@ def _reasons(law, e, xi, ok):
     return why
 
 
-def _masked(x, ok):
+def masked_rows(x, ok):
     """Engine value ``x`` with NaN in the rows without an answer (a tuple entry by entry)."""
     if isinstance(x, tuple):
-        return tuple(_masked(v, ok) for v in x)
+        return tuple(masked_rows(v, ok) for v in x)
     if isinstance(x, np.ndarray | float | int) and not isinstance(x, bool):
         return np.where(ok, np.broadcast_to(np.asarray(x, dtype=float), ok.shape), np.nan)
     return x
@@ -256,7 +256,7 @@ def batched_parameters(
         accel=a,
         delta_star=rows(law.length_scale_unchecked(m, k, v)),
         source=np.where(ok, "table" if law.fast is ENGINE_TABLE else law.fast.name, "none"),
-        engines={name: {key: _masked(x, ok) for key, x in block.items()} for name, block in engines.items()},
+        engines={name: {key: masked_rows(x, ok) for key, x in b.items()} for name, b in engines.items()},
         e_n_half_speed=speed_field(SPEED_FACTORS[0]),
         e_n_twice_speed=speed_field(SPEED_FACTORS[1]),
     )

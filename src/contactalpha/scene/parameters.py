@@ -31,10 +31,10 @@ from contactalpha.laws.domain import target_name
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
-from .stepped_batch import at_step_batch
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
 from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
+from .stepped_batch import at_step_batch
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
 LAW = DEFAULT_LAW

@@ -108,29 +108,55 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
     h = resolve_timestep(engine, timestep)
     if accel <= 0.0:
         raise ValueError("timestep needs a load pressing the bodies together: accel or force > 0")
-    p0 = s.from_block(cp.engines[engine], mass, radius)
-    before = over_phase(engine, p0, h, approach_speed, accel)
-    inv = damping_for(engine, p0, h, approach_speed, accel, target, restitution)
-    mean, lo, hi = inv.stats.of(restitution) if inv.status == "ok" else (math.nan,) * 3
-    b_mean, b_lo, b_hi = before.of(restitution)
-    ok = inv.status == "ok"
-    zeta = float(s.law_damping(inv.p, approach_speed)) if ok else math.nan
+    sol = solve_on_map(s, cp.engines[engine], mass, radius, h, approach_speed, accel, target, restitution)
+    inv = sol.inverse
     engines = dict(cp.engines)
-    if ok:
+    if inv.status == "ok":
         a = adapter(engine)
         settings = replace(a.settings, **{s.step_setting: h})
-        engines[engine] = a.parameters(zeta, EngineScene(mass, stiffness, approach_speed, radius), settings)
+        scene = EngineScene(mass, stiffness, approach_speed, radius)
+        engines[engine] = a.parameters(sol.zeta, scene, settings)
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=float(target),
-        damping=float(inv.damping), law_damping=zeta,
-        mean=float(mean), minimum=float(lo), maximum=float(hi),
-        std=float(inv.stats.std if restitution == "kinematic" else inv.stats.eps_std) if ok else math.nan,
+        damping=float(inv.damping), law_damping=sol.zeta,
+        mean=sol.mean, minimum=sol.minimum, maximum=sol.maximum, std=sol.std,
         steps_min=inv.stats.steps_min, steps_max=inv.stats.steps_max, status=inv.status,
         nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
-        continuous_mean=float(b_mean), continuous_minimum=float(b_lo), continuous_maximum=float(b_hi),
-        mean_error=float(abs(mean - target)),
+        continuous_mean=sol.continuous[0], continuous_minimum=sol.continuous[1],
+        continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)),
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=answer)
+
+
+@dataclass(frozen=True)
+class MapSolution:
+    """One scene solved on the engine's step map (``solve_on_map``).
+
+    ``inverse`` is ``stepping.inverse.StepInverse``; ``mean``, ``minimum``, ``maximum``, ``std``
+    what its damping delivers and ``zeta`` the law's damping of it (NaN unless it reached the
+    target); ``continuous`` the (mean, minimum, maximum) the continuous law's block delivers.
+    """
+
+    inverse: object
+    mean: float
+    minimum: float
+    maximum: float
+    std: float
+    zeta: float
+    continuous: tuple
+
+
+def solve_on_map(s, block, mass, radius, h, approach_speed, accel, target, restitution, remedies=True):
+    """``MapSolution`` of one scene from the continuous law's ``block`` of stepper ``s``'s engine."""
+    p0 = s.from_block(block, mass, radius)
+    before = over_phase(s.name, p0, h, approach_speed, accel)
+    inv = damping_for(s.name, p0, h, approach_speed, accel, target, restitution, remedies=remedies)
+    ok = inv.status == "ok"
+    mean, lo, hi = inv.stats.of(restitution) if ok else (math.nan,) * 3
+    std = (inv.stats.std if restitution == "kinematic" else inv.stats.eps_std) if ok else math.nan
+    zeta = float(s.law_damping(inv.p, approach_speed)) if ok else math.nan
+    continuous = tuple(float(x) for x in before.of(restitution))
+    return MapSolution(inv, float(mean), float(lo), float(hi), float(std), zeta, continuous)
 
 
 def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):

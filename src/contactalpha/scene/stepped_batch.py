@@ -19,8 +19,6 @@ import numpy as np
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
-from contactalpha.stepping.delivered import over_phase
-from contactalpha.stepping.inverse import damping_for
 from contactalpha.stepping.registry import stepper
 from contactalpha.stepping.table import (
     O_DAMPING,
@@ -38,12 +36,17 @@ from contactalpha.stepping.table import (
     step_table,
 )
 
+from .batched import masked_rows
 from .law_scene import EngineScene
-from .stepped import SteppedAnswer, resolve_timestep
+from .stepped import SteppedAnswer, resolve_timestep, solve_on_map
 
 # Columns of the per-row answer: the table's O_* plus what the continuous damping delivers.
 _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_max", "mean_error", "nearest",
             "continuous_mean", "continuous_minimum", "continuous_maximum")  # fmt: skip
+# The columns the step table fills, from its O_* slots.
+_FROM_TABLE = {"damping": O_DAMPING, "mean": O_MEAN, "minimum": O_MIN, "maximum": O_MAX,
+               "steps_min": O_STEPS_MIN, "steps_max": O_STEPS_MAX, "mean_error": O_ERROR,
+               "nearest": O_NEAREST}  # fmt: skip
 
 
 def _block_row(block, i):
@@ -57,18 +60,13 @@ def _block_row(block, i):
     return {k: pick(v) for k, v in block.items()}
 
 
-def _exact_row(s, engine, block, m, v, a, r, h, target, restitution):
+def _exact_row(s, block, m, v, a, r, h, target, restitution):
     """One row solved on the map: the ``_COLUMNS`` values, its status and the law's damping."""
-    p0 = s.from_block(block, m, r)
-    before = over_phase(engine, p0, h, v, a).of(restitution)
-    inv = damping_for(engine, p0, h, v, a, target, restitution, remedies=False)
-    ok = inv.status == "ok"
-    mean, lo, hi = inv.stats.of(restitution) if ok else (math.nan,) * 3
-    std = (inv.stats.std if restitution == "kinematic" else inv.stats.eps_std) if ok else math.nan
-    values = (float(inv.damping), mean, lo, hi, std, inv.stats.steps_min, inv.stats.steps_max,
-              abs(mean - target), inv.nearest, *before)  # fmt: skip
-    zeta = float(s.law_damping(inv.p, v)) if ok else math.nan
-    return values, inv.status, zeta
+    sol = solve_on_map(s, block, m, r, h, v, a, target, restitution, remedies=False)
+    inv = sol.inverse
+    values = (float(inv.damping), sol.mean, sol.minimum, sol.maximum, sol.std, inv.stats.steps_min,
+              inv.stats.steps_max, abs(sol.mean - target), inv.nearest, *sol.continuous)  # fmt: skip
+    return values, inv.status, sol.zeta
 
 
 def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius, target, restitution):
@@ -104,20 +102,20 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 progress(f"scene {count + 1} of {rows.size}")
             ri = None if r is None else float(r[i])
             try:
-                values, st, zi = _exact_row(s, engine, _block_row(block, i), float(m[i]), float(v[i]),
-                                            float(a[i]), ri, h, float(e[i]), restitution)  # fmt: skip
+                values, st, zi = _exact_row(s, _block_row(block, i), float(m[i]), float(v[i]), float(a[i]),
+                                            ri, h, float(e[i]), restitution)  # fmt: skip
             except ValueError as err:  # e.g. a drop too slow to fly a step before touchdown
                 values, st, zi = (math.nan,) * len(_COLUMNS), f"no answer at this step: {err}", math.nan
             cols[i], status[i], source[i], zeta[i] = values, st, "exact", zi
     ok = status == "ok"
     a_ = adapter(engine)
     settings = replace(a_.settings, **{s.step_setting: h})
-    scene = EngineScene(m, k, v, r)
-    params = a_.parameters(np.where(ok, zeta, 0.0), scene, settings)
+    scene = EngineScene(*(None if x is None else x.reshape(shape) for x in (m, k, v, r)))
+    params = a_.parameters(np.where(ok, zeta, 0.0).reshape(shape), scene, settings)
     from_table = ok & (source == "table")
-    cols[from_table, 0] = np.broadcast_to(s.block_damping(params), (n,))[from_table]
+    cols[from_table, 0] = np.broadcast_to(s.block_damping(params), shape).ravel()[from_table]
     engines = dict(cp.engines)
-    engines[engine] = {key: _nan_rows(x, ok, shape) for key, x in params.items()}
+    engines[engine] = {key: masked_rows(x, ok.reshape(shape)) for key, x in params.items()}
     reason = np.asarray(cp.reason, dtype=object).ravel().copy()
     nearest = cols[:, _COLUMNS.index("nearest")]
     for i in np.flatnonzero(~ok & ok_in):
@@ -147,11 +145,10 @@ def _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta)
     before = tab.forward(x, xi, np.asarray(cp.damping, dtype=float).ravel())
     st = rows[:, O_STATUS].astype(int)
     done = ok_in & ((st == OK) | (st == UNREACHABLE))
-    for c, o in enumerate((O_DAMPING, O_MEAN, O_MIN, O_MAX)):
-        cols[done, c] = rows[done, o]
-    for c, o in ((5, O_STEPS_MIN), (6, O_STEPS_MAX), (7, O_ERROR), (8, O_NEAREST)):
-        cols[done, c] = rows[done, o]
-    cols[done, 9:12] = before[done]
+    for name, o in _FROM_TABLE.items():
+        cols[done, _COLUMNS.index(name)] = rows[done, o]
+    for c, name in enumerate(("continuous_mean", "continuous_minimum", "continuous_maximum")):
+        cols[done, _COLUMNS.index(name)] = before[done, c]
     status[done] = [ROW_STATUS[v] for v in st[done]]
     source[done] = "table"
     good = done & (st == OK)
@@ -159,12 +156,3 @@ def _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta)
     # Past the table's grid the phase mean's cells are NaN where a drop flies less than a step:
     # the exact rows check that scene and say so.
     return ok_in & ~done
-
-
-def _nan_rows(x, ok, shape):
-    """Engine value ``x`` with NaN in the rows without an answer, in the batch's shape."""
-    if isinstance(x, tuple):
-        return tuple(_nan_rows(v, ok, shape) for v in x)
-    if isinstance(x, np.ndarray | float | int) and not isinstance(x, bool):
-        return np.where(ok, np.broadcast_to(np.asarray(x, dtype=float), ok.shape), np.nan).reshape(shape)
-    return x
