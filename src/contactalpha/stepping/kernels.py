@@ -9,9 +9,10 @@ its module with ``step_<engine>``, one code here and one branch in ``step_map``;
 
 from numba import njit
 
+from . import mujoco_map, pybullet_map
 from .drake_map import step_drake
-from .mujoco_map import step_mujoco
-from .pybullet_map import step_pybullet
+from .mujoco_map import branch_mujoco, branches_mujoco, step_mujoco
+from .pybullet_map import branch_pybullet, branches_pybullet, step_pybullet
 
 # Kernel codes: the position of each engine's step in ``step_map``'s table.
 MUJOCO = 0
@@ -27,3 +28,27 @@ def step_map(code, z, w, p, h, accel):
     if code == DRAKE:
         return step_drake(z, w, p, h, accel)
     return step_mujoco(z, w, p, h, accel)
+
+
+# Piecewise-affine maps (``affine_phase``): linear forms in the state pick a step's branch, and
+# the step is affine on each (branch 0 applies no force).  Codes of maps that are not piecewise
+# affine (Drake's Hunt-Crossley step) have no entry.
+AFFINE = {MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES), PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES)}
+MAX_FORMS = 4
+MAX_BRANCHES = 3
+
+
+@njit(cache=True)
+def branches(code, p, h, accel, forms, maps):
+    """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count."""
+    if code == PYBULLET:
+        return branches_pybullet(p, h, accel, forms, maps)
+    return branches_mujoco(p, h, accel, forms, maps)
+
+
+@njit(cache=True)
+def branch_of(code, vals):
+    """The branch picked by the forms' values ``vals`` at a state."""
+    if code == PYBULLET:
+        return branch_pybullet(vals)
+    return branch_mujoco(vals)

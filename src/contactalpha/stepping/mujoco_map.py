@@ -38,6 +38,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .flight import euler_affine
+
 
 # Slots of p (the engine's own parameters, in its units).
 STIFFNESS = 0  # -solref[0] in the direct mode, s^-2 (per unit mass)
@@ -70,9 +72,43 @@ def step_mujoco(z, w, p, h, accel):
     return z + h * w1, w1
 
 
+# The linear forms ``alpha z + beta w + gamma`` whose signs pick the step's branch, and the branches
+# (0: no force; 1: the constraint pushes).  On each branch the step is affine (``affine_phase``).
+N_FORMS = 2
+N_BRANCHES = 2
+
+
+@njit(cache=True)
+def branches_mujoco(p, h, accel, forms, maps):
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+
+    The forms: ``z`` (the contact acts below 0) and ``aref - a0 = -(stiffness/d) z - (damping/d) w
+    + accel`` (it pushes above 0).  A branch's step is ``z' = maps[b, 0:3] . (z, w, 1)``,
+    ``w' = maps[b, 3:6] . (z, w, 1)``: ``step_mujoco``'s arithmetic collected by state
+    (tests/stepping check that the two agree to rounding).
+    """
+    a0 = -accel
+    imp = p[IMPEDANCE]
+    r = max(MINVAL, (1.0 - imp) * p[DIAG_RATIO] / imp)
+    k = p[STIFFNESS] / (imp * imp)
+    b = p[DAMPING] / imp
+    forms[0, 0], forms[0, 1], forms[0, 2] = 1.0, 0.0, 0.0
+    forms[1, 0], forms[1, 1], forms[1, 2] = -k * imp, -b, -a0
+    # free flight w' = w + h a0; pushed: qacc = a0 + (aref - a0) / (1 + r), aref = -b w - k imp z
+    euler_affine(maps[0], h, 0.0, 1.0, h * a0)
+    euler_affine(maps[1], h, -h * k * imp / (1.0 + r), 1.0 - h * b / (1.0 + r), h * (a0 - a0 / (1.0 + r)))
+    return N_FORMS
+
+
+@njit(cache=True)
+def branch_mujoco(vals):
+    """The branch from the forms' values at a state: 1 where the contact pushes, else 0."""
+    return 1 if vals[0] < 0.0 and vals[1] > 0.0 else 0
+
+
 def contact_time(p):
     """The undamped contact's half period ``pi / sqrt(stiffness)``, s: the time scale of a contact."""
-    return math.pi / math.sqrt(p[STIFFNESS])
+    return np.pi / np.sqrt(p[STIFFNESS])
 
 
 def stable_damping(x):

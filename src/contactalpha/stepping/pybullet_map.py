@@ -45,6 +45,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .flight import euler_affine
+
 
 # PyBullet's default time step, s (``setTimeStep``), and its integrator.
 TIMESTEP = 1.0 / 240.0
@@ -92,7 +94,7 @@ def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_gr
 def contact_time(p):
     """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
-    return math.pi * math.sqrt(p[MASS] / k)
+    return np.pi * np.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
@@ -131,6 +133,48 @@ def step_pybullet(z, w, p, h, accel):
     lam = impulse_pybullet(z, w, p, h, accel)
     w_next = w - h * accel + lam / p[MASS]
     return z + h * w_next, w_next
+
+
+# The linear forms ``alpha z + beta w + gamma`` whose signs pick the step's branch, and the branches
+# (0: no impulse; 1: the speculative row pushes; 2: the penetrating row pushes).
+N_FORMS = 4
+N_BRANCHES = 3
+
+
+@njit(cache=True)
+def branches_pybullet(p, h, accel, forms, maps):
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+
+    The forms: a contact point (``z - slop - breaking < 0``), the speculative row (``z > 0``) and
+    the sign of each row's target, ``-v* - z/h`` and ``-v* - erp z/h`` with ``v* = w - h accel``.
+    A branch's step is ``z' = maps[b, 0:3] . (z, w, 1)``, ``w' = maps[b, 3:6] . (z, w, 1)``:
+    ``impulse_pybullet``'s arithmetic collected by state (tests/stepping check the two agree).
+    """
+    k, c = pair_values(p)
+    denom = max(h * k + c, SIMD_EPSILON)
+    cfm = 1.0 / denom / h
+    erp = h * k / denom
+    d_m = 1.0 / (1.0 / p[MASS] + cfm) / p[MASS]  # D / m
+    forms[0, 0], forms[0, 1], forms[0, 2] = 1.0, 0.0, -p[SLOP] - p[BREAKING]
+    forms[1, 0], forms[1, 1], forms[1, 2] = 1.0, 0.0, 0.0
+    forms[2, 0], forms[2, 1], forms[2, 2] = -1.0 / h, -1.0, h * accel
+    forms[3, 0], forms[3, 1], forms[3, 2] = -erp / h, -1.0, h * accel
+    # w' = v* + lambda/m, lambda/m = D/m (-v* - g z/h): g = 1 (speculative) or erp (penetrating)
+    w1 = -h * accel + d_m * h * accel
+    euler_affine(maps[0], h, 0.0, 1.0, -h * accel)
+    euler_affine(maps[1], h, -d_m / h, 1.0 - d_m, w1)
+    euler_affine(maps[2], h, -d_m * erp / h, 1.0 - d_m, w1)
+    return N_FORMS
+
+
+@njit(cache=True)
+def branch_pybullet(vals):
+    """The branch from the forms' values at a state (``branches_pybullet``)."""
+    if not vals[0] < 0.0:
+        return 0
+    if vals[1] > 0.0:
+        return 1 if vals[2] > 0.0 else 0
+    return 2 if vals[3] > 0.0 else 0
 
 
 def from_block(block, mass, radius):
