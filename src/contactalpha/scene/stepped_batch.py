@@ -36,6 +36,27 @@ from contactalpha.stepping.table import (
     step_table,
 )
 
+from contactalpha.stepping.batch_inverse import (
+    B_DAMPING,
+    B_GUESS_MAX,
+    B_GUESS_MEAN,
+    B_GUESS_MIN,
+    B_MAX,
+    B_MEAN,
+    B_MIN,
+    B_NEAREST,
+    B_OK,
+    B_STATUS,
+    B_STD,
+    B_STEPS_MAX,
+    B_STEPS_MIN,
+    solve_rows,
+)
+from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
+from contactalpha.stepping.delivered import step_limit
+from contactalpha.stepping.inverse import BRACKET_START
+from contactalpha.stepping.kernels import AFFINE
+
 from .batched import masked_rows
 from .law_scene import EngineScene
 from .stepped import SteppedAnswer, resolve_timestep, solve_on_map
@@ -47,6 +68,13 @@ _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_
 _FROM_TABLE = {"damping": O_DAMPING, "mean": O_MEAN, "minimum": O_MIN, "maximum": O_MAX,
                "steps_min": O_STEPS_MIN, "steps_max": O_STEPS_MAX, "mean_error": O_ERROR,
                "nearest": O_NEAREST}  # fmt: skip
+
+
+# The columns the batch inverse fills, from its B_* columns.
+_FROM_BATCH = {"damping": B_DAMPING, "mean": B_MEAN, "minimum": B_MIN, "maximum": B_MAX, "std": B_STD,
+               "steps_min": B_STEPS_MIN, "steps_max": B_STEPS_MAX, "nearest": B_NEAREST,
+               "continuous_mean": B_GUESS_MEAN, "continuous_minimum": B_GUESS_MIN,
+               "continuous_maximum": B_GUESS_MAX}  # fmt: skip
 
 
 def _block_row(block, i):
@@ -90,7 +118,9 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     source = np.full(n, "none", dtype=object)
     zeta = np.full(n, np.nan)
     exact = ok_in.copy()
-    if s.table is not None and restitution == "kinematic":
+    if s.code in AFFINE and restitution == "kinematic":
+        exact = _solved_in_batch(s, cp.engines[engine], h, m, v, a, r, e, ok_in, cols, status, source, zeta)
+    elif s.table is not None and restitution == "kinematic":
         exact = _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta)
     # The law's a <= 0 rows have no touchdown phase: each exact row checks its own scene.
     rows = np.flatnonzero(exact)
@@ -134,6 +164,44 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
         timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), **out,
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=answer, ok=ok.reshape(shape), reason=reason.reshape(shape))
+
+
+def _flat(x):
+    """A block's value with every array raveled (tuples entry by entry)."""
+    if isinstance(x, tuple):
+        return tuple(_flat(v) for v in x)
+    return np.asarray(x, dtype=float).ravel() if isinstance(x, np.ndarray) else x
+
+
+def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, zeta):
+    """Solve the rows of a piecewise-affine map exactly in one parallel call (``stepping.batch_inverse``).
+
+    Fills the rows with a continuous answer; returns the mask of rows left to the one-at-a-time
+    inverse (none).
+    """
+    rows = np.flatnonzero(ok_in & (v >= 0.5 * a * h))
+    params = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
+    params = np.ascontiguousarray(np.broadcast_to(params, (m.size, params.shape[-1])))[rows]
+    guess = params[:, s.damping_slots[0]].copy()
+    t_c = s.contact_time(params.T)
+    out = solve_rows(s.code, params, np.array(s.damping_slots), h, v[rows], a[rows], e[rows], guess,
+                     BRACKET_START / t_c, step_limit(s, params.T, h))  # fmt: skip
+    for name, c in _FROM_BATCH.items():
+        cols[rows, _COLUMNS.index(name)] = out[:, c]
+    cols[rows, _COLUMNS.index("mean_error")] = np.abs(out[:, B_MEAN] - e[rows])
+    st = out[:, B_STATUS].astype(int)
+    status[rows] = [BATCH_STATUS[c] for c in st]
+    source[rows] = "exact"
+    good = st == B_OK
+    params[:, list(s.damping_slots)] = out[:, [B_DAMPING]]
+    zeta[rows[good]] = s.law_damping(params[good].T, v[rows[good]])
+    slow = np.flatnonzero(ok_in & (v < 0.5 * a * h))
+    status[slow] = (
+        f"no answer at this step: approach_speed is below accel * timestep / 2 = {0.5 * h:.6g} * accel: a drop "
+        "this slow flies less than a step before touchdown, so its touchdown phase is not defined"
+    )
+    source[slow] = "exact"
+    return np.zeros_like(ok_in)
 
 
 def _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta):

@@ -59,6 +59,10 @@ ROOT_GAP = 1e-12
 # Gauss-Legendre nodes of the quadrature on each interval (exact for degree 2 n - 1).
 GL_NODES = 8
 GL_X, GL_W = np.polynomial.legendre.leggauss(GL_NODES)
+# Columns of the per-step workspace of ``_sweep``: the state's polynomials at the step's start, the
+# steps in contact before it, the first change of its tests, the smallest change of the steps before.
+W_Z, W_W, W_N, W_ROOT, W_PREFIX = 0, 3, 6, 7, 8
+W_COLS = 9
 # Default tolerance per unit phase of the adaptive quadrature, and the budget of intervals and pieces.
 QUAD_TOL = 1e-12
 MAX_SPLITS = 2000
@@ -83,14 +87,6 @@ def _grow(a, n):
     b = np.empty((2 * n,) + a.shape[1:], dtype=a.dtype)
     b[: a.shape[0]] = a[:]
     return b
-
-
-@njit(cache=True)
-def _may_be_small(c0, c1, c2, bound, lo, hi):
-    """Whether ``|c0 + c1 t + c2 t^2| <= bound`` may hold in ``(lo, hi)`` (False only where it surely does not)."""
-    m = 0.5 * (lo + hi)
-    r = 0.5 * (hi - lo)
-    return abs(c0 + m * (c1 + m * c2)) <= bound + abs(c1 + 2.0 * c2 * m) * r + abs(c2) * r * r
 
 
 @njit(cache=True)
@@ -180,27 +176,20 @@ def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi
 
 
 @njit(cache=True)
-def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc):
-    """Every piece of ``[0, 1)`` in order, each integrated into ``acc``; ``(int e, int e^2, error)``.
+def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals):
+    """Every piece of ``[0, 1)`` in order, each integrated into ``acc``: ``(int e, int e^2, error, ws)``.
+
+    ``ws`` (``W_COLS`` columns) is the per-step workspace, returned grown where a drop needed more rows.
 
     A piece's drop is stored step by step (state polynomials, steps in contact, rising, and the
     first root of each step's tests above the piece's start).  The next piece starts at the
     smallest of those roots; the steps before the first one whose root that is keep their branches
     (no test of theirs changes sign there), so its drop resumes from that step.
     """
-    cap = 64
-    zqs = np.empty((cap, 3))
-    wqs = np.empty((cap, 3))
-    ns = np.zeros(cap, dtype=np.int64)
-    roots = np.empty(cap)
-    prefix = np.empty(cap)  # prefix[j]: the smallest root of steps before j (1 for j = 0)
-    zqs[0, 0], zqs[0, 1], zqs[0, 2] = 0.0, v_in * h, -0.5 * accel * h * h  # flight.touchdown_state in phi
-    wqs[0, 0], wqs[0, 1], wqs[0, 2] = -v_in + 0.5 * accel * h, accel * h, 0.0
-    prefix[0] = 1.0
-    zn = np.empty(3)
-    wn = np.empty(3)
-    vals = np.empty(MAX_FORMS)
-    buf = np.empty(2 * (MAX_FORMS + 6))
+    ws[0, W_Z], ws[0, W_Z + 1], ws[0, W_Z + 2] = 0.0, v_in * h, -0.5 * accel * h * h  # touchdown_state in phi
+    ws[0, W_W], ws[0, W_W + 1], ws[0, W_W + 2] = -v_in + 0.5 * accel * h, accel * h, 0.0
+    ws[0, W_N] = 0.0
+    ws[0, W_PREFIX] = 1.0
     rest = REST_FRACTION * v_in
     lo = 0.0
     k = 0
@@ -209,21 +198,35 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc):
     last_n = -1
     while lo < 1.0:
         j = k
-        hi = prefix[k]
+        hi = ws[k, W_PREFIX]
         status = STEP_LIMIT
         while j < max_steps:
-            if j + 1 >= zqs.shape[0]:
-                zqs, wqs, ns = _grow(zqs, j + 2), _grow(wqs, j + 2), _grow(ns, j + 2)
-                roots, prefix = _grow(roots, j + 2), _grow(prefix, j + 2)
-            z0, z1, z2 = zqs[j, 0], zqs[j, 1], zqs[j, 2]
-            w0, w1, w2 = wqs[j, 0], wqs[j, 1], wqs[j, 2]
-            n = ns[j]
+            if j + 1 >= ws.shape[0]:
+                ws = _grow(ws, j + 2)
+            z0, z1, z2 = ws[j, W_Z], ws[j, W_Z + 1], ws[j, W_Z + 2]
+            w0, w1, w2 = ws[j, W_W], ws[j, W_W + 1], ws[j, W_W + 2]
+            n = int(ws[j, W_N])
+            # Every test below is a quadratic in the phase; its value and slope at the middle of what
+            # is left bound it there, so most steps find no root without solving for one.
+            lg = lo + ROOT_GAP
+            m = 0.5 * (lg + hi)
+            rr = 0.5 * (hi - lg)
+            if rr <= 0.0:  # a sliver narrower than ROOT_GAP: no test is cut in it
+                m, rr = 0.5 * (lo + hi), 0.0
+            zm, zd = z0 + m * (z1 + m * z2), z1 + 2.0 * z2 * m
+            wm, wd = w0 + m * (w1 + m * w2), w1 + 2.0 * w2 * m
             # The branch: the forms' roots split what is left; the first split whose branch differs cuts it.
             nb = 0
             for i in range(nf):
                 al, be, ga = forms[i, 0], forms[i, 1], forms[i, 2]
-                nb = _roots_into(al * z0 + be * w0 + ga, al * z1 + be * w1, al * z2 + be * w2, lo, hi, buf, nb)
-            br, r = _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals)
+                c2 = al * z2 + be * w2
+                vals[i] = al * zm + be * wm + ga
+                if abs(vals[i]) <= abs(al * zd + be * wd) * rr + abs(c2) * rr * rr:
+                    nb = _roots_into(al * z0 + be * w0 + ga, al * z1 + be * w1, c2, lo, hi, buf, nb)
+            if nb == 0:
+                br, r = branch_of(code, vals), 1.0
+            else:
+                br, r = _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals)
             forced = br != 0
             m0, m1, m2, m3, m4, m5 = maps[br, 0], maps[br, 1], maps[br, 2], maps[br, 3], maps[br, 4], maps[br, 5]
             y0, y1, y2 = m0 * z0 + m1 * w0 + m2, m0 * z1 + m1 * w1, m0 * z2 + m1 * w2
@@ -231,25 +234,31 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc):
             if not math.isfinite(y0 + y1 + y2 + u0 + u1 + u2):
                 status = NON_FINITE
                 break
+            um, ud = m3 * zm + m4 * wm + m5, m3 * zd + m4 * wd
             # The drop's decision: the roots of every test it reads split what is left likewise.
             top = min(hi, r)
             nb = 0
-            if n > 0 and not forced:
+            if n > 0 and not forced and abs(zm) <= abs(zd) * rr + abs(z2) * rr * rr:
                 nb = _roots_into(z0, z1, z2, lo, top, buf, nb)
             if n > 0 or forced:
-                nb = _roots_into(u0, u1, u2, lo, top, buf, nb)
-                nb = _roots_into(w0, w1, w2, lo, top, buf, nb)
-                if _may_be_small(u0, u1, u2, rest, lo, top):
+                bound = abs(ud) * rr + abs(u2) * rr * rr
+                if abs(um) <= bound:
+                    nb = _roots_into(u0, u1, u2, lo, top, buf, nb)
+                if abs(wm) <= abs(wd) * rr + abs(w2) * rr * rr:
+                    nb = _roots_into(w0, w1, w2, lo, top, buf, nb)
+                if abs(um) <= rest + bound:  # the rest test |w'| <= rest and |w' - w| <= rest
                     nb = _roots_into(u0 - rest, u1, u2, lo, top, buf, nb)
                     nb = _roots_into(u0 + rest, u1, u2, lo, top, buf, nb)
                     nb = _roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
                     nb = _roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
             if nb > 0:
                 r = min(r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb))
-            roots[j] = r
-            hi = min(hi, r)
-            t = lo + 0.5 * (hi - lo)
-            outcome = _outcome(_poly(z0, z1, z2, t), _poly(w0, w1, w2, t), _poly(u0, u1, u2, t), n, forced, rest)
+            ws[j, W_ROOT] = r
+            if r < hi:
+                hi = r
+                t = lo + 0.5 * (hi - lo)
+                zm, wm, um = _poly(z0, z1, z2, t), _poly(w0, w1, w2, t), _poly(u0, u1, u2, t)
+            outcome = _outcome(zm, wm, um, n, forced, rest)
             if forced:
                 n += 1
             if outcome == SEPARATED or outcome == CAPTURED:
@@ -257,15 +266,16 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc):
                 zn[0], zn[1], zn[2] = y0, y1, y2
                 wn[0], wn[1], wn[2] = u0, u1, u2
                 break
-            zqs[j + 1, 0], zqs[j + 1, 1], zqs[j + 1, 2] = y0, y1, y2
-            wqs[j + 1, 0], wqs[j + 1, 1], wqs[j + 1, 2] = u0, u1, u2
-            ns[j + 1] = n
-            prefix[j + 1] = hi
+            ws[j + 1, W_Z], ws[j + 1, W_Z + 1], ws[j + 1, W_Z + 2] = y0, y1, y2
+            ws[j + 1, W_W], ws[j + 1, W_W + 1], ws[j + 1, W_W + 2] = u0, u1, u2
+            ws[j + 1, W_N] = n
+            ws[j + 1, W_PREFIX] = hi
             j += 1
         if status == STEP_LIMIT:
             mid = lo + 0.5 * (hi - lo)
-            zq, wq = zqs[min(j, max_steps)], wqs[min(j, max_steps)]
-            if n > 0 and _val(zq, mid) < 0.0 and abs(_val(wq, mid)) <= CREEP_FRACTION * v_in:
+            i = min(j, max_steps)
+            z, w = _poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid), _poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid)
+            if n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
                 status = CAPTURED
         pieces += 1
         if status != SEPARATED and status != CAPTURED:
@@ -291,10 +301,10 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc):
             break
         lo = hi
         k = 0
-        while k < j and roots[k] > lo + ROOT_GAP:
+        while k < j and ws[k, W_ROOT] > lo + ROOT_GAP:
             k += 1
     acc[P_EVALS] = pieces
-    return s0, s1, err
+    return s0, s1, err, ws
 
 
 @njit(cache=True)
@@ -322,6 +332,12 @@ def _integrate(zf, wf, accel, h, v_in, lo, hi, tol, acc):
         acc[P_MIN] = min(acc[P_MIN], e)
         acc[P_MAX] = max(acc[P_MAX], e)
     e0, e1 = _gl(zf, wf, accel, h, v_in, lo, hi, acc)
+    m = 0.5 * (lo + hi)
+    l0, l1 = _gl(zf, wf, accel, h, v_in, lo, m, acc)
+    r0, r1 = _gl(zf, wf, accel, h, v_in, m, hi, acc)
+    d = abs(l0 + r0 - e0)
+    if d <= tol * (hi - lo) or m <= lo or m >= hi:
+        return l0 + r0, l1 + r1, d, False  # the usual case: no stack
     stack_a = [lo]
     stack_b = [hi]
     stack_e = [e0]
@@ -354,22 +370,38 @@ def _integrate(zf, wf, accel, h, v_in, lo, hi, tol, acc):
 
 
 @njit(cache=True)
-def phase_mean_affine(code, p, h, v_in, accel, max_steps, tol):
-    """The row of ``codes.P_*`` slots of e_N over a uniform touchdown phase (module docstring)."""
-    acc = np.zeros(N_PHASE)
+def workspace(rows=64):
+    """The arrays ``phase_row`` works in: ``(ws, forms, maps, zn, wn, buf, vals, acc)``; ``rows`` steps."""
+    return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3), np.empty(3),
+            np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
+
+
+@njit(cache=True)
+def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc):
+    """``acc`` filled with the ``codes.P_*`` row of e_N over a uniform touchdown phase; returns ``ws``.
+
+    The arrays come from ``workspace`` (a caller evaluating many means reuses them).
+    """
+    acc[:] = 0.0
     acc[P_MIN] = acc[P_STEPS_MIN] = math.inf
     acc[P_MAX] = acc[P_STEPS_MAX] = -math.inf
     for j in (P_EPS_MEAN, P_EPS_MIN, P_EPS_MAX, P_EPS_STD):
         acc[j] = math.nan
-    forms = np.empty((MAX_FORMS, 3))
-    maps = np.empty((MAX_BRANCHES, 6))
     nf = branches(code, p, h, accel, forms, maps)
-    s0, s1, err = _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc)
+    s0, s1, err, ws = _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals)
     acc[P_ERR] = err
     if acc[P_STATUS] != 0.0:
         for j in (P_MEAN, P_STD, P_MIN, P_MAX, P_ERR):
             acc[j] = math.nan
-        return acc
+        return ws
     acc[P_MEAN] = s0
     acc[P_STD] = math.sqrt(max(s1 - s0 * s0, 0.0))
+    return ws
+
+
+@njit(cache=True)
+def phase_mean_affine(code, p, h, v_in, accel, max_steps, tol):
+    """The row of ``codes.P_*`` slots of e_N over a uniform touchdown phase (module docstring)."""
+    ws, forms, maps, zn, wn, buf, vals, acc = workspace()
+    phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc)
     return acc

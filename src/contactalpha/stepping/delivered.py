@@ -88,8 +88,12 @@ def check_scene(p, timestep, approach_speed, accel):
 
 
 def step_limit(s, p, h):
-    """Steps a drop of stepper ``s`` may take: ``REST_CONTACT_TIMES`` contact times, at least 1000."""
-    return int(max(1000, math.ceil(REST_CONTACT_TIMES * s.contact_time(p) / h)))
+    """Steps a drop of stepper ``s`` may take: ``REST_CONTACT_TIMES`` contact times, at least 1000.
+
+    ``p`` may hold one column per scene (slots first): an int array then.
+    """
+    n = np.maximum(1000, np.ceil(REST_CONTACT_TIMES * s.contact_time(p) / h))
+    return int(n) if np.ndim(n) == 0 else n.astype(np.int64)
 
 
 def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid=GRID, max_steps=None):

@@ -33,7 +33,6 @@ with ``r = diagApprox * m`` (1 for a free body; other values model a contact ins
 where MuJoCo's ``diagApprox`` differs from ``J M^-1 J'``).
 """
 
-import math
 
 import numpy as np
 from numba import njit
@@ -123,9 +122,8 @@ def stable_damping(x):
 
 def pack(stiffness, damping, impedance, diag_ratio=1.0):
     """``p`` from MuJoCo's direct-mode values (``solref = (-stiffness, -damping)``, ``solimp[0:2] = d``)."""
-    p = np.empty(N_SLOTS)
-    p[STIFFNESS], p[DAMPING], p[IMPEDANCE], p[DIAG_RATIO] = stiffness, damping, impedance, diag_ratio
-    return p
+    # Arrays give one row of slots per scene.
+    return np.stack(np.broadcast_arrays(stiffness, damping, impedance, diag_ratio), axis=-1).astype(float)
 
 
 def from_block(block, mass, radius):
@@ -142,4 +140,4 @@ def block_damping(block):
 def law_damping(p, approach_speed):
     """The law's damping ratio zeta = damping / (2 sqrt(stiffness)) of ``p`` (any approach speed)."""
     del approach_speed
-    return p[DAMPING] / (2.0 * math.sqrt(p[STIFFNESS]))
+    return p[DAMPING] / (2.0 * np.sqrt(p[STIFFNESS]))

@@ -82,13 +82,9 @@ def breaking_threshold(radius, factor=BREAKING_FACTOR):
 
 def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, radius):
     """``p`` for a sphere of ``radius`` (m) on a plane, at PyBullet's default threshold and slop."""
-    p = np.empty(N_PARAMS)
-    p[MASS] = mass
-    p[STIFFNESS_BALL], p[DAMPING_BALL] = stiffness_ball, damping_ball
-    p[STIFFNESS_GROUND], p[DAMPING_GROUND] = stiffness_ground, damping_ground
-    p[BREAKING] = breaking_threshold(radius)
-    p[SLOP] = LINEAR_SLOP
-    return p
+    # Arrays give one row of slots per scene.
+    cols = (mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, breaking_threshold(radius), LINEAR_SLOP)
+    return np.stack(np.broadcast_arrays(*cols), axis=-1).astype(float)
 
 
 def contact_time(p):
@@ -184,7 +180,7 @@ def from_block(block, mass, radius):
     """
     if radius is None:
         raise ValueError("PyBullet's step needs radius= (its contact breaking threshold is 0.02 sqrt(3) r)")
-    k, c = float(block["contactStiffness"]), float(block_damping(block))
+    k, c = np.asarray(block["contactStiffness"], dtype=float), block_damping(block)
     return make_params(mass, k, c, k, c, radius)
 
 
@@ -196,5 +192,5 @@ def block_damping(block):
 def law_damping(p, approach_speed):
     """The spring-dashpot's damping ratio zeta = c / (2 sqrt(k m)) of the pair in ``p`` (any speed)."""
     del approach_speed
-    k, c = pair_values(p)
-    return c / (2.0 * math.sqrt(k * p[MASS]))
+    k, c = pair_values.py_func(p)  # numpy arithmetic: p may hold one column per scene
+    return c / (2.0 * np.sqrt(k * p[MASS]))

@@ -1,0 +1,207 @@
+"""The inverse at an engine's step for a batch of scenes: exact, at formula speed, rows in parallel.
+
+For an engine whose step is piecewise affine (``kernels.AFFINE``) and an e_N target, each row's
+damping is solved on the exact phase mean of ``affine_phase`` (numba, rows in ``prange``; a row
+never depends on another, so the result is the same bits at any thread count):
+
+1. **From the guess** (the continuous law's damping, whose mean at the step is reported too):
+   Newton-like steps in ln(damping), each overshot a little, until the mean crosses the target;
+2. **else on ``inverse.damping_for``'s ladder**: zero damping (a target above its mean is out of
+   reach, the mean nearest the target is kept), then ``BRACKET_START`` over the contact time
+   doubled up to ``BRACKET_DOUBLINGS`` times, to the first rung whose mean is below the target;
+3. **Brent's method** in the bracket, until the mean is within ``STOP_TOL`` of the target or the
+   bracket is down to rounding.  A row is "ok" when its mean is within ``inverse.MEAN_TOL``.
+
+Where the mean is not monotone in the damping there can be several roots; each row's answer is
+a root (checked), and the same scene gives the same root on every call, but the scalar
+``damping_for`` (which starts from its ladder) may give another.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .affine_phase import QUAD_TOL, phase_row, workspace
+from .codes import P_MAX, P_MEAN, P_MIN, P_STD, P_STEPS_MAX, P_STEPS_MIN
+from .inverse import BRACKET_DOUBLINGS, BRACKET_START, MEAN_TOL
+
+# Columns of a solved row.
+(B_DAMPING, B_MEAN, B_MIN, B_MAX, B_STD, B_STEPS_MIN, B_STEPS_MAX, B_STATUS, B_NEAREST, B_GUESS_MEAN,
+ B_GUESS_MIN, B_GUESS_MAX, B_MEANS) = range(13)  # fmt: skip
+N_COLS = 13
+# Row status.
+B_OK, B_UNREACHABLE, B_NOT_CONVERGED, B_FAILED = range(4)
+ROW_STATUS = {B_OK: "ok", B_UNREACHABLE: "unreachable", B_NOT_CONVERGED: "not_converged",
+              B_FAILED: "no phase mean (a drop failed)"}  # fmt: skip
+# A guess whose mean is this far below the target starts from the bracket [0, guess] (where the
+# step itself dissipates, e.g. PyBullet's implicit one, the root lies far below the guess).
+FAR = 0.05
+# Steps from the guess before the ladder takes over, their overshoot and their largest change of
+# ln(damping).
+GUESS_STEPS = 8
+OVERSHOOT = 1.0
+MAX_LOG_STEP = 1.5
+# Brent stops once the mean is this close to the target (well inside MEAN_TOL).
+STOP_TOL = 0.1 * MEAN_TOL
+BRENT_ITERATIONS = 100
+# Rows of a row's step workspace (``affine_phase.workspace``; a longer drop grows its own copy).
+WORK_ROWS = 128
+
+
+@njit(cache=True)
+def _mean(code, p, slots, c, h, v, a, max_steps, work):
+    """The phase mean at damping ``c`` (``work``'s last array receives the row); NaN where a drop fails."""
+    for s in slots:
+        p[s] = c
+    ws, forms, maps, zn, wn, buf, vals, acc = work
+    phase_row(code, p, h, v, a, max_steps, QUAD_TOL, ws, forms, maps, zn, wn, buf, vals, acc)
+    return acc[P_MEAN]
+
+
+@njit(cache=True)
+def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, count):
+    """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``: ``(root, f(root), means)``."""
+    xpre, fpre, xcur, fcur = xa, fa, xb, fb
+    xblk = fblk = spre = scur = 0.0
+    for _ in range(BRENT_ITERATIONS):
+        if fpre != 0.0 and fcur != 0.0 and (fpre > 0.0) != (fcur > 0.0):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = 0.5 * (4.0 * np.finfo(np.float64).eps * abs(xcur))
+        sbis = 0.5 * (xblk - xcur)
+        if abs(fcur) <= STOP_TOL or abs(sbis) < delta:
+            break
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2.0 * abs(stry) < min(abs(spre), 3.0 * abs(sbis) - delta):
+                spre, scur = scur, stry
+            else:
+                spre, scur = sbis, sbis
+        else:
+            spre, scur = sbis, sbis
+        xpre, fpre = xcur, fcur
+        xcur += scur if abs(scur) > delta else (delta if sbis > 0.0 else -delta)
+        fcur = _mean(code, p, slots, xcur, h, v, a, max_steps, work) - target
+        count += 1
+        if not math.isfinite(fcur):
+            return xcur, fcur, count
+    # The row in ``work`` must be the answer's: evaluate again if Brent's last point was not it.
+    if work[-1][P_MEAN] - target != fcur:
+        fcur = _mean(code, p, slots, xcur, h, v, a, max_steps, work) - target
+        count += 1
+    return xcur, fcur, count
+
+
+@njit(cache=True)
+def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, out):
+    """One row (module docstring): fills ``out``'s ``B_*`` columns; ``p``'s damping slots are overwritten."""
+    work = workspace(min(max_steps + 2, WORK_ROWS))
+    acc = work[-1]
+    out[:] = math.nan
+    out[B_MEANS] = 0.0
+    count = 0
+    bracketed = False
+    xa = fa = xb = fb = 0.0
+    nearest = math.nan
+    if guess >= 0.0 and math.isfinite(guess):
+        f0 = _mean(code, p, slots, guess, h, v, a, max_steps, work) - target
+        count += 1
+        out[B_GUESS_MEAN], out[B_GUESS_MIN], out[B_GUESS_MAX] = acc[P_MEAN], acc[P_MIN], acc[P_MAX]
+        x0 = guess
+        if math.isfinite(f0) and f0 < -FAR and guess > 0.0:
+            # Far below the target: zero damping (the most the step delivers) must reach it, and
+            # then [0, guess] brackets a root.
+            fz = _mean(code, p, slots, 0.0, h, v, a, max_steps, work) - target
+            count += 1
+            if math.isfinite(fz) and fz < 0.0:
+                out[B_STATUS] = B_UNREACHABLE
+                out[B_NEAREST] = fz + target
+                out[B_MEANS] = count
+                return
+            if math.isfinite(fz):  # [0, guess] brackets a root: Brent from there
+                xa, fa, xb, fb, bracketed = 0.0, fz, x0, f0, True
+        # The first step: Newton's on ln(damping) with the slope a linear oscillator's e = exp(-pi zeta
+        # / sqrt(1 - zeta^2)) has at small zeta, de/dln(zeta) = e ln(e), e the target; overshot by
+        # OVERSHOOT so that the two points likely bracket the root.  Later steps: the secant's, overshot.
+        slope = target * math.log(target)
+        for _ in range(GUESS_STEPS if math.isfinite(f0) and guess > 0.0 and not bracketed else 0):
+            if abs(f0) <= STOP_TOL:
+                xa, fa, xb, fb, bracketed = x0, f0, x0, f0, True
+                break
+            dln = -f0 / slope
+            dln = OVERSHOOT * min(max(dln, -MAX_LOG_STEP), MAX_LOG_STEP)
+            x1 = x0 * math.exp(dln)
+            f1 = _mean(code, p, slots, x1, h, v, a, max_steps, work) - target
+            count += 1
+            if not math.isfinite(f1):
+                break
+            if abs(f1) <= STOP_TOL:  # close enough already: Brent's bracket [x1, x1]
+                xa, fa, xb, fb, bracketed = x1, f1, x1, f1, True
+                break
+            if (f1 > 0.0) != (f0 > 0.0):
+                xa, fa, xb, fb, bracketed = x0, f0, x1, f1, True
+                break
+            if f1 != f0:
+                slope = (f1 - f0) / (math.log(x1) - math.log(x0))
+            if not slope < 0.0:  # the mean did not fall with the damping here: leave it to the ladder
+                break
+            x0, f0 = x1, f1
+    if not bracketed:  # inverse.damping_for's ladder
+        f0 = _mean(code, p, slots, 0.0, h, v, a, max_steps, work) - target
+        count += 1
+        nearest = acc[P_MEAN]
+        if not math.isfinite(f0):
+            out[B_STATUS] = B_FAILED
+            out[B_MEANS] = count
+            return
+        x0 = 0.0
+        if f0 >= 0.0:
+            x1 = ladder_start
+            for _ in range(BRACKET_DOUBLINGS):
+                f1 = _mean(code, p, slots, x1, h, v, a, max_steps, work) - target
+                count += 1
+                if not math.isfinite(f1):
+                    break
+                if abs(f1) < abs(nearest - target):
+                    nearest = acc[P_MEAN]
+                if f1 < 0.0:
+                    xa, fa, xb, fb, bracketed = x0, f0, x1, f1, True
+                    break
+                x0, f0, x1 = x1, f1, 2.0 * x1
+    if not bracketed:
+        out[B_STATUS] = B_UNREACHABLE
+        out[B_NEAREST] = nearest
+        out[B_MEANS] = count
+        return
+    if xa == xb:  # the guess's steps landed within STOP_TOL: work holds that mean
+        root, froot = xb, fb
+    else:
+        root, froot, count = _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, count)
+    out[B_MEANS] = count
+    if not math.isfinite(froot):
+        out[B_STATUS] = B_FAILED
+        return
+    out[B_DAMPING] = root
+    out[B_MEAN], out[B_MIN], out[B_MAX], out[B_STD] = acc[P_MEAN], acc[P_MIN], acc[P_MAX], acc[P_STD]
+    out[B_STEPS_MIN], out[B_STEPS_MAX] = acc[P_STEPS_MIN], acc[P_STEPS_MAX]
+    out[B_STATUS] = B_OK if abs(froot) <= MEAN_TOL else B_NOT_CONVERGED
+
+
+@njit(cache=True, parallel=True)
+def solve_rows(code, params, slots, h, v, a, target, guess, ladder_start, max_steps):
+    """``solve_row`` for every row of ``params`` (one scene each): an ``(n, N_COLS)`` array."""
+    n = params.shape[0]
+    out = np.empty((n, N_COLS))
+    for i in prange(n):
+        p = params[i].copy()
+        solve_row(code, p, slots, h, v[i], a[i], target[i], guess[i], ladder_start[i], max_steps[i], out[i])
+    return out
