@@ -28,6 +28,12 @@ from contactalpha.scene import ball, threshold
 # One point inside every kernel's domain: eps, xi; scene-level kernels take the paper's ball.
 EPS, XI = 0.5, 0.2
 BALL = ball.Scene()
+# A scene's parameters for each piecewise-affine step map (its slots by name).
+_WARM_PARAMS = {
+    "mujoco": {"stiffness": 4e4, "damping": 80.0, "impedance": 0.9},
+    "pybullet": {"mass": 0.5, "stiffness_ball": 2e3, "damping_ball": 1.0, "stiffness_ground": 2e3,
+                 "damping_ground": 1.0, "breaking": 1.7e-3},
+}  # fmt: skip
 
 
 def _points(n, value):
@@ -91,19 +97,21 @@ def _stepping():
     # One phase mean and one inverse through the steppers' kernel table (every engine's map).
     from contactalpha.stepping.delivered import at_phases, over_phase
     from contactalpha.stepping.inverse import damping_for
+    from contactalpha.stepping.batch_inverse import solve_rows
+    from contactalpha.stepping.kernels import AFFINE
     from contactalpha.stepping.registry import STEPPERS, stepper
-    from contactalpha.stepping.table import step_table
 
     p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
     over_phase("mujoco", p, 0.002, 0.5, 9.81)
     at_phases("mujoco", p, 0.002, _points(2, 0.5), 0.5, 9.81)
     damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5)
-    # The step tables' batch inverse and forward lookups.
+    # The batch inverse on the piecewise-affine maps' exact phase mean.
     for s in STEPPERS:
-        if s.table is not None:
-            tab = step_table(s.name, s.table)
-            tab.inverse(_points(2, 0.1), _points(2, 0.2), _points(2, 0.5))
-            tab.forward(_points(2, 0.1), _points(2, 0.2), _points(2, 0.2))
+        if s.code in AFFINE:
+            q = np.tile(s.pack(**_WARM_PARAMS[s.name]), (2, 1))
+            slots = np.array(s.damping_slots)
+            solve_rows(s.code, q, slots, 0.002, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5),
+                       q[:, slots[0]].copy(), _points(2, 1.0), np.full(2, 1000))  # fmt: skip
 
 
 def _scene():

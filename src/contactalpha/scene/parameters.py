@@ -135,10 +135,9 @@ def contact_parameters(
         is then for the mean over a uniformly random touchdown phase at that step, through the
         engine's discrete map (``contactalpha.stepping``, docs/stepping.md); ``engines[engine]``
         holds those parameters and ``stepped`` the predicted mean, minimum and maximum.  Needs
-        ``engine`` and a load.  For a batch (array inputs) and an e_N target, MuJoCo's answer
-        comes from its step table at formula speed (``stepping.table``; rows it cannot answer
-        within its accuracy are solved exactly, as every row of the other engines is).  Without
-        it the answer is the continuous law's.
+        ``engine`` and a load.  For a batch (array inputs) and an e_N target, MuJoCo's and
+        PyBullet's rows are solved together at formula speed (``stepping.batch_inverse``); Drake's,
+        and eps targets, one scene at a time.  Without it the answer is the continuous law's.
     verify : int, optional
         With ``timestep``: run the installed engine at this many touchdown phases and report the
         measured mean, minimum and maximum in ``stepped.verify``.

@@ -49,15 +49,14 @@ class SteppedAnswer:
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
         installed engine, or None.
-    source : "exact" (``stepping.inverse`` on the map) or, in a batch, "table" per row (the
-        engine's step table, ``stepping.table``).
-    mean_error : how far the mean may be from the target by the map: the inverse's own miss
-        (at most ``stepping.inverse.MEAN_TOL``) or the table's estimate (at most
-        ``stepping.table.ERROR_TOL``); NaN where there is no answer.
+    source : "exact" ("none" for a batch's row without a continuous answer): every answer is solved on the map (one scene at a time by
+        ``stepping.inverse``, or a batch's rows together by ``stepping.batch_inverse``).
+    mean_error : how far the mean is from the target by the map (at most
+        ``stepping.inverse.MEAN_TOL``); NaN where there is no answer.
 
     In a batch (array inputs) every per-scene field is an array of the scenes' shape (``source``
     and ``status`` arrays of words); ``timestep_reachable`` is NaN there (one scene's call
-    searches it), and ``std`` is NaN in the rows the table answers.
+    searches it).
     """
 
     engine: str

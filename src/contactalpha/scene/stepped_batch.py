@@ -1,13 +1,13 @@
 """A batch at an engine's own step: the phase-mean parameters of many scenes at formula speed.
 
 ``contact_parameters(..., engine=NAME, timestep=h)`` with array inputs solves the continuous law
-for the batch first (``scene.batched``), then, for an engine whose stepper has a step table
-(``stepping.registry.Stepper.table``) and an e_N target, reads the damping whose phase mean is
-the target from the table (``stepping.table.StepTable.inverse``) and what the continuous law's
-damping delivers at the step (``forward``).  Rows the table cannot answer within its accuracy,
-or that lie outside its grid, and every row of an engine without a table or of an eps target,
-are solved exactly by ``stepping.inverse.damping_for``, one scene at a time (slow: progress on
-stderr).  A row with no answer (unreachable at this step, or no continuous answer) has NaN in
+for the batch first (``scene.batched``).  For an engine whose step is piecewise affine
+(``stepping.registry.Stepper.affine``: MuJoCo, PyBullet) and an e_N target, every row is then
+solved exactly in one parallel call (``stepping.batch_inverse``): the damping whose phase mean is
+the target within ``stepping.inverse.MEAN_TOL`` by the map, starting from the continuous law's
+damping, whose own mean at the step is reported too.  Every row of another engine (Drake) or of
+an eps target is solved by ``stepping.inverse.damping_for``, one scene at a time (slow: progress
+on stderr).  A row with no answer (unreachable at this step, or no continuous answer) has NaN in
 every number of the engine's block and ``ok = False`` with the reason.
 """
 
@@ -20,21 +20,6 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
 from contactalpha.stepping.registry import stepper
-from contactalpha.stepping.table import (
-    O_DAMPING,
-    O_ERROR,
-    O_MAX,
-    O_MEAN,
-    O_MIN,
-    O_NEAREST,
-    O_STATUS,
-    O_STEPS_MAX,
-    O_STEPS_MIN,
-    OK,
-    ROW_STATUS,
-    UNREACHABLE,
-    step_table,
-)
 
 from contactalpha.stepping.batch_inverse import (
     B_DAMPING,
@@ -53,23 +38,16 @@ from contactalpha.stepping.batch_inverse import (
     solve_rows,
 )
 from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
-from contactalpha.stepping.delivered import step_limit
+from contactalpha.stepping.delivered import check_scene, step_limit
 from contactalpha.stepping.inverse import BRACKET_START
-from contactalpha.stepping.kernels import AFFINE
 
 from .batched import masked_rows
 from .law_scene import EngineScene
 from .stepped import SteppedAnswer, resolve_timestep, solve_on_map
 
-# Columns of the per-row answer: the table's O_* plus what the continuous damping delivers.
+# Columns of the per-row answer.
 _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_max", "mean_error", "nearest",
             "continuous_mean", "continuous_minimum", "continuous_maximum")  # fmt: skip
-# The columns the step table fills, from its O_* slots.
-_FROM_TABLE = {"damping": O_DAMPING, "mean": O_MEAN, "minimum": O_MIN, "maximum": O_MAX,
-               "steps_min": O_STEPS_MIN, "steps_max": O_STEPS_MAX, "mean_error": O_ERROR,
-               "nearest": O_NEAREST}  # fmt: skip
-
-
 # The columns the batch inverse fills, from its B_* columns.
 _FROM_BATCH = {"damping": B_DAMPING, "mean": B_MEAN, "minimum": B_MIN, "maximum": B_MAX, "std": B_STD,
                "steps_min": B_STEPS_MIN, "steps_max": B_STEPS_MAX, "nearest": B_NEAREST,
@@ -118,10 +96,8 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     source = np.full(n, "none", dtype=object)
     zeta = np.full(n, np.nan)
     exact = ok_in.copy()
-    if s.code in AFFINE and restitution == "kinematic":
+    if s.affine and restitution == "kinematic":
         exact = _solved_in_batch(s, cp.engines[engine], h, m, v, a, r, e, ok_in, cols, status, source, zeta)
-    elif s.table is not None and restitution == "kinematic":
-        exact = _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta)
     # The law's a <= 0 rows have no touchdown phase: each exact row checks its own scene.
     rows = np.flatnonzero(exact)
     block = cp.engines[engine]
@@ -142,8 +118,6 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     settings = replace(a_.settings, **{s.step_setting: h})
     scene = EngineScene(*(None if x is None else x.reshape(shape) for x in (m, k, v, r)))
     params = a_.parameters(np.where(ok, zeta, 0.0).reshape(shape), scene, settings)
-    from_table = ok & (source == "table")
-    cols[from_table, 0] = np.broadcast_to(s.block_damping(params), shape).ravel()[from_table]
     engines = dict(cp.engines)
     engines[engine] = {key: masked_rows(x, ok.reshape(shape)) for key, x in params.items()}
     reason = np.asarray(cp.reason, dtype=object).ravel().copy()
@@ -180,8 +154,9 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     inverse (none).
     """
     rows = np.flatnonzero(ok_in & (v >= 0.5 * a * h))
-    params = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
-    params = np.ascontiguousarray(np.broadcast_to(params, (m.size, params.shape[-1])))[rows]
+    params_all = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
+    params_all = np.ascontiguousarray(np.broadcast_to(params_all, (m.size, params_all.shape[-1])))
+    params = params_all[rows]
     guess = params[:, s.damping_slots[0]].copy()
     t_c = s.contact_time(params.T)
     out = solve_rows(s.code, params, np.array(s.damping_slots), h, v[rows], a[rows], e[rows], guess,
@@ -195,32 +170,9 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     good = st == B_OK
     params[:, list(s.damping_slots)] = out[:, [B_DAMPING]]
     zeta[rows[good]] = s.law_damping(params[good].T, v[rows[good]])
-    slow = np.flatnonzero(ok_in & (v < 0.5 * a * h))
-    status[slow] = (
-        f"no answer at this step: approach_speed is below accel * timestep / 2 = {0.5 * h:.6g} * accel: a drop "
-        "this slow flies less than a step before touchdown, so its touchdown phase is not defined"
-    )
-    source[slow] = "exact"
+    for i in np.flatnonzero(ok_in & (v < 0.5 * a * h)):  # check_scene says why, as for one scene
+        try:
+            check_scene(params_all[i], h, v[i], a[i])
+        except ValueError as err:
+            status[i], source[i] = f"no answer at this step: {err}", "exact"
     return np.zeros_like(ok_in)
-
-
-def _from_table(s, engine, cp, h, m, k, a, e, ok_in, cols, status, source, zeta):
-    """Fill the rows the table answers; return the mask of rows left to the exact inverse."""
-    tab = step_table(engine, s.table)
-    x = h * np.sqrt(k / m)
-    xi = np.where(ok_in, np.asarray(cp.xi, dtype=float).ravel(), np.nan)
-    rows = tab.inverse(x, xi, e)
-    before = tab.forward(x, xi, np.asarray(cp.damping, dtype=float).ravel())
-    st = rows[:, O_STATUS].astype(int)
-    done = ok_in & ((st == OK) | (st == UNREACHABLE))
-    for name, o in _FROM_TABLE.items():
-        cols[done, _COLUMNS.index(name)] = rows[done, o]
-    for c, name in enumerate(("continuous_mean", "continuous_minimum", "continuous_maximum")):
-        cols[done, _COLUMNS.index(name)] = before[done, c]
-    status[done] = [ROW_STATUS[v] for v in st[done]]
-    source[done] = "table"
-    good = done & (st == OK)
-    zeta[good] = rows[good, O_DAMPING]  # the law's damping; the engine's own is read from its block
-    # Past the table's grid the phase mean's cells are NaN where a drop flies less than a step:
-    # the exact rows check that scene and say so.
-    return ok_in & ~done

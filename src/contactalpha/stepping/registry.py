@@ -10,11 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.laws.law import MUJOCO_IMPEDANCE
-
 from . import drake_map, kernels, mujoco_map, pybullet_map
 from .drop import drop_drake, drop_mujoco, drop_pybullet
-from .table import StepTableGrid, StepTableSpec
 
 
 @dataclass(frozen=True)
@@ -43,8 +40,6 @@ class Stepper:
     block_damping : ``block -> the engine's own damping parameter`` (arrays go through), or None.
     step_setting : the name of the step in the engine adapter's settings.
     needs_radius : the map reads the sphere's radius (``from_block`` refuses None).
-    table : the step table a batch at the step reads (``table.StepTableSpec``), or None: each
-        scene of a batch is then solved exactly.
     """
 
     name: str
@@ -63,7 +58,11 @@ class Stepper:
     block_damping: Callable | None = None
     step_setting: str = "timestep"
     needs_radius: bool = False
-    table: StepTableSpec | None = None
+
+    @property
+    def affine(self):
+        """Whether the map is piecewise affine (``kernels.AFFINE``): exact phase means and batches at formula speed."""
+        return self.code in kernels.AFFINE
 
     def pack(self, **values):
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
@@ -96,14 +95,6 @@ STEPPERS = (
         from_block=mujoco_map.from_block,
         law_damping=mujoco_map.law_damping,
         block_damping=mujoco_map.block_damping,
-        # zeta up to 2: e_N 0.05 without a load (more below it with a load); steps to 1.28 (2.5 per
-        # undamped half period).
-        table=StepTableSpec(
-            law="mujoco_soft",
-            grid=StepTableGrid(x_max=1.28, n_x=64, xi_max=0.99, n_xi=24, c_max=2.0, n_c=100),
-            unit_params=lambda c: mujoco_map.pack(1.0, 2.0 * c, MUJOCO_IMPEDANCE),
-            stable_damping=mujoco_map.stable_damping,
-        ),
         source="MuJoCo src/engine: engine_core_constraint.c (mj_diagApprox, getimpedance, "
         "mj_makeImpedance, mj_referenceConstraint), engine_collision_driver.c (con->exclude), "
         "engine_forward.c (mj_EulerSkip, mj_implicitSkip, mj_advance)",

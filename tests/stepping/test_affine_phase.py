@@ -1,0 +1,131 @@
+"""The exact phase mean of the piecewise-affine maps, against the drop-by-drop quadrature and dense sampling."""
+
+import math
+
+import numpy as np
+import pytest
+
+from contactalpha.stepping import codes
+from contactalpha.stepping.affine_phase import phase_mean_affine
+from contactalpha.stepping.delivered import at_phases, over_phase, step_limit
+from contactalpha.stepping.kernels import AFFINE, DRAKE, MAX_BRANCHES, MAX_FORMS, MUJOCO, PYBULLET, branches, step_map
+from contactalpha.stepping.registry import STEPPERS, stepper
+
+
+def _mujoco_scene(rng):
+    k = 10 ** rng.uniform(2.0, 5.0)
+    zeta = rng.uniform(0.0, 1.2)
+    p = stepper("mujoco").pack(stiffness=k, damping=2.0 * zeta * math.sqrt(k), impedance=rng.uniform(0.8, 0.99))
+    return p, 0.002
+
+
+def _pybullet_scene(rng):
+    h = 1.0 / 240.0
+    m = 10 ** rng.uniform(-1.5, 1.3)
+    k = m * (math.pi / (rng.uniform(5.0, 80.0) * h)) ** 2
+    c = 2.0 * rng.uniform(0.0, 1.0) * math.sqrt(k * m)
+    values = {"mass": m, "stiffness_ball": 2 * k, "damping_ball": c / 2, "stiffness_ground": 2 * k,
+              "damping_ground": c / 2, "breaking": 0.02 * math.sqrt(3) * rng.uniform(0.01, 0.2)}  # fmt: skip
+    return stepper("pybullet").pack(**values), h
+
+
+SCENES = {"mujoco": _mujoco_scene, "pybullet": _pybullet_scene}
+
+
+def _scenes(engine, n, seed):
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        p, h = SCENES[engine](rng)
+        v = 10 ** rng.uniform(-1.3, 0.5)
+        a = 9.81 + (rng.uniform(0.0, 200.0) if rng.uniform() < 0.5 else 0.0)
+        if v >= 0.5 * a * h:
+            out.append((p, h, v, a))
+    return out
+
+
+def test_the_affine_maps_are_the_registered_ones():
+    """Exactly MuJoCo and PyBullet are piecewise affine (Drake's Hunt-Crossley step is not)."""
+    assert set(AFFINE) == {MUJOCO, PYBULLET}
+    assert {s.name for s in STEPPERS if s.affine} == {"mujoco", "pybullet"}
+    assert DRAKE not in AFFINE
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+def test_each_branch_is_the_engines_step(engine):
+    """At random states, the branch the forms pick, applied as its affine map, is ``step_map``."""
+    s = stepper(engine)
+    rng = np.random.default_rng(5)
+    forms, maps = np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6))
+    from contactalpha.stepping.kernels import branch_of
+
+    seen = set()
+    for p, h, v, a in _scenes(engine, 40, 6):
+        nf = branches(s.code, p, h, a, forms, maps)
+        for _ in range(25):
+            z = rng.uniform(-3.0, 1.0) * v * h
+            w = rng.uniform(-1.5, 1.5) * v
+            vals = forms[:nf, 0] * z + forms[:nf, 1] * w + forms[:nf, 2]
+            b = branch_of(s.code, vals)
+            seen.add(b)
+            z1, w1 = step_map(s.code, z, w, p, h, a)
+            assert maps[b, 0] * z + maps[b, 1] * w + maps[b, 2] == pytest.approx(z1, rel=1e-12, abs=1e-15 * v * h)
+            assert maps[b, 3] * z + maps[b, 4] * w + maps[b, 5] == pytest.approx(w1, rel=1e-12, abs=1e-15 * v)
+    assert seen == set(range(AFFINE[s.code][1]))  # every branch was exercised
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+def test_the_mean_is_the_drop_by_drop_quadratures(engine):
+    """Against ``phase.phase_mean`` (drops at adaptive Gauss-Lobatto nodes, jumps bisected): the mean to
+    1e-11, the range one drop sees to 1e-6 (and never inside it), the steps in contact exactly, at 30
+    random scenes.  (The
+    drop-by-drop quadrature runs out of intervals in two captured scenes, on Stronge's eps, whose
+    deepest penetration kinks; its e_N there is exact: 0.  A drop at rest in contact is captured when
+    rounding flips its velocity's sign, so the steps of captured drops differ with the arithmetic.)"""
+    s = stepper(engine)
+    for p, h, v, a in _scenes(engine, 30, 11):
+        row = phase_mean_affine(s.code, p, h, v, a, step_limit(s, p, h), 1e-12)
+        st = over_phase(engine, p, h, v, a)
+        assert st.status in ("ok", "quadrature interval limit") and row[codes.P_STATUS] == 0
+        assert row[codes.P_MEAN] == pytest.approx(st.mean, abs=1e-11)
+        assert row[codes.P_STD] == pytest.approx(st.std, abs=1e-9)
+        # The range: the ends of every piece (kinks too, which the quadrature's nodes only approach).
+        assert st.minimum - 1e-6 <= row[codes.P_MIN] <= st.minimum + 1e-12
+        assert st.maximum - 1e-12 <= row[codes.P_MAX] <= st.maximum + 1e-6
+        if st.minimum > 0.0:  # a capture's step count is when rounding stops the creep: compare bounces
+            assert (row[codes.P_STEPS_MIN], row[codes.P_STEPS_MAX]) == (st.steps_min, st.steps_max)
+        assert np.isnan(row[codes.P_EPS_MEAN])  # not computed here
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+def test_the_mean_is_dense_samplings(engine):
+    """Against 16,384 evenly spaced drops: agreement within the sample's own error at the jumps
+    (each jump can move the sample's mean by its size over the count)."""
+    s = stepper(engine)
+    n = 16_384
+    phases = (np.arange(n) + 0.5) / n
+    for p, h, v, a in _scenes(engine, 6, 3):
+        row = phase_mean_affine(s.code, p, h, v, a, step_limit(s, p, h), 1e-12)
+        e = at_phases(engine, p, h, phases, v, a)["e_n"]
+        jumps = np.abs(np.diff(e)).max()
+        assert abs(row[codes.P_MEAN] - e.mean()) <= max(2.0 * jumps * row[codes.P_EVALS] / n, 1e-9)
+        assert row[codes.P_MIN] <= e.min() + 1e-12 and row[codes.P_MAX] >= e.max() - 1e-12
+
+
+def test_a_quadrature_that_cannot_converge_gives_nan_and_its_status():
+    """At omega h = 20 (an unstable explicit step, e_N up to 400) the quadrature runs out of
+    intervals, as the drop-by-drop one does: NaN with that status, never the unconverged number."""
+    s = stepper("mujoco")
+    p = s.pack(stiffness=1e8, damping=0.0, impedance=0.95)
+    row = phase_mean_affine(s.code, p, 0.002, 1.0, 9.81, step_limit(s, p, 0.002), 1e-12)
+    assert over_phase("mujoco", p, 0.002, 1.0, 9.81).status == "quadrature interval limit"
+    assert row[codes.P_STATUS] == codes.QUAD_LIMIT
+    assert np.isnan(row[codes.P_MEAN]) and np.isnan(row[codes.P_MIN]) and np.isnan(row[codes.P_STD])
+
+
+def test_running_out_of_steps_gives_nan():
+    """A drop still moving when its steps run out: status step limit, NaN mean."""
+    s = stepper("mujoco")
+    p = s.pack(stiffness=1e4, damping=1.0, impedance=0.95)
+    row = phase_mean_affine(s.code, p, 0.002, 1.0, 9.81, 5, 1e-12)
+    assert row[codes.P_STATUS] == codes.STEP_LIMIT and np.isnan(row[codes.P_MEAN])
