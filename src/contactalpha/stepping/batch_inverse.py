@@ -5,7 +5,8 @@ damping is solved on the exact phase mean of ``affine_phase`` (numba, rows in ``
 never depends on another, so the result is the same bits at any thread count):
 
 1. **From the guess** (the continuous law's damping, whose mean at the step is reported too):
-   Newton-like steps in ln(damping), each overshot a little, until the mean crosses the target;
+   secant steps on ln(mean) against the damping (a linear oscillator's ln e is nearly linear in
+   its damping), until the mean crosses the target or comes within ``STOP_TOL`` of it;
 2. **else on ``inverse.damping_for``'s ladder**: zero damping (a target above its mean is out of
    reach, the mean nearest the target is kept), then ``BRACKET_START`` over the contact time
    doubled up to ``BRACKET_DOUBLINGS`` times, to the first rung whose mean is below the target;
@@ -34,14 +35,13 @@ N_COLS = 13
 B_OK, B_UNREACHABLE, B_NOT_CONVERGED, B_FAILED = range(4)
 ROW_STATUS = {B_OK: "ok", B_UNREACHABLE: "unreachable", B_NOT_CONVERGED: "not_converged",
               B_FAILED: "no phase mean (a drop failed)"}  # fmt: skip
-# A guess whose mean is this far below the target starts from the bracket [0, guess] (where the
-# step itself dissipates, e.g. PyBullet's implicit one, the root lies far below the guess).
+# A guess whose mean is this far below the target checks zero damping first (where the step itself
+# dissipates, e.g. PyBullet's implicit one, the root lies far below the guess, or out of reach) and
+# then solves in the bracket [0, guess].
 FAR = 0.05
-# Steps from the guess before the ladder takes over, their overshoot and their largest change of
-# ln(damping).
+# Secant steps from the guess before the ladder takes over, and the most one step changes the damping by.
 GUESS_STEPS = 8
-OVERSHOOT = 1.0
-MAX_LOG_STEP = 1.5
+MAX_FACTOR = 4.0
 # Brent stops once the mean is this close to the target (well inside MEAN_TOL).
 STOP_TOL = 0.1 * MEAN_TOL
 BRENT_ITERATIONS = 100
@@ -117,9 +117,9 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
         count += 1
         out[B_GUESS_MEAN], out[B_GUESS_MIN], out[B_GUESS_MAX] = acc[P_MEAN], acc[P_MIN], acc[P_MAX]
         x0 = guess
+        # The first secant step starts from the continuous oscillator's e = 1 at zero damping.
+        xp, yp = 0.0, 0.0
         if math.isfinite(f0) and f0 < -FAR and guess > 0.0:
-            # Far below the target: zero damping (the most the step delivers) must reach it, and
-            # then [0, guess] brackets a root.
             fz = _mean(code, p, slots, 0.0, h, v, a, max_steps, work) - target
             count += 1
             if math.isfinite(fz) and fz < 0.0:
@@ -129,17 +129,18 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
                 return
             if math.isfinite(fz):  # [0, guess] brackets a root: Brent from there
                 xa, fa, xb, fb, bracketed = 0.0, fz, x0, f0, True
-        # The first step: Newton's on ln(damping) with the slope a linear oscillator's e = exp(-pi zeta
-        # / sqrt(1 - zeta^2)) has at small zeta, de/dln(zeta) = e ln(e), e the target; overshot by
-        # OVERSHOOT so that the two points likely bracket the root.  Later steps: the secant's, overshot.
-        slope = target * math.log(target)
+        yt = math.log(target)
         for _ in range(GUESS_STEPS if math.isfinite(f0) and guess > 0.0 and not bracketed else 0):
             if abs(f0) <= STOP_TOL:
                 xa, fa, xb, fb, bracketed = x0, f0, x0, f0, True
                 break
-            dln = -f0 / slope
-            dln = OVERSHOOT * min(max(dln, -MAX_LOG_STEP), MAX_LOG_STEP)
-            x1 = x0 * math.exp(dln)
+            if f0 + target <= 0.0:  # captured at every phase: less damping
+                x1 = x0 / MAX_FACTOR
+            else:
+                y0 = math.log(f0 + target)
+                x1 = x0 + (yt - y0) * (x0 - xp) / (y0 - yp) if y0 != yp else x0 * (MAX_FACTOR if f0 > 0.0 else 1.0 / MAX_FACTOR)
+                x1 = min(max(x1, x0 / MAX_FACTOR), x0 * MAX_FACTOR)
+                xp, yp = x0, y0
             f1 = _mean(code, p, slots, x1, h, v, a, max_steps, work) - target
             count += 1
             if not math.isfinite(f1):
@@ -149,10 +150,6 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
                 break
             if (f1 > 0.0) != (f0 > 0.0):
                 xa, fa, xb, fb, bracketed = x0, f0, x1, f1, True
-                break
-            if f1 != f0:
-                slope = (f1 - f0) / (math.log(x1) - math.log(x0))
-            if not slope < 0.0:  # the mean did not fall with the damping here: leave it to the ladder
                 break
             x0, f0 = x1, f1
     if not bracketed:  # inverse.damping_for's ladder
