@@ -3,7 +3,7 @@
 Run: ``PYTHONPATH=src python benchmarks/bench_stepping.py`` (``--quick``: fewer scenes).
 Prints, measured side by side in this run (one thread; compile time first, separately):
 - the phase mean of one scene (``stepping.delivered.over_phase``): scenes per second, and drops
-  evaluated per scene;
+  evaluated per scene; the same mean on MuJoCo's affine pieces (``stepping.affine_phase``);
 - the answer of the front door at MuJoCo's 2 ms step (``contact_parameters(..., engine="mujoco",
   timestep=0.002)``: the inverse on the phase mean) against the continuous answer of the same
   call without a step (the baseline): seconds per scene and the ratio;
@@ -35,7 +35,9 @@ def scenes(n, seed=0):
 
 def main(argv=None):
     from contactalpha import contact_parameters
-    from contactalpha.stepping.delivered import over_phase
+    from contactalpha.stepping.affine_phase import QUAD_TOL, phase_mean_affine
+    from contactalpha.stepping.codes import P_EVALS
+    from contactalpha.stepping.delivered import over_phase, step_limit
     from contactalpha.stepping.registry import stepper
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -57,7 +59,17 @@ def main(argv=None):
                         v, 9.81)  # fmt: skip
         evals += st.evaluations
     t_mean = (time.perf_counter() - start) / n
-    print(f"phase mean:        {1 / t_mean:10.0f} scenes/s  ({evals / n:.0f} drops per scene)")
+    print(f"phase mean:        {1 / t_mean:10.0f} scenes/s  ({evals / n:.0f} drops per scene; the baseline)")
+    reps = 200
+    start = time.perf_counter()
+    pieces = 0
+    for _ in range(reps):
+        for m, k, v, _ in todo:
+            p = s.pack(stiffness=k / m, damping=0.3 * np.sqrt(k / m), impedance=0.9)
+            pieces += phase_mean_affine(s.code, p, 0.002, v, 9.81, step_limit(s, p, 0.002), QUAD_TOL)[P_EVALS]
+    t_affine = (time.perf_counter() - start) / (n * reps)
+    print(f"affine phase mean: {1 / t_affine:10.0f} scenes/s  ({pieces / n / reps:.1f} pieces per scene; "
+          f"{t_mean / t_affine:.0f} x faster than the baseline)")  # fmt: skip
 
     def per_scene(**kw):
         start = time.perf_counter()

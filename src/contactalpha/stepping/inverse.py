@@ -3,8 +3,9 @@
 The mean e_N (or eps) over a uniform phase is continuous in the damping (the jumps in phase move
 continuously with it) and, at a step fine enough for a stable map, falls as the damping grows.
 ``damping_for`` brackets the root on a fixed ladder from zero damping upwards (the first rung
-whose mean falls below the target) and solves it by Brent's method on the phase mean of ``delivered``; the
-result's mean is within ``MEAN_TOL`` of the target by the map.  Zero damping gives the most the
+whose mean falls below the target) and solves it by Brent's method on the phase mean (of e_N on a
+piecewise-affine map's pieces, ``affine_phase``; else drop by drop, ``delivered``); the result's
+mean, drop by drop, is within ``MEAN_TOL`` of the target by the map.  Zero damping gives the most the
 engine can deliver at that step: a larger target is out of reach.  So is any target when the
 step is so coarse that the map is unstable (damping then raises the mean).  ``damping_for`` then
 reports the mean nearest the target and the largest step (and the largest stiffness at the given
@@ -19,7 +20,10 @@ from scipy.optimize import brentq
 
 from contactalpha.validation import check_range
 
-from .delivered import PhaseStats, check_restitution, check_scene, over_phase_unchecked
+from .affine_phase import QUAD_TOL as AFFINE_TOL
+from .affine_phase import phase_mean_affine
+from .codes import P_MEAN
+from .delivered import PhaseStats, check_restitution, check_scene, over_phase_unchecked, step_limit
 from .registry import stepper
 
 # The phase mean at the solution is within this of the target (by the map).
@@ -65,10 +69,23 @@ class StepInverse:
 
 
 def _mean(engine, p, h, v, a, restitution):
-    # The scene was checked where it entered (``damping_for``; a smaller step in the searches
-    # below keeps v >= a h / 2).
-    st = over_phase_unchecked(stepper(engine), p, h, v, a)
-    return st.of(restitution)[0], st
+    """The phase mean alone: on the affine pieces where the map has them (e_N), else drop by drop.
+
+    The scene was checked where it entered (``damping_for``; a smaller step in the searches below
+    keeps v >= a h / 2).  Where the affine sweep gives no number (its quadrature's budget) the
+    drop-by-drop quadrature answers, as it does for eps.
+    """
+    s = stepper(engine)
+    if restitution == "kinematic" and s.affine:
+        m = float(phase_mean_affine(s.code, p, h, v, a, step_limit(s, p, h), AFFINE_TOL)[P_MEAN])
+        if math.isfinite(m):
+            return m
+    return over_phase_unchecked(s, p, h, v, a).of(restitution)[0]
+
+
+def _stats(engine, p, h, v, a):
+    """``PhaseStats`` drop by drop (eps, the range, steps): once per answer."""
+    return over_phase_unchecked(stepper(engine), p, h, v, a)
 
 
 def damping_for(
@@ -101,12 +118,12 @@ def damping_for(
         q[list(s.damping_slots)] = c
         return q
 
-    top, st0 = _mean(engine, with_damping(0.0), h, v, a, restitution)
+    top = _mean(engine, with_damping(0.0), h, v, a, restitution)
     lo, hi, bracketed, nearest = 0.0, None, False, top
     if top >= target:
         hi = BRACKET_START / s.contact_time(p)
         for _ in range(BRACKET_DOUBLINGS):
-            m, _st = _mean(engine, with_damping(hi), h, v, a, restitution)
+            m = _mean(engine, with_damping(hi), h, v, a, restitution)
             if abs(m - target) < abs(nearest - target):
                 nearest = m
             if m < target:
@@ -120,11 +137,13 @@ def damping_for(
             step = reachable_timestep(engine, p, h, v, a, target, restitution)
             if remedies == "both":
                 stiff = reachable_stiffness(engine, p, h, v, a, target, restitution)
+        st0 = _stats(engine, with_damping(0.0), h, v, a)
         return StepInverse(math.nan, with_damping(0.0), st0, "unreachable", nearest, step, stiff)
-    root = brentq(lambda c: _mean(engine, with_damping(c), h, v, a, restitution)[0] - target, lo, hi,
+    root = brentq(lambda c: _mean(engine, with_damping(c), h, v, a, restitution) - target, lo, hi,
                   xtol=1e-300, rtol=DAMPING_RTOL)  # fmt: skip
     q = with_damping(root)
-    m, st = _mean(engine, q, h, v, a, restitution)
+    st = _stats(engine, q, h, v, a)
+    m = st.of(restitution)[0]
     status = "ok" if abs(m - target) <= MEAN_TOL else "not_converged"
     return StepInverse(root, q, st, status, math.nan, math.nan, math.nan)
 
