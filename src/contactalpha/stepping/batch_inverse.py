@@ -6,7 +6,9 @@ never depends on another, so the result is the same bits at any thread count):
 
 1. **From the guess** (the continuous law's damping, whose mean at the step is reported too):
    secant steps on ln(mean) against the damping (a linear oscillator's ln e is nearly linear in
-   its damping), until the mean crosses the target or comes within ``STOP_TOL`` of it;
+   its damping), until the mean crosses the target or comes within ``STOP_TOL`` of it.  Where the
+   guess's mean is more than ``FAR`` below the target, zero damping's mean instead: a target above
+   it is out of reach, else ``[0, guess]`` is the bracket;
 2. **else on ``inverse.damping_for``'s ladder**: zero damping (a target above its mean is out of
    reach, the mean nearest the target is kept), then ``BRACKET_START`` over the contact time
    doubled up to ``BRACKET_DOUBLINGS`` times, to the first rung whose mean is below the target;
