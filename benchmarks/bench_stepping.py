@@ -125,8 +125,8 @@ def batch(n):
         e = rng.uniform(0.1, 0.95, rows)
         kw = dict(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine=engine)
         start = time.perf_counter()
-        contact_parameters(**{x: y[:2] if isinstance(y, np.ndarray) else y for x, y in kw.items()}, timestep=h,
-                           radius=radius)  # fmt: skip
+        two = {x: y[:2] if isinstance(y, np.ndarray) else y for x, y in kw.items()}
+        contact_parameters(**two, timestep=h, radius=radius)
         first = time.perf_counter() - start
         start = time.perf_counter()
         contact_parameters(**kw)
@@ -137,8 +137,9 @@ def batch(n):
         ok = cp.stepped.status == "ok"
         miss = float(np.max(np.abs(cp.stepped.mean[ok] - e[ok]))) if ok.any() else float("nan")
         print(f"batch of {rows} at {engine}'s {h:g} s: {rows / t_step:.0f} scenes/s, continuous batch "
-              f"{rows / t_cont:.0f} scenes/s (baseline), {t_step / t_cont:.1f} x the baseline; {ok.sum()} reach "
-              f"the target (largest |mean - target| by the map {miss:.1e}), {rows - ok.sum()} out of reach; "
+              f"{rows / t_cont:.0f} scenes/s (baseline), {t_step / t_cont:.1f} x the baseline; "
+              f"{ok.sum()} reach the target (largest |mean - target| by the map {miss:.1e}), "
+              f"{rows - ok.sum()} out of reach; "
               f"first call {first:.2f} s ({os.environ['NUMBA_NUM_THREADS']} thread(s))")  # fmt: skip
 
 

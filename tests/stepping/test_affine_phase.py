@@ -8,7 +8,16 @@ import pytest
 from contactalpha.stepping import codes
 from contactalpha.stepping.affine_phase import phase_mean_affine
 from contactalpha.stepping.delivered import at_phases, over_phase, step_limit
-from contactalpha.stepping.kernels import AFFINE, DRAKE, MAX_BRANCHES, MAX_FORMS, MUJOCO, PYBULLET, branches, step_map
+from contactalpha.stepping.kernels import (
+    AFFINE,
+    DRAKE,
+    MAX_BRANCHES,
+    MAX_FORMS,
+    MUJOCO,
+    PYBULLET,
+    branches,
+    step_map,
+)
 from contactalpha.stepping.registry import STEPPERS, stepper
 
 

@@ -49,8 +49,9 @@ class SteppedAnswer:
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
         installed engine, or None.
-    source : "exact" ("none" for a batch's row without a continuous answer): every answer is solved on the map (one scene at a time by
-        ``stepping.inverse``, or a batch's rows together by ``stepping.batch_inverse``).
+    source : "exact" ("none" for a batch's row without a continuous answer): every answer is
+        solved on the map (one scene at a time by ``stepping.inverse``, or a batch's rows together
+        by ``stepping.batch_inverse``).
     mean_error : how far the mean is from the target by the map (at most
         ``stepping.inverse.MEAN_TOL``); NaN where there is no answer.
 

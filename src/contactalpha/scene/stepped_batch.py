@@ -19,8 +19,6 @@ import numpy as np
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
-from contactalpha.stepping.registry import stepper
-
 from contactalpha.stepping.batch_inverse import (
     B_DAMPING,
     B_GUESS_MAX,
@@ -40,6 +38,7 @@ from contactalpha.stepping.batch_inverse import (
 from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
 from contactalpha.stepping.delivered import check_scene, step_limit
 from contactalpha.stepping.inverse import BRACKET_START
+from contactalpha.stepping.registry import stepper
 
 from .batched import masked_rows
 from .law_scene import EngineScene

@@ -1,20 +1,21 @@
 """The phase mean of a piecewise-affine step map, exactly, for the cost of a few drops.
 
 MuJoCo's and PyBullet's steps are affine in the state ``(z, w)`` on each branch, and linear forms
-in the state pick the branch (``kernels.branch_forms``, ``kernels.affine_step``).  A drop's start
+in the state pick the branch (``kernels.branches``, ``kernels.branch_of``).  A drop's start
 ``flight.touchdown_state`` is a polynomial of degree 2 in the touchdown phase ``phi`` (z) and 1 (w).
 So along one sequence of branches every state of the drop is a quadratic in ``phi``, and every
 test the drop makes (the branch forms, ``z > 0``, ``w' > 0``, the rest test of ``drop.run_drop``)
-is the sign of a quadratic in ``phi``.
+is the sign of a quadratic in ``phi`` (``phase_polynomials``).
 
-``_piece`` runs one drop on these polynomials from a phase ``lo``: at each step it takes the
-smallest root of any test's quadratic above ``lo`` as the piece's end, then picks the branch and
-the drop's decisions at the middle of what is left (no test changes sign there).  On the piece
-``[lo, end)`` the drop takes the same steps for every phase, and e_N is the closed form
-``flight.rebound_speed`` of the final state's polynomials over ``v_in``: ``phase_mean_affine``
-integrates it piece by piece with adaptive Gauss-Legendre quadrature (no drop is run at a node), so
-the mean is exact across every jump and kink to the quadrature's tolerance.  The cost is one
-polynomial drop per piece: a few pieces where ``phase.phase_mean`` runs 700-7,000 drops.
+``_sweep`` runs the drop on these polynomials from a phase ``lo``: at each step the roots of the
+tests whose outcome can change split what is left, and the first split past which the branch or
+the drop's decision differs ends the piece (decisions are taken inside, where no test changes
+sign).  On the piece ``[lo, end)`` the drop takes the same steps for every phase, and e_N is the
+closed form ``flight.rebound_speed`` of the final state's polynomials over ``v_in``, integrated by
+adaptive Gauss-Legendre quadrature (``phase_polynomials.integrate_piece``; no drop is run at a
+node), so the mean is exact across every jump and kink to the quadrature's tolerance.  The next
+piece resumes the stored drop from the step whose test ended the last one.  The cost is about one
+polynomial drop per piece, a few pieces where ``phase.phase_mean`` runs 700-7,000 drops.
 
 The row it returns has ``codes.P_*`` slots: mean, minimum and maximum (over the quadrature's nodes
 and both ends of every piece), standard deviation, steps in contact, jumps, pieces (in
@@ -50,33 +51,17 @@ from .codes import (
     STEP_LIMIT,
 )
 from .drop import CREEP_FRACTION
-from .flight import REST_FRACTION, rebound_speed
+from .flight import REST_FRACTION
 from .kernels import MAX_BRANCHES, MAX_FORMS, branch_of, branches
+from .phase_polynomials import ROOT_GAP, integrate_piece, poly, roots_into, sort_roots
 
-# A test's root closer than this above a piece's start does not cut it (the root that made the
-# start, computed again); the sliver it leaves is at most this wide in phase.
-ROOT_GAP = 1e-12
-# Gauss-Legendre nodes of the quadrature on each interval (exact for degree 2 n - 1).
-GL_NODES = 8
-GL_X, GL_W = np.polynomial.legendre.leggauss(GL_NODES)
 # Columns of the per-step workspace of ``_sweep``: the state's polynomials at the step's start, the
 # steps in contact before it, the first change of its tests, the smallest change of the steps before.
 W_Z, W_W, W_N, W_ROOT, W_PREFIX = 0, 3, 6, 7, 8
 W_COLS = 9
 # Default tolerance per unit phase of the adaptive quadrature, and the budget of intervals and pieces.
 QUAD_TOL = 1e-12
-MAX_SPLITS = 2000
 MAX_PIECES = 5000
-
-
-@njit(cache=True)
-def _val(q, t):
-    return q[0] + t * (q[1] + t * q[2])
-
-
-@njit(cache=True)
-def _poly(c0, c1, c2, t):
-    return c0 + t * (c1 + t * c2)
 
 
 @njit(cache=True)
@@ -90,43 +75,6 @@ def _grow(a, n):
 
 
 @njit(cache=True)
-def _roots_into(c0, c1, c2, lo, hi, buf, nb):
-    """Append the roots of ``c0 + c1 t + c2 t^2`` in ``(lo + ROOT_GAP, hi)`` to ``buf[nb:]``; the new count."""
-    lo = lo + ROOT_GAP
-    m = 0.5 * (lo + hi)
-    r = 0.5 * (hi - lo)
-    if r <= 0.0 or abs(c0 + m * (c1 + m * c2)) > abs(c1 + 2.0 * c2 * m) * r + abs(c2) * r * r:
-        return nb  # |change over the interval| < |value at its middle|: no root
-    if c2 == 0.0:
-        if c1 != 0.0 and lo < -c0 / c1 < hi:
-            buf[nb] = -c0 / c1
-            nb += 1
-        return nb
-    disc = c1 * c1 - 4.0 * c2 * c0
-    if disc < 0.0:
-        return nb
-    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
-    if q != 0.0 and lo < c0 / q < hi:
-        buf[nb] = c0 / q
-        nb += 1
-    if lo < q / c2 < hi:
-        buf[nb] = q / c2
-        nb += 1
-    return nb
-
-
-@njit(cache=True)
-def _sort(buf, nb):
-    for i in range(1, nb):
-        x = buf[i]
-        k = i - 1
-        while k >= 0 and buf[k] > x:
-            buf[k + 1] = buf[k]
-            k -= 1
-        buf[k + 1] = x
-
-
-@njit(cache=True)
 def _branch_at(code, forms, nf, z, w, vals):
     """The branch at the state ``(z, w)``."""
     for i in range(nf):
@@ -137,12 +85,12 @@ def _branch_at(code, forms, nf, z, w, vals):
 @njit(cache=True)
 def _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals):
     """The branch on ``(lo, first change)`` and the first of the roots ``buf[:nb]`` past which it differs (1 if none)."""
-    _sort(buf, nb)
+    sort_roots(buf, nb)
     t = 0.5 * (lo + (buf[0] if nb > 0 else hi))
-    b0 = _branch_at(code, forms, nf, _poly(z0, z1, z2, t), _poly(w0, w1, w2, t), vals)
+    b0 = _branch_at(code, forms, nf, poly(z0, z1, z2, t), poly(w0, w1, w2, t), vals)
     for i in range(nb):
         t = 0.5 * (buf[i] + (buf[i + 1] if i + 1 < nb else hi))
-        if _branch_at(code, forms, nf, _poly(z0, z1, z2, t), _poly(w0, w1, w2, t), vals) != b0:
+        if _branch_at(code, forms, nf, poly(z0, z1, z2, t), poly(w0, w1, w2, t), vals) != b0:
             return b0, buf[i]
     return b0, 1.0
 
@@ -165,12 +113,12 @@ def _outcome(z, w, w1, n, forced, rest):
 @njit(cache=True)
 def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi, buf, nb):
     """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none (``u``: w after the step)."""
-    _sort(buf, nb)
+    sort_roots(buf, nb)
     t = 0.5 * (lo + buf[0])
-    o0 = _outcome(_poly(z0, z1, z2, t), _poly(w0, w1, w2, t), _poly(u0, u1, u2, t), n, forced, rest)
+    o0 = _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest)
     for i in range(nb):
         t = 0.5 * (buf[i] + (buf[i + 1] if i + 1 < nb else hi))
-        if _outcome(_poly(z0, z1, z2, t), _poly(w0, w1, w2, t), _poly(u0, u1, u2, t), n, forced, rest) != o0:
+        if _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest) != o0:
             return buf[i]
     return 1.0
 
@@ -222,7 +170,7 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn
                 c2 = al * z2 + be * w2
                 vals[i] = al * zm + be * wm + ga
                 if abs(vals[i]) <= abs(al * zd + be * wd) * rr + abs(c2) * rr * rr:
-                    nb = _roots_into(al * z0 + be * w0 + ga, al * z1 + be * w1, c2, lo, hi, buf, nb)
+                    nb = roots_into(al * z0 + be * w0 + ga, al * z1 + be * w1, c2, lo, hi, buf, nb)
             if nb == 0:
                 br, r = branch_of(code, vals), 1.0
             else:
@@ -239,25 +187,25 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn
             top = min(hi, r)
             nb = 0
             if n > 0 and not forced and abs(zm) <= abs(zd) * rr + abs(z2) * rr * rr:
-                nb = _roots_into(z0, z1, z2, lo, top, buf, nb)
+                nb = roots_into(z0, z1, z2, lo, top, buf, nb)
             if n > 0 or forced:
                 bound = abs(ud) * rr + abs(u2) * rr * rr
                 if abs(um) <= bound:
-                    nb = _roots_into(u0, u1, u2, lo, top, buf, nb)
+                    nb = roots_into(u0, u1, u2, lo, top, buf, nb)
                 if abs(wm) <= abs(wd) * rr + abs(w2) * rr * rr:
-                    nb = _roots_into(w0, w1, w2, lo, top, buf, nb)
+                    nb = roots_into(w0, w1, w2, lo, top, buf, nb)
                 if abs(um) <= rest + bound:  # the rest test |w'| <= rest and |w' - w| <= rest
-                    nb = _roots_into(u0 - rest, u1, u2, lo, top, buf, nb)
-                    nb = _roots_into(u0 + rest, u1, u2, lo, top, buf, nb)
-                    nb = _roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
-                    nb = _roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
+                    nb = roots_into(u0 - rest, u1, u2, lo, top, buf, nb)
+                    nb = roots_into(u0 + rest, u1, u2, lo, top, buf, nb)
+                    nb = roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
+                    nb = roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
             if nb > 0:
                 r = min(r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb))
             ws[j, W_ROOT] = r
             if r < hi:
                 hi = r
                 t = lo + 0.5 * (hi - lo)
-                zm, wm, um = _poly(z0, z1, z2, t), _poly(w0, w1, w2, t), _poly(u0, u1, u2, t)
+                zm, wm, um = poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t)
             outcome = _outcome(zm, wm, um, n, forced, rest)
             if forced:
                 n += 1
@@ -274,7 +222,7 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn
         if status == STEP_LIMIT:
             mid = lo + 0.5 * (hi - lo)
             i = min(j, max_steps)
-            z, w = _poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid), _poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid)
+            z, w = poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid), poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid)
             if n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
                 status = CAPTURED
         pieces += 1
@@ -287,7 +235,7 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn
             acc[P_JUMPS] += 1
         last_n = n
         if status == SEPARATED:
-            q0, q1, e, limited = _integrate(zn, wn, accel, h, v_in, lo, hi, tol, acc)
+            q0, q1, e, limited = integrate_piece(zn, wn, accel, h, v_in, lo, hi, tol, acc)
             s0 += q0
             s1 += q1
             err += e
@@ -305,68 +253,6 @@ def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn
             k += 1
     acc[P_EVALS] = pieces
     return s0, s1, err, ws
-
-
-@njit(cache=True)
-def _gl(zf, wf, accel, h, v_in, a, b, acc):
-    """Gauss-Legendre on ``[a, b]`` of ``(e_N, e_N^2)``; each node folded into ``acc``'s range."""
-    half = 0.5 * (b - a)
-    mid = 0.5 * (a + b)
-    s0 = 0.0
-    s1 = 0.0
-    for i in range(GL_X.size):
-        t = mid + half * GL_X[i]
-        e = rebound_speed(_val(zf, t), _val(wf, t), accel, h) / v_in
-        acc[P_MIN] = min(acc[P_MIN], e)
-        acc[P_MAX] = max(acc[P_MAX], e)
-        s0 += GL_W[i] * e
-        s1 += GL_W[i] * e * e
-    return half * s0, half * s1
-
-
-@njit(cache=True)
-def _integrate(zf, wf, accel, h, v_in, lo, hi, tol, acc):
-    """Adaptive Gauss-Legendre of e_N over one separated piece: ``(int e, int e^2, error, limited)``."""
-    for t in (lo, hi):  # both ends of the piece: the one-sided limits a single drop approaches
-        e = rebound_speed(_val(zf, t), _val(wf, t), accel, h) / v_in
-        acc[P_MIN] = min(acc[P_MIN], e)
-        acc[P_MAX] = max(acc[P_MAX], e)
-    e0, e1 = _gl(zf, wf, accel, h, v_in, lo, hi, acc)
-    m = 0.5 * (lo + hi)
-    l0, l1 = _gl(zf, wf, accel, h, v_in, lo, m, acc)
-    r0, r1 = _gl(zf, wf, accel, h, v_in, m, hi, acc)
-    d = abs(l0 + r0 - e0)
-    if d <= tol * (hi - lo) or m <= lo or m >= hi:
-        return l0 + r0, l1 + r1, d, False  # the usual case: no stack
-    stack_a = [lo]
-    stack_b = [hi]
-    stack_e = [e0]
-    stack_f = [e1]
-    s0 = s1 = err = 0.0
-    splits = 0
-    limited = False
-    while len(stack_a) > 0:
-        a, b, q0, q1 = stack_a.pop(), stack_b.pop(), stack_e.pop(), stack_f.pop()
-        m = 0.5 * (a + b)
-        l0, l1 = _gl(zf, wf, accel, h, v_in, a, m, acc)
-        r0, r1 = _gl(zf, wf, accel, h, v_in, m, b, acc)
-        d = abs(l0 + r0 - q0)
-        splits += 1
-        if d <= tol * (b - a) or splits >= MAX_SPLITS or m <= a or m >= b:
-            s0 += l0 + r0
-            s1 += l1 + r1
-            err += d
-            limited = limited or d > tol * (b - a)
-        else:
-            stack_a.append(a)
-            stack_b.append(m)
-            stack_e.append(l0)
-            stack_f.append(l1)
-            stack_a.append(m)
-            stack_b.append(b)
-            stack_e.append(r0)
-            stack_f.append(r1)
-    return s0, s1, err, limited
 
 
 @njit(cache=True)

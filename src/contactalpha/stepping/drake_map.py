@@ -43,7 +43,6 @@ import math
 import numpy as np
 from numba import njit
 
-
 # MultibodyPlantConfig's default time_step, s, and the discrete contact approximations this map
 # reproduces (the default ``lagged`` first; ``sap`` is another law, see above).
 TIMESTEP = 1e-3

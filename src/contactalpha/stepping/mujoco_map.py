@@ -39,7 +39,6 @@ from numba import njit
 
 from .flight import euler_affine
 
-
 # Slots of p (the engine's own parameters, in its units).
 STIFFNESS = 0  # -solref[0] in the direct mode, s^-2 (per unit mass)
 DAMPING = 1  # -solref[1] in the direct mode, s^-1 (per unit mass): the engine's damping parameter

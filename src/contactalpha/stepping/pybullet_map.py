@@ -47,7 +47,6 @@ from numba import njit
 
 from .flight import euler_affine
 
-
 # PyBullet's default time step, s (``setTimeStep``), and its integrator.
 TIMESTEP = 1.0 / 240.0
 INTEGRATORS = ("semi-implicit Euler",)
