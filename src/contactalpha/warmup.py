@@ -95,10 +95,9 @@ def _laws():
 
 def _stepping():
     # One phase mean and one inverse through the steppers' kernel table (every engine's map).
+    from contactalpha.stepping.batch_inverse import solve_batch
     from contactalpha.stepping.delivered import at_phases, over_phase
     from contactalpha.stepping.inverse import damping_for
-    from contactalpha.stepping.batch_inverse import solve_rows
-    from contactalpha.stepping.kernels import AFFINE
     from contactalpha.stepping.registry import STEPPERS, stepper
 
     p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
@@ -107,11 +106,9 @@ def _stepping():
     damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5)
     # The batch inverse on the piecewise-affine maps' exact phase mean.
     for s in STEPPERS:
-        if s.code in AFFINE:
+        if s.affine:
             q = np.tile(s.pack(**_WARM_PARAMS[s.name]), (2, 1))
-            slots = np.array(s.damping_slots)
-            solve_rows(s.code, q, slots, 0.002, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5),
-                       q[:, slots[0]].copy(), _points(2, 1.0), np.full(2, 1000))  # fmt: skip
+            solve_batch(s, q, 0.002, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5))
 
 
 def _scene():

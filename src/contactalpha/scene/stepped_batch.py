@@ -33,11 +33,10 @@ from contactalpha.stepping.batch_inverse import (
     B_STD,
     B_STEPS_MAX,
     B_STEPS_MIN,
-    solve_rows,
+    solve_batch,
 )
 from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
-from contactalpha.stepping.delivered import check_scene, step_limit
-from contactalpha.stepping.inverse import BRACKET_START
+from contactalpha.stepping.delivered import check_scene
 from contactalpha.stepping.registry import stepper
 
 from .batched import masked_rows
@@ -152,14 +151,12 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     Fills the rows with a continuous answer; returns the mask of rows left to the one-at-a-time
     inverse (none).
     """
-    rows = np.flatnonzero(ok_in & (v >= 0.5 * a * h))
+    flies = v >= 0.5 * a * h  # a drop flies a step before touchdown (``check_scene``)
+    rows = np.flatnonzero(ok_in & flies)
     params_all = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
     params_all = np.ascontiguousarray(np.broadcast_to(params_all, (m.size, params_all.shape[-1])))
     params = params_all[rows]
-    guess = params[:, s.damping_slots[0]].copy()
-    t_c = s.contact_time(params.T)
-    out = solve_rows(s.code, params, np.array(s.damping_slots), h, v[rows], a[rows], e[rows], guess,
-                     BRACKET_START / t_c, step_limit(s, params.T, h))  # fmt: skip
+    out = solve_batch(s, params, h, v[rows], a[rows], e[rows])
     for name, c in _FROM_BATCH.items():
         cols[rows, _COLUMNS.index(name)] = out[:, c]
     cols[rows, _COLUMNS.index("mean_error")] = np.abs(out[:, B_MEAN] - e[rows])
@@ -169,7 +166,7 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     good = st == B_OK
     params[:, list(s.damping_slots)] = out[:, [B_DAMPING]]
     zeta[rows[good]] = s.law_damping(params[good].T, v[rows[good]])
-    for i in np.flatnonzero(ok_in & (v < 0.5 * a * h)):  # check_scene says why, as for one scene
+    for i in np.flatnonzero(ok_in & ~flies):  # check_scene says why, as for one scene
         try:
             check_scene(params_all[i], h, v[i], a[i])
         except ValueError as err:

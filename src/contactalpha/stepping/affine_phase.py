@@ -124,13 +124,13 @@ def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi
 
 
 @njit(cache=True)
-def _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals):
+def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals):
     """Every piece of ``[0, 1)`` in order, each integrated into ``acc``: ``(int e, int e^2, error, ws)``.
 
     ``ws`` (``W_COLS`` columns) is the per-step workspace, returned grown where a drop needed more rows.
 
-    A piece's drop is stored step by step (state polynomials, steps in contact, rising, and the
-    first root of each step's tests above the piece's start).  The next piece starts at the
+    A piece's drop is stored step by step (state polynomials, steps in contact, and the first
+    change of each step's tests above the piece's start).  The next piece starts at the
     smallest of those roots; the steps before the first one whose root that is keep their branches
     (no test of theirs changes sign there), so its drop resumes from that step.
     """
@@ -274,7 +274,7 @@ def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, 
     for j in (P_EPS_MEAN, P_EPS_MIN, P_EPS_MAX, P_EPS_STD):
         acc[j] = math.nan
     nf = branches(code, p, h, accel, forms, maps)
-    s0, s1, err, ws = _sweep(code, forms, nf, maps, p, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals)
+    s0, s1, err, ws = _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals)
     acc[P_ERR] = err
     if acc[P_STATUS] != 0.0:
         for j in (P_MEAN, P_STD, P_MIN, P_MAX, P_ERR):

@@ -27,6 +27,7 @@ from numba import njit, prange
 
 from .affine_phase import QUAD_TOL, phase_row, workspace
 from .codes import P_MAX, P_MEAN, P_MIN, P_STD, P_STEPS_MAX, P_STEPS_MIN
+from .delivered import step_limit
 from .inverse import BRACKET_DOUBLINGS, BRACKET_START, MEAN_TOL
 
 # Columns of a solved row.
@@ -204,3 +205,15 @@ def solve_rows(code, params, slots, h, v, a, target, guess, ladder_start, max_st
         p = params[i].copy()
         solve_row(code, p, slots, h, v[i], a[i], target[i], guess[i], ladder_start[i], max_steps[i], out[i])
     return out
+
+
+def solve_batch(s, params, h, v, a, target):
+    """``solve_rows`` for stepper ``s`` (piecewise affine): rows of ``params`` from their own damping.
+
+    Each row starts from the damping its ``params`` hold (the continuous law's); the ladder starts
+    at ``BRACKET_START`` over its contact time and a drop takes ``delivered.step_limit`` steps.
+    """
+    params = np.ascontiguousarray(params, dtype=float)
+    guess = params[:, s.damping_slots[0]].copy()
+    return solve_rows(s.code, params, np.array(s.damping_slots), h, v, a, target, guess,
+                      BRACKET_START / s.contact_time(params.T), step_limit(s, params.T, h))  # fmt: skip

@@ -33,7 +33,6 @@ with ``r = diagApprox * m`` (1 for a free body; other values model a contact ins
 where MuJoCo's ``diagApprox`` differs from ``J M^-1 J'``).
 """
 
-
 import numpy as np
 from numba import njit
 
@@ -54,15 +53,19 @@ INTEGRATORS = ("Euler", "implicitfast")
 
 
 @njit(cache=True)
+def _soft_row(p):
+    """The contact row's ``(imp, R / A, K, B)`` of ``mj_makeImpedance`` (module docstring)."""
+    imp = p[IMPEDANCE]
+    return imp, max(MINVAL, (1.0 - imp) * p[DIAG_RATIO] / imp), p[STIFFNESS] / (imp * imp), p[DAMPING] / imp
+
+
+@njit(cache=True)
 def step_mujoco(z, w, p, h, accel):
     """One MuJoCo step (Euler or implicitfast) of height ``z`` and velocity ``w`` (module docstring)."""
     a0 = -accel
     qacc = a0
     if z < 0.0:
-        imp = p[IMPEDANCE]
-        r = max(MINVAL, (1.0 - imp) * p[DIAG_RATIO] / imp)
-        k = p[STIFFNESS] / (imp * imp)
-        b = p[DAMPING] / imp
+        imp, r, k, b = _soft_row(p)
         aref = -b * w - k * imp * z
         f = max(0.0, -(a0 - aref) / (1.0 + r))
         qacc = a0 + f
@@ -86,10 +89,7 @@ def branches_mujoco(p, h, accel, forms, maps):
     (tests/stepping check that the two agree to rounding).
     """
     a0 = -accel
-    imp = p[IMPEDANCE]
-    r = max(MINVAL, (1.0 - imp) * p[DIAG_RATIO] / imp)
-    k = p[STIFFNESS] / (imp * imp)
-    b = p[DAMPING] / imp
+    imp, r, k, b = _soft_row(p)
     forms[0, 0], forms[0, 1], forms[0, 2] = 1.0, 0.0, 0.0
     forms[1, 0], forms[1, 1], forms[1, 2] = -k * imp, -b, -a0
     # free flight w' = w + h a0; pushed: qacc = a0 + (aref - a0) / (1 + r), aref = -b w - k imp z

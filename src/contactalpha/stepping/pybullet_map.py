@@ -100,18 +100,23 @@ def pair_values(p):
 
 
 @njit(cache=True)
-def impulse_pybullet(z, w, p, h, accel):
-    """The normal impulse ``lambda`` (N s, >= 0) of one step from ``(z, w)``; 0 without a contact point."""
-    if not (z - p[SLOP] < p[BREAKING]):
-        return 0.0
+def _row_terms(p, h):
+    """The normal row's ``(erp, D)``: ``erp = h k / (h k + c)``, ``cfm = 1 / (h (h k + c))``, ``D = 1 / (1/m + cfm)``."""
     k, c = pair_values(p)
-    v_star = w - h * accel
     denom = h * k + c
     if denom < SIMD_EPSILON:
         denom = SIMD_EPSILON
     cfm = 1.0 / denom / h
-    erp = h * k / denom
-    d_inv = 1.0 / (1.0 / p[MASS] + cfm)
+    return h * k / denom, 1.0 / (1.0 / p[MASS] + cfm)
+
+
+@njit(cache=True)
+def impulse_pybullet(z, w, p, h, accel):
+    """The normal impulse ``lambda`` (N s, >= 0) of one step from ``(z, w)``; 0 without a contact point."""
+    if not (z - p[SLOP] < p[BREAKING]):
+        return 0.0
+    erp, d_inv = _row_terms(p, h)
+    v_star = w - h * accel
     if z > 0.0:
         rhs = (-v_star - z / h) * d_inv
     else:
@@ -145,11 +150,8 @@ def branches_pybullet(p, h, accel, forms, maps):
     A branch's step is ``z' = maps[b, 0:3] . (z, w, 1)``, ``w' = maps[b, 3:6] . (z, w, 1)``:
     ``impulse_pybullet``'s arithmetic collected by state (tests/stepping check the two agree).
     """
-    k, c = pair_values(p)
-    denom = max(h * k + c, SIMD_EPSILON)
-    cfm = 1.0 / denom / h
-    erp = h * k / denom
-    d_m = 1.0 / (1.0 / p[MASS] + cfm) / p[MASS]  # D / m
+    erp, d_inv = _row_terms(p, h)
+    d_m = d_inv / p[MASS]  # D / m
     forms[0, 0], forms[0, 1], forms[0, 2] = 1.0, 0.0, -p[SLOP] - p[BREAKING]
     forms[1, 0], forms[1, 1], forms[1, 2] = 1.0, 0.0, 0.0
     forms[2, 0], forms[2, 1], forms[2, 2] = -1.0 / h, -1.0, h * accel
