@@ -41,8 +41,10 @@ def _mujoco():
 
 
 def load_model(model):
-    """An ``MjModel`` from a file path (MJCF or URDF) or an MJCF string (starting with ``<``)."""
+    """An ``MjModel`` from a file path (MJCF or URDF), an MJCF string (starting with ``<``), or itself."""
     mj = _mujoco()
+    if isinstance(model, mj.MjModel):
+        return model
     text = str(model)
     try:
         if text.lstrip().startswith("<"):
@@ -226,7 +228,8 @@ def mujoco_drop(
 
     Parameters
     ----------
-    model : path or MJCF string.
+    model : path, MJCF string, or an ``MjModel`` (used as it is: ``pair_solref`` and ``timestep``
+        change it in place; ``engine_loop`` drops one loaded model at many phases).
     pair : (geometry 1, geometry 2).
     qpos, qvel : touchdown configuration and joint velocity.
     timestep : s (default the model's).
