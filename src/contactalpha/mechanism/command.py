@@ -45,6 +45,9 @@ def add_parser(make, number):
     t.add_argument("--discrete", choices=tuple(DISCRETE_CHOICES), default="auto",
                    help="the step map's phase-mean answer: where the law's misses by more than 1e-3 "
                    "(auto), always, or never")  # fmt: skip
+    t.add_argument("--no-engine-loop", action="store_true",
+                   help="MuJoCo: write the reduced model's answer without solving on the engine's own "
+                   "drops of the whole model (the default solves there)")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
     return t
@@ -75,7 +78,7 @@ def run(args, parser):
                 engine=args.engine, stiffness=args.stiffness, forces=_forces(args.force, parser),
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
                 check=args.check, timestep=args.timestep, refine=args.refine,
-                discrete=DISCRETE_CHOICES[args.discrete],
+                discrete=DISCRETE_CHOICES[args.discrete], engine_loop=not args.no_engine_loop,
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None
@@ -87,4 +90,8 @@ def run(args, parser):
     print(f"written {result.output}")
     for w in caught:
         print(f"contactalpha: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
+    if result.loop is not None and result.loop.status != "ok":
+        print(f"contactalpha: the engine loop did not reach e_N {args.e_n:g} ({result.loop.status}): "
+              "the file holds the reduced model's answer", file=sys.stderr)  # fmt: skip
+        return 3
     return 0

@@ -122,11 +122,12 @@ class MujocoLoop:
     def phase_mean(self, solref, phases=PHASES):
         """``PhaseMean`` of the pair's e_N with ``solref`` at ``phases`` midpoint phases.
 
-        A drop that does not come back through the surface within its second (captured, or the
-        mechanism fell over) makes the mean NaN: ``failed`` counts them.
+        A drop that touched and did not come back through the surface within its second is
+        captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
+        drop that never touched makes the mean NaN: ``failed`` counts them.
         """
         drops = self.drops_at(solref, phase_grid(phases))
-        values = np.array([d.e_n for d in drops])
+        values = np.array([d.e_n if math.isfinite(d.e_n) or not d.steps else 0.0 for d in drops])
         change = max((d.mass_change for d in drops if d.steps), default=math.nan)
         failed = int(np.sum(~np.isfinite(values)))
         if failed:

@@ -28,6 +28,7 @@ from contactalpha.validation import check_range
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
+from .engine_loop import in_engine
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
@@ -103,7 +104,8 @@ class Tuning:
     engine's own drop with ``check``, else NaN), ``mass_change`` (relative change of m_eff over
     that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``),
     ``discrete`` (``discrete.DiscreteAnswer`` of the engine's step map, or None where no step
-    was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous).
+    was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous),
+    ``loop`` (``engine_loop.LoopAnswer`` of the engine loop, or None where it did not run).
     """
 
     contact: object
@@ -117,6 +119,7 @@ class Tuning:
     drop: object = field(default=None, repr=False)
     discrete: object = None
     timestep: float | None = None
+    loop: object = None
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
@@ -317,6 +320,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
+    engine_loop=False,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -346,6 +350,10 @@ def tune(
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
+    engine_loop : solve the damping on the engine's own drops of the whole model at its step, over
+        the touchdown phase, from the reduced model's answer (``engine_loop``; MuJoCo), and name
+        what the reduced model leaves out with each part's share.  ``contactalpha tune`` runs it
+        by default; here it is off, for callers that tune many contacts.
 
     Returns
     -------
@@ -366,6 +374,8 @@ def tune(
     written = t.write(contact, output, params, notes) if output is not None else None
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
     result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h)
+    if engine_loop:
+        result = _looped(result, target)
     if refine:
         if t.name != "mujoco" or output is None:
             raise ValueError("refine works with engine 'mujoco' and an output file")
@@ -373,6 +383,21 @@ def tune(
     if check and t.drop:
         result = _checked(result, timestep, refined=refine)
     return result
+
+
+def _looped(result, target):
+    """``result`` with the engine loop's answer (MuJoCo), the file rewritten where it reached the target."""
+    if result.engine != "mujoco":
+        note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
+        return replace(result, notes=[*result.notes, note])
+    source = result.output if result.output is not None else _in_memory_mjcf(result)
+    answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
+    params = result.parameters
+    if answer.status == "ok":
+        params = {**params, "solref": answer.solref}
+        if result.output is not None:
+            _write_mujoco(result.contact, result.output, params)
+    return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer)
 
 
 def _refined(result, target, timestep):
