@@ -42,6 +42,10 @@ DRAKE_SAMPLES = 1000
 REFINE_TOL = 2e-4
 
 
+class OtherContactsWarning(UserWarning):
+    """Contacts other than the pair's are active at the configuration: the reduced model leaves them out."""
+
+
 class MassChangeWarning(UserWarning):
     """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
 
@@ -371,6 +375,14 @@ def tune(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
             "values are at it, not at first touch"
         )
+    others = contact.engine_row.get("other_contacts", ())
+    if others:
+        loop = "the engine loop includes them" if engine_loop else "engine_loop=True includes them"
+        text = f"other contacts active at this configuration: {', '.join(others)}; the reduced model leaves "
+        text += f"them out ({loop})"
+        notes.append(text)
+        if not engine_loop:
+            warnings.warn(text, OtherContactsWarning, stacklevel=2)
     written = t.write(contact, output, params, notes) if output is not None else None
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
     result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h)
