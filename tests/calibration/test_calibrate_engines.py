@@ -38,6 +38,10 @@ def test_mujoco_block_carries_its_answer_at_the_2_ms_step(mujoco_cal):
                                accel=G, engine="mujoco", timestep="default")  # fmt: skip
     assert st["mean"] == pytest.approx(cp.stepped.mean, abs=1e-12) and abs(st["mean"] - e1) < 1e-6
     assert st["parameters"]["solref"] == pytest.approx(cp.block["solref"], rel=1e-9)
+    # "The block above" is the front door's continuous block for e1: the delivery stated is its own.
+    scene = {"mass": M, "stiffness": 1e5 * M, "approach_speed": eng["at_approach_speed"], "accel": G}
+    continuous = ca.contact_parameters(e_N=e1, **scene, engine="mujoco").block
+    assert continuous["solref"] == pytest.approx(eng["engines"]["mujoco"]["solref"], rel=1e-6)
     # At 2 ms (4-5 steps in contact) the continuous solref is not the step's: its phase mean is off.
     assert st["parameters"]["solref"][1] != pytest.approx(eng["engines"]["mujoco"]["solref"][1], rel=1e-3)
     assert abs(st["continuous_mean"] - e1) > 1e-3
