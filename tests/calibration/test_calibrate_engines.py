@@ -5,6 +5,7 @@ a solref at the stiffness's search bound, and engine values of an unidentified s
 caveat; hypotheses within 2 in AIC were printed as a choice.
 """
 
+import json
 import math
 from dataclasses import replace
 
@@ -45,6 +46,8 @@ def test_mujoco_block_carries_its_answer_at_the_2_ms_step(mujoco_cal):
     # At 2 ms (4-5 steps in contact) the continuous solref is not the step's: its phase mean is off.
     assert st["parameters"]["solref"][1] != pytest.approx(eng["engines"]["mujoco"]["solref"][1], rel=1e-3)
     assert abs(st["continuous_mean"] - e1) > 1e-3
+    report = json.loads(mujoco_cal.to_json())["laws"]["mujoco_soft_damping"]["engines"]["at_step"]["mujoco"]
+    assert report["mean"] == st["mean"] and report["timestep_reachable"] is None  # NaN: not searched
     text = format_calibration(mujoco_cal)
     assert "# mujoco at its default step 0.002 s, over a uniformly random touchdown phase:" in text
     assert f"the block above delivers a mean e_N of {st['continuous_mean']:.6g} there" in text
