@@ -54,6 +54,20 @@ def test_mujoco_block_carries_its_answer_at_the_2_ms_step(mujoco_cal):
     assert f"mujoco.solref                    {st['parameters']['solref'][0]:.15g}" in text
 
 
+def test_a_given_impedance_is_not_checked_at_the_step_by_the_default_one():
+    cal = _calibrated(
+        "mujoco_soft_damping", {"damping": 20.0, "stiffness": 1e5, "impedance": 0.5}, impedance=0.5
+    )
+    st = cal.engines["mujoco_soft_damping"]["at_step"]["mujoco"]
+    assert st == {
+        "status": "not checked",
+        "reason": "the front door's step answer takes the default impedance only",
+    }
+    assert "# mujoco at its default step: not checked (the front door's step answer takes the default" in (
+        format_calibration(cal)
+    )
+
+
 def test_an_unreachable_step_names_the_step_that_reaches_it():
     cal = _calibrated("kelvin_voigt_damping", {"damping": 2.0, "stiffness": 1e7})
     st = cal.engines["kelvin_voigt_damping"]["at_step"]["pybullet"]
