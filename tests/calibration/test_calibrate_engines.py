@@ -129,3 +129,13 @@ def test_the_step_block_delivers_its_mean_in_mujoco(mujoco_cal):
     assert cp.block["solref"] == pytest.approx(st["parameters"]["solref"], rel=1e-9)
     assert measured["mean"] == pytest.approx(st["mean"], abs=2e-3)
     assert st["minimum"] - 1e-3 <= measured["minimum"] and measured["maximum"] <= st["maximum"] + 1e-3
+
+
+def test_a_held_stiffness_comes_with_a_caveat():
+    # Apex heights cannot see constant_e's stiffness: it is held (at 1e8 N/m^1.5 when none is given).
+    h = V0**2 / (2 * G) * 0.8 ** (2 * np.arange(8))
+    cal = ca.calibrate(h, kind="heights", mass=M, radius=0.02, hypotheses=["constant_e"], intervals=False)
+    eng = cal.engines["constant_e"]
+    assert cal.fits["constant_e"].fixed == ("stiffness",) and set(eng["engines"]) == {"opensim", "exudyn"}
+    assert eng["caveat"] == "the stiffness 1e+08 N/m^1.5 is held, not fitted (the data cannot see it)"
+    assert f"# caution: {eng['caveat']}" in format_calibration(cal)
