@@ -114,7 +114,9 @@ def test_hypotheses_within_2_in_aic_are_a_tie():
     aic = [f.n * math.log(float(f.residuals @ f.residuals) / f.n) + 2 * (f.p + 1) for f in (a, b)]
     assert aic == pytest.approx([a.aic, b.aic], abs=1e-9) and abs(aic[0] - aic[1]) < 2.0
     assert cal.tied == ["hc_eps", "constant_e"]
-    last = format_calibration(cal).splitlines()[-1]
+    text = format_calibration(cal)
+    assert "\n= hc_eps " in text and "\n= constant_e " in text and "\n* " not in text
+    last = text.splitlines()[-1]
     assert last.startswith("selected: none, a tie: hc_eps, constant_e are within 2 of the lowest AIC")
     assert cal.to_dict()["tied"] == ["hc_eps", "constant_e"]
 

@@ -300,7 +300,9 @@ def format_calibration(cal):
     lines = [f"{cal.data.kind}: {cal.data.count} observations from {cal.data.source}"]
     lines += [f"note: {n}" for n in cal.notes]
     for name, f in cal.fits.items():
-        mark = "*" if name == cal.selected else " "
+        # "*" the selected law; "=" each law of a tie (within TIE_AIC_GAP of the lowest AIC).
+        tie = len(cal.tied) > 1
+        mark = ("=" if name in cal.tied else " ") if tie else ("*" if name == cal.selected else " ")
         lines.append(
             f"{mark} {name:12s} AIC {f.aic:10.2f}  BIC {f.bic:10.2f}  sigma {f.sigma:.3g}  {f.status}"
         )
