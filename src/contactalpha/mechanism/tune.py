@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from contactalpha import defaults
 from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
@@ -303,6 +304,8 @@ TUNERS = (
     Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, True),
 )
 TUNER_NAMES = tuple(t.name for t in TUNERS)
+if TUNER_NAMES != defaults.TUNER_NAMES:  # what `tune --help` lists without importing us
+    raise ImportError(f"contactalpha.defaults.TUNER_NAMES is not {TUNER_NAMES}: update it")
 
 
 def _tuner(engine, model):
