@@ -35,7 +35,12 @@ import numpy as np
 
 from contactalpha.adapters.base import refine
 
-from .mujoco_model import geom_id, load_model, mujoco_drop
+from .crossing import rebound_speed
+from .mujoco_model import _mujoco, geom_id, load_model, mujoco_drop, start_state, touchdown
+
+# Threads of MuJoCo's rollout (the machine's two cores); each phase is its own rollout, so the
+# bits do not depend on the count.
+ROLLOUT_THREADS = 2
 
 # Touchdown phases of the first sample; doubled until the mean's error estimate is within PHASE_TOL.
 PHASES = 256
@@ -72,6 +77,21 @@ def phase_grid(n):
     return (np.arange(int(n)) + 0.5) / int(n)
 
 
+def _with_gap_sensor(model, pair):
+    """The model (path or MJCF text) compiled with a geometry-distance sensor on the pair, last."""
+    mj = _mujoco()
+    text = str(model)
+    spec = mj.MjSpec.from_string(text) if text.lstrip().startswith("<") else mj.MjSpec.from_file(text)
+    spec.add_sensor(type=mj.mjtSensor.mjSENS_GEOMDIST, objtype=mj.mjtObj.mjOBJ_GEOM, objname=pair[0],
+                    reftype=mj.mjtObj.mjOBJ_GEOM, refname=pair[1], cutoff=1.0)  # fmt: skip
+    try:
+        return spec.compile()
+    except ValueError as err:
+        raise ValueError(
+            f"model = {text[:80]!r}: MuJoCo cannot load it: {' '.join(str(err).split())}"
+        ) from None
+
+
 def _pair_rows(m, pair):
     g1, g2 = (geom_id(m, name) for name in pair)
     rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
@@ -97,11 +117,12 @@ class MujocoLoop:
     """
 
     def __init__(self, model, pair, qpos, qvel, *, timestep=None, forces=None, edit=None):
-        self.model = load_model(model)
+        self.pair = tuple(pair)
+        self.model = _with_gap_sensor(model, self.pair)
         if edit is not None:
             edit(self.model)
-        self.pair = tuple(pair)
         self.rows = _pair_rows(self.model, self.pair)
+        self.sensor = int(self.model.sensor_adr[self.model.nsensor - 1])
         self.qpos = np.asarray(qpos, dtype=float)
         self.qvel = np.asarray(qvel, dtype=float)
         self.timestep = float(self.model.opt.timestep) if timestep is None else float(timestep)
@@ -110,13 +131,62 @@ class MujocoLoop:
         self.drops = 0
 
     def drops_at(self, solref, phases):
-        """The ``MechanismDrop`` of each phase with the pair's ``solref``."""
+        """The ``MechanismDrop`` of each phase with the pair's ``solref`` (``mujoco_drop``, one by one)."""
         self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
         out = []
         for phase in phases:
             out.append(mujoco_drop(self.model, self.pair, self.qpos, self.qvel, timestep=self.timestep,
                                    forces=self.forces, phase=float(phase)))  # fmt: skip
         self.drops += len(out)
+        return out
+
+    def e_n_at(self, solref, phases):
+        """e_N of each phase with ``solref``: MuJoCo's ``rollout`` of every phase at once.
+
+        Each drop's gap is the model's geometry-distance sensor, sampled at every step's start as
+        ``mujoco_drop`` samples it, and read the same way (``crossing.rebound_speed``).  A phase
+        whose gap has not come back within the rollout's steps is run by ``mujoco_drop`` (up to its
+        second), so that it is counted as captured only when it is.  NaN: never touched.
+        """
+        mj = _mujoco()
+        from mujoco import rollout
+
+        self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
+        self.model.opt.timestep = self.timestep
+        g1, g2 = (geom_id(self.model, name) for name in self.pair)
+        probe = mujoco_drop(self.model, self.pair, self.qpos, self.qvel, forces=self.forces, phase=0.5)
+        nstep = (
+            2 * int(round(probe.contact_time / self.timestep if math.isfinite(probe.contact_time) else 0))
+            + 20
+        )
+        states = []
+        spec = mj.mjtState.mjSTATE_FULLPHYSICS
+        td = touchdown(self.model, g1, g2, self.qpos, self.qvel, self.forces)
+        speed0 = td.speed
+        for phase in phases:
+            d = start_state(self.model, td, float(phase))
+            state = np.empty(mj.mj_stateSize(self.model, spec))
+            mj.mj_getState(self.model, d, state, spec)
+            states.append(state)
+        extra = {}
+        if self.forces:  # constant forces ride on xfrc_applied, the rollout's "control"
+            extra = {"control": td.xfrc.ravel()[None, None, :],
+                     "control_spec": mj.mjtState.mjSTATE_XFRC_APPLIED}  # fmt: skip
+        datas = [mj.MjData(self.model) for _ in range(ROLLOUT_THREADS)]
+        _, sensors = rollout.rollout(self.model, datas, np.array(states), nstep=nstep, **extra)
+        t = np.arange(nstep) * self.timestep
+        out = np.empty(len(states))
+        for i, phase in enumerate(phases):
+            gaps = sensors[i, :, self.sensor]
+            speed, _ = rebound_speed(t, gaps)
+            if math.isfinite(speed):
+                out[i] = speed / speed0
+                continue
+            slow = mujoco_drop(
+                self.model, self.pair, self.qpos, self.qvel, forces=self.forces, phase=float(phase)
+            )
+            out[i] = slow.e_n if math.isfinite(slow.e_n) or not slow.steps else 0.0
+        self.drops += len(states)
         return out
 
     def phase_mean(self, solref, phases=PHASES):
@@ -126,15 +196,21 @@ class MujocoLoop:
         captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
         drop that never touched makes the mean NaN: ``failed`` counts them.
         """
-        drops = self.drops_at(solref, phase_grid(phases))
-        values = np.array([d.e_n if math.isfinite(d.e_n) or not d.steps else 0.0 for d in drops])
-        change = max((d.mass_change for d in drops if d.steps), default=math.nan)
+        values = self.e_n_at(solref, phase_grid(phases))
+        change = self.mass_change(solref)
         failed = int(np.sum(~np.isfinite(values)))
         if failed:
             return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
         half = 0.5 * abs(values[0::2].mean() - values[1::2].mean())
         return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
                          int(phases), values, float(change))  # fmt: skip
+
+    def mass_change(self, solref):
+        """The effective mass's largest relative change over the drop at phase 1/2 (``MechanismDrop``)."""
+        self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
+        drop = mujoco_drop(self.model, self.pair, self.qpos, self.qvel, timestep=self.timestep,
+                           forces=self.forces, phase=0.5)  # fmt: skip
+        return drop.mass_change if drop.steps else math.nan
 
     def converged_mean(self, solref, phases=PHASES, tol=PHASE_TOL):
         """``phase_mean`` with N doubled from ``phases`` until its error estimate is within ``tol``."""

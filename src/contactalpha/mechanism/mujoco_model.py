@@ -21,6 +21,7 @@ Importing this module does not need MuJoCo.
 """
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -202,7 +203,10 @@ def contact_row(model, data, g1, g2):
 
 
 def other_contacts(model, data, g1, g2, margin=ROW_MARGIN):
-    """``("a/b", ...)``: the contacts other than the pair's active at ``data``'s configuration.
+    """The contacts other than the pair's active at ``data``'s configuration, and the pair's points.
+
+    Returns ``(("a/b", ...), n)``: ``n`` is how many points the pair itself touches at (a flat
+    box on the floor: 4).
 
     Every geometry's margin is raised by ``margin`` (m) in memory for the look, so that a body
     resting exactly on another (the stack's lower sphere on the floor) is found.
@@ -213,14 +217,15 @@ def other_contacts(model, data, g1, g2, margin=ROW_MARGIN):
     model.pair_margin[:] = saved[1] + margin
     try:
         mj.mj_forward(model, data)
-        found = []
+        found, points = [], 0
         for i in range(data.ncon):
             a, b = (int(x) for x in data.contact[i].geom)
             if {a, b} == {g1, g2}:
+                points += 1
                 continue
             names = [mj.mj_id2name(model, mj.mjtObj.mjOBJ_GEOM, g) or f"geom {g}" for g in (a, b)]
             found.append("/".join(names))
-        return tuple(dict.fromkeys(found))
+        return tuple(dict.fromkeys(found)), points
     finally:
         model.geom_margin[:] = saved[0]
         model.pair_margin[:] = saved[1]
@@ -237,7 +242,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
         raise ValueError(f"pair = {tuple(pair)!r} names one geometry twice")
     set_state(model, data, qpos, None)
     point, normal, gap, row = contact_row(model, data, g1, g2)
-    row["other_contacts"] = other_contacts(model, data, g1, g2)
+    row["other_contacts"], row["pair_points"] = other_contacts(model, data, g1, g2)
     J = _gap_jacobian(model, data, g1, g2, point, normal)
     M = mass_matrix(model, data)
     m_eff, v, qv = approach(J, M, qvel, speed)
@@ -284,12 +289,8 @@ def mujoco_drop(
         m.pair_solref[rows] = np.asarray(pair_solref, dtype=float)
     if timestep is not None:
         m.opt.timestep = float(timestep)
-    d = mj.MjData(m)
-    set_state(m, d, qpos, qvel)
-    for body, force in (forces or {}).items():
-        d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)
-    speed0 = -float(_gap_rate_at_start(m, d.qpos, d.qvel, g1, g2))
-    _back_in_time(m, d, float(phase) * float(m.opt.timestep), g1, g2)
+    td = touchdown(m, g1, g2, qpos, qvel, forces)
+    d, speed0 = start_state(m, td, phase), td.speed
     h = float(m.opt.timestep)
     nmax = int(math.ceil(duration / h))
     gaps, inv_masses = [], []
@@ -313,17 +314,35 @@ def mujoco_drop(
     return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, h)
 
 
-def _back_in_time(m, d, tc, g1, g2):
-    """Move ``d`` back by ``tc`` on its free motion; store the velocity of half a step earlier.
+@dataclass(frozen=True)
+class Touchdown:
+    """The touchdown state of a drop and its free motion.
 
-    Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
-    positions on the free motion when the stored velocity is the one half a step before the
-    stored position's time (``stepping.flight.touchdown_state``).  The free motion is the
-    mechanism's with every constraint but the pair's contact: a body resting on a support (the
-    stack's lower sphere) stays on it.  The pair's ``<pair>`` rows are switched off for that by a
-    margin of -1 m; where the model has none, the pair's own contact at touch carries no force.
+    ``qpos``, ``qvel``, ``qacc`` (the mechanism's acceleration with every constraint but the
+    pair's contact), ``speed`` (the gap's closing rate) and ``xfrc`` (the constant forces,
+    MuJoCo's ``xfrc_applied``).
+    """
+
+    qpos: np.ndarray
+    qvel: np.ndarray
+    qacc: np.ndarray
+    speed: float
+    xfrc: np.ndarray
+
+
+def touchdown(m, g1, g2, qpos, qvel, forces=None):
+    """``Touchdown`` of the pair ``g1``, ``g2`` at ``(qpos, qvel)`` with constant ``forces``.
+
+    The free motion keeps a body resting on a support (the stack's lower sphere) on it: the
+    pair's ``<pair>`` rows are switched off by a margin of -1 m for the look; where the model has
+    none, the pair's own contact at touch carries no force.
     """
     mj = _mujoco()
+    d = mj.MjData(m)
+    set_state(m, d, qpos, qvel)
+    for body, force in (forces or {}).items():
+        d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)
+    speed = -float(_gap_rate_at_start(m, d.qpos, d.qvel, g1, g2))
     rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
     saved = m.pair_margin[rows].copy()
     m.pair_margin[rows] = -1.0
@@ -332,12 +351,27 @@ def _back_in_time(m, d, tc, g1, g2):
         qacc = np.array(d.qacc)
     finally:
         m.pair_margin[rows] = saved
+    return Touchdown(np.array(d.qpos), np.array(d.qvel), qacc, speed, np.array(d.xfrc_applied))
+
+
+def start_state(m, td, phase=0.0):
+    """A drop's first ``MjData``: ``phase`` of a step before touchdown ``td`` on its free motion.
+
+    Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
+    positions on the free motion when the stored velocity is the one half a step before the
+    stored position's time (``stepping.flight.touchdown_state``).
+    """
+    mj = _mujoco()
     h = float(m.opt.timestep)
-    mean = np.array(d.qvel) - 0.5 * tc * qacc
-    qpos = np.array(d.qpos)
+    tc = float(phase) * h
+    d = mj.MjData(m)
+    d.xfrc_applied[:] = td.xfrc
+    mean = td.qvel - 0.5 * tc * td.qacc
+    qpos = np.array(td.qpos)
     mj.mj_integratePos(m, qpos, mean, -tc)
     d.qpos[:] = qpos
-    d.qvel[:] = d.qvel - (tc + 0.5 * h) * qacc
+    d.qvel[:] = td.qvel - (tc + 0.5 * h) * td.qacc
+    return d
 
 
 def _gap_rate_at_start(m, qpos, qvel, g1, g2):

@@ -378,6 +378,17 @@ def tune(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
             "values are at it, not at first touch"
         )
+    points = contact.engine_row.get("pair_points", 1)
+    if points > 1:
+        notes.append(
+            f"the pair touches at {points} points at this configuration: one contact mode; the reduced "
+            "model is one point's (its m_eff and MuJoCo's row); "
+            + (
+                "the engine loop solves the whole landing"
+                if engine_loop
+                else "engine_loop=True solves the whole landing"
+            )  # fmt: skip
+        )
     others = contact.engine_row.get("other_contacts", ())
     if others:
         loop = "the engine loop includes them" if engine_loop else "engine_loop=True includes them"
