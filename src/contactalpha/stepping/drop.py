@@ -2,11 +2,14 @@
 
 The drop starts at ``flight.touchdown_state`` and is stepped by the engine's map until:
 
-- **separation**: after the contact's first force, a step that starts above the surface
-  (z > 0), applies no contact force and ends moving up; e_N is ``flight.rebound_speed`` of its
-  end state over ``v_in``;
+- **separation**: after the contact's first force, the first stored state above the surface
+  (z > 0), what a user samples in the engine: e_N is the exit speed ``flight.rebound_speed`` of
+  the free parabola through it over ``v_in``, whether the body then rises or lands again within
+  the next step (a *short hop*, shorter than a step, under a heavy load at a coarse step).  The
+  state is read at the end of the free step from it (the same parabola); where that step applies a
+  force at once (PyBullet's speculative row on a re-landing), at the state itself;
 - **capture** (e_N = 0): after the contact's first force the body rose and then turned down
-  again without separating, or came to rest in contact (velocity and its change over a step
+  again below the surface, or came to rest in contact (velocity and its change over a step
   below ``flight.REST_FRACTION`` of ``v_in``), or still creeps slower than ``CREEP_FRACTION``
   of ``v_in`` in contact when the steps run out (an overdamped contact creeping to rest);
 - **failure**: a non-finite state, or the steps ran out: NaN.
@@ -70,19 +73,19 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
             status = NON_FINITE
             break
         forced = w1 != w - h * accel
-        if forced:
-            n += 1
-        elif n > 0 and z > 0.0 and w1 > 0.0:
-            v_out = rebound_speed(z1, w1, accel, h)
+        if n > 0 and z > 0.0:  # the first sample above the surface after the contact
+            v_out = rebound_speed(z, w, accel, h) if forced else rebound_speed(z1, w1, accel, h)
             out[D_EN] = v_out / v_in
             out[D_EPS] = math.sqrt((0.5 * v_out * v_out + accel * d_max) / (w_c + accel * d_max))
             status = SEPARATED
             break
+        if forced:
+            n += 1
         if n > 0:
             d_max = max(d_max, -z1)
             if w1 > 0.0:
                 rising = True
-            elif rising or (abs(w1) <= rest and abs(w1 - w) <= rest):
+            elif z1 <= 0.0 and (rising or (abs(w1) <= rest and abs(w1 - w) <= rest)):
                 status = CAPTURED
                 z = z1
                 break
