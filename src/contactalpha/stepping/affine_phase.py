@@ -96,36 +96,30 @@ def _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, val
 
 
 @njit(cache=True)
-def _outcome(z, w, z1, w1, n, forced, rest):
-    """``drop.run_drop``'s decision on a step from ``(z, w)`` to ``(z1, w1)``: SEPARATED, CAPTURED or -1 (go on).
+def _outcome(z, w, w1, n, forced, rest):
+    """``drop.run_drop``'s decision after a step: SEPARATED, CAPTURED or -1 (go on).
 
     Its "rising" flag is "the step before ended moving up after a force" here: from the first
-    rising step on, every step rises until the body separates (the first state above the
-    surface, a short hop's included) or is captured (turned down below the surface).
+    rising step on, every step rises until the body separates (the first state above the surface,
+    a short hop's included) or is captured (a step from below the surface ends below it).
     """
     if n > 0 and z > 0.0:
         return SEPARATED
     n1 = n + 1 if forced else n
-    if n1 > 0 and w1 <= 0.0 and z1 <= 0.0 and ((n > 0 and w > 0.0) or (abs(w1) <= rest and abs(w1 - w) <= rest)):
+    if n1 > 0 and w1 <= 0.0 and ((n > 0 and w > 0.0) or (abs(w1) <= rest and abs(w1 - w) <= rest)):
         return CAPTURED
     return -1
 
 
 @njit(cache=True)
-def _outcome_at(zp, wp, yp, up, n, forced, rest, t):
-    """``_outcome`` at the phase ``t`` of the step's polynomials (``y``, ``u``: z and w after it)."""
-    return _outcome(poly(zp[0], zp[1], zp[2], t), poly(wp[0], wp[1], wp[2], t), poly(yp[0], yp[1], yp[2], t),
-                    poly(up[0], up[1], up[2], t), n, forced, rest)  # fmt: skip
-
-
-@njit(cache=True)
-def _decision_change(zp, wp, yp, up, n, forced, rest, lo, hi, buf, nb):
-    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none."""
+def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi, buf, nb):
+    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none (``u``: w after the step)."""
     sort_roots(buf, nb)
-    o0 = _outcome_at(zp, wp, yp, up, n, forced, rest, 0.5 * (lo + buf[0]))
+    t = 0.5 * (lo + buf[0])
+    o0 = _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest)
     for i in range(nb):
         t = 0.5 * (buf[i] + (buf[i + 1] if i + 1 < nb else hi))
-        if _outcome_at(zp, wp, yp, up, n, forced, rest, t) != o0:
+        if _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest) != o0:
             return buf[i]
     return 1.0
 
@@ -146,7 +140,6 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
     ws[0, W_N] = 0.0
     ws[0, W_PREFIX] = 1.0
     rest = REST_FRACTION * v_in
-    zp, wp, yp, up = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     lo = 0.0
     k = 0
     s0 = s1 = err = 0.0
@@ -191,15 +184,12 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                 status = NON_FINITE
                 break
             um, ud = m3 * zm + m4 * wm + m5, m3 * zd + m4 * wd
-            ym, yd = m0 * zm + m1 * wm + m2, m0 * zd + m1 * wd
             # The drop's decision: the roots of every test it reads split what is left likewise.
             top = min(hi, r)
             nb = 0
             if n > 0 and abs(zm) <= abs(zd) * rr + abs(z2) * rr * rr:
                 nb = roots_into(z0, z1, z2, lo, top, buf, nb)
             if n > 0 or forced:
-                if abs(ym) <= abs(yd) * rr + abs(y2) * rr * rr:  # capture needs the step to end below the surface
-                    nb = roots_into(y0, y1, y2, lo, top, buf, nb)
                 bound = abs(ud) * rr + abs(u2) * rr * rr
                 if abs(um) <= bound:
                     nb = roots_into(u0, u1, u2, lo, top, buf, nb)
@@ -211,22 +201,17 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                     nb = roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
                     nb = roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
             if nb > 0:
-                zp[0], zp[1], zp[2], wp[0], wp[1], wp[2] = z0, z1, z2, w0, w1, w2
-                yp[0], yp[1], yp[2], up[0], up[1], up[2] = y0, y1, y2, u0, u1, u2
-                r = min(r, _decision_change(zp, wp, yp, up, n, forced, rest, lo, top, buf, nb))
+                r = min(r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb))
             ws[j, W_ROOT] = r
             if r < hi:
                 hi = r
                 t = lo + 0.5 * (hi - lo)
-                zm, wm, ym, um = poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(y0, y1, y2, t), poly(u0, u1, u2, t)
-            outcome = _outcome(zm, wm, ym, um, n, forced, rest)
-            if forced and outcome != SEPARATED:
-                n += 1
+                zm, wm, um = poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t)
+            outcome = _outcome(zm, wm, um, n, forced, rest)
             if outcome == SEPARATED and forced:  # read at the state above the surface (``drop.run_drop``)
-                status = outcome
-                zn[0], zn[1], zn[2] = z0, z1, z2
-                wn[0], wn[1], wn[2] = w0, w1, w2
-                break
+                y0, y1, y2, u0, u1, u2 = z0, z1, z2, w0, w1, w2
+            elif forced:
+                n += 1
             if outcome == SEPARATED or outcome == CAPTURED:
                 status = outcome
                 zn[0], zn[1], zn[2] = y0, y1, y2
