@@ -13,7 +13,8 @@ from contactalpha import contact_parameters
 from contactalpha.scene.result import stepped_lines
 from contactalpha.scene.stepped import EnergyGainWarning
 
-HEAVY = {"mass": 0.0444, "stiffness": 73.7, "approach_speed": 0.0901, "accel": 9.81 + 2.06 / 0.0444, "e_N": 0.174}
+HEAVY = {"mass": 0.0444, "stiffness": 73.7, "approach_speed": 0.0901, "accel": 9.81 + 2.06 / 0.0444,
+         "e_N": 0.174}  # fmt: skip
 
 
 def test_a_drop_that_gains_energy_is_warned_of_with_its_largest_e_n():
