@@ -77,6 +77,17 @@ def test_pybullet_drops_are_read_at_the_geometric_surface():
         assert e_drop == pytest.approx(e_user, rel=1e-12)
 
 
+def test_the_printed_answer_says_which_surface_it_is_for():
+    from contactalpha import contact_parameters
+    from contactalpha.scene.result import stepped_lines
+
+    cp = contact_parameters(mass=0.0229, stiffness=12.8, approach_speed=0.0902, accel=9.81, e_N=0.232,
+                            engine="pybullet", timestep=0.29e-3, radius=0.05)  # fmt: skip
+    head = stepped_lines(cp.stepped)[0]
+    assert "read at the geometric surface (Bullet's solver surface lies the 1e-5 m" in head
+    assert cp.stepped.mean == pytest.approx(0.232, abs=1e-6)
+
+
 def _engine_drops(engine, mass, k, v, a, target, h, phases, radius=None):
     """The package's answer at the step, and e_N per phase read (``_user_reading``) from the engine's run."""
     from dataclasses import replace

@@ -25,6 +25,7 @@ import numpy as np
 from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
+from contactalpha.stepping.registry import stepper
 
 
 class Deferred:
@@ -169,14 +170,15 @@ def gain_note(ans):
     worst = float(np.max(np.asarray(ans.maximum, dtype=float)[over]))
     rows = f" in {int(over.sum())} of {over.size} rows" if np.ndim(ans.maximum) else ""
     return (f"a single drop can leave faster than it came{rows}: {name} up to {worst:.4g} > 1 "
-            f"at some touchdown phases (the step adds energy there); the mean over random phases is the target, "
-            f"and a smaller step narrows the range")  # fmt: skip
+            f"at some touchdown phases (the step adds energy there); the mean over random phases is the "
+            f"target, and a smaller step narrows the range")  # fmt: skip
 
 
 def stepped_lines(ans):
     """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
     name = "e_N" if ans.restitution == "kinematic" else "eps"
-    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase:"]
+    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
+             f"(drops read at {stepper(ans.engine).read_at}):"]
     if ans.status == "ok":
         lines += [
             f"  {ans.engine} damping   {ans.damping:.15g}   (its own parameter; zeta {ans.law_damping:.15g})",
