@@ -8,6 +8,7 @@ issue's MuJoCo scenes at 2 ms (a h / v from 0.87 to 1.25) with the damping the p
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -167,3 +168,24 @@ def test_pybullet_delivers_the_target_at_the_geometric_surface(pybullet):
     zs, ws = _pybullet_heights(cp.engines["pybullet"], m, radius, v, a, h, 8, 1500)
     e = np.array([_user_reading(zs[i], ws[i], a, v, h=h)[0] for i in range(8)])
     np.testing.assert_allclose(e, 0.232, atol=2e-5)
+
+
+def test_the_batch_inverse_solves_for_what_a_user_reads():
+    """A batch at the step (``batch_inverse``) of the issue's first two MuJoCo scenes: each row's solref,
+    read as a user reads its drops (4,096 phases of the map), delivers the target."""
+    from contactalpha import contact_parameters
+
+    m, k = np.array([1.02, 2.74]), np.array([749.0, 5.53e3])
+    v, push, target = np.array([0.285, 0.105]), np.array([98.4, 98.8]), np.array([0.706, 0.188])
+    a = 9.81 + push / m
+    with warnings.catch_warnings():  # single drops above e_N = 1 (tests/scene/test_energy_gain.py)
+        warnings.simplefilter("ignore")
+        cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=a, e_N=target, engine="mujoco",
+                                timestep=H)  # fmt: skip
+    block = cp.engines["mujoco"]
+    phases = (np.arange(PHASES) + 0.5) / PHASES
+    for i in range(2):
+        p = stepper("mujoco").pack(stiffness=-block["solref"][0][i], damping=-block["solref"][1][i],
+                                   impedance=block["solimp"][0][i])  # fmt: skip
+        e = [_user_reading(*trajectory(MUJOCO, p, H, f, v[i], a[i], 600), a[i], v[i])[0] for f in phases]
+        assert abs(np.mean(e) - target[i]) < 5e-4  # the midpoint sample's error at the jumps
