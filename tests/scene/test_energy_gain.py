@@ -20,6 +20,7 @@ HEAVY = {"mass": 0.0444, "stiffness": 73.7, "approach_speed": 0.0901, "accel": 9
 def test_a_drop_that_gains_energy_is_warned_of_with_its_largest_e_n():
     with pytest.warns(EnergyGainWarning, match=r"faster than it came: e_N up to 1\.24\d > 1") as record:
         cp = contact_parameters(**HEAVY, engine="mujoco", timestep=0.002)
+    assert record[0].filename == __file__  # the caller's line, not the package's
     ans = cp.stepped
     assert ans.status == "ok" and 1.2 < ans.maximum < 1.3
     assert f"{ans.maximum:.4g}" in str(record[0].message)
@@ -43,3 +44,17 @@ def test_a_batch_names_how_many_rows_gain():
     with pytest.warns(EnergyGainWarning, match=r"in 1 of 2 rows: e_N up to 1\.36\d > 1") as record:
         cp = contact_parameters(**rows, engine="mujoco", timestep=0.002)
     assert f"{cp.stepped.maximum[0]:.4g}" in str(record[0].message) and cp.stepped.maximum[1] < 1.0
+
+
+def test_params_prints_the_warning_once_in_its_block(capsys):
+    """``contactalpha params --timestep``: the line in the printed block, no Python warning beside it."""
+    from contactalpha.cli import main
+
+    args = ["params", "--engine", "mujoco", "--timestep", "0.002", "--mass", "0.0444", "--stiffness", "73.7",
+            "--speed", "0.0901", "--accel", str(HEAVY["accel"]), "--e-n", "0.174"]  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", EnergyGainWarning)
+        main(args)
+    out = capsys.readouterr()
+    assert "#   warning: a single drop can leave faster than it came: e_N up to 1.24" in out.out
+    assert "EnergyGainWarning" not in out.err

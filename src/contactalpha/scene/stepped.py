@@ -89,8 +89,12 @@ class EnergyGainWarning(UserWarning):
     """A single drop at the engine's step can leave faster than it came (e_N or eps above 1)."""
 
 
-def warn_gain(ans, stacklevel=4):
-    """``warnings.warn`` ``gain_note`` (``EnergyGainWarning``) where there is one; ``ans`` back."""
+def warn_gain(ans, stacklevel=5):
+    """``warnings.warn`` ``gain_note`` (``EnergyGainWarning``) where there is one; ``ans`` back.
+
+    ``stacklevel`` 5 names the caller of ``contact_parameters`` (through ``parameters._at_step``
+    and ``at_step`` or ``at_step_batch``).
+    """
     note = gain_note(ans)
     if note is not None:
         warnings.warn(note, EnergyGainWarning, stacklevel=stacklevel)
