@@ -46,6 +46,19 @@ def test_rebound_speed_is_read_from_the_flight_parabola(tc):
     assert res.e_n == pytest.approx(u / v, rel=1e-12)
 
 
+def test_a_hop_shorter_than_a_step_is_read_from_its_sample_above_the_surface():
+    """One sample above the surface between two contacts (issue 44, S1): the rebound is the speed
+    at z = 0 of the parabola through it (a user's reading), not "nonseparation"."""
+    a, h, v = 200.0, 2e-3, 0.1
+    z_hop, w_hop = 2e-5, 0.05  # the free step from it ends at w - a h = -0.35 (down) and z < 0
+    z = np.array([1e-4, -1e-4, -2e-4, -1e-4, z_hop, z_hop + h * (w_hop - a * h), -1e-3])
+    w = np.array([-v, -0.1, 0.0, 0.05, w_hop, w_hop - a * h, -0.2])
+    res = measure_steps(z, w, a, h, v)
+    s = w_hop - 0.5 * a * h
+    assert res.state == "separation"
+    assert res.e_n == pytest.approx(math.sqrt(s * s + 2.0 * a * z_hop) / v, rel=1e-12)
+
+
 def test_no_free_step_after_the_deepest_point_is_no_separation():
     z = -np.array([0.0, 1e-3, 2e-3, 1.9e-3, 1.9e-3])
     w = np.array([-1.0, -0.5, 0.0, 0.01, 0.0])

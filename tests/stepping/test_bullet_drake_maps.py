@@ -179,4 +179,6 @@ def test_phase_mean_of_the_maps_across_their_jumps(engine, values, v):
     p = s.pack(**values)
     st = over_phase(engine, p, s.timestep, v, 9.81)
     assert st.status == "ok"
-    assert st.mean == pytest.approx(piecewise_reference(s, p, v, 9.81), abs=1e-12)
+    # SciPy's quad between the bisected jumps: 1.1e-12 from both exact means (6e-16 apart) in
+    # PyBullet's scene read at the geometric surface
+    assert st.mean == pytest.approx(piecewise_reference(s, p, v, 9.81), abs=2e-12)

@@ -9,7 +9,8 @@ an ERP and a CFM at its step (``btSequentialImpulseConstraintSolver``: ``denom =
 So each body gets ``contactStiffness = 2k`` and ``contactDamping = c/2``, and the pair is (k, c)
 with ``c = 2 zeta sqrt(k m)``.  Checked in the engine: the ball rests at δ = m a / k, and small steps
 approach the law's e_N.  The contact surface sits ``LINEAR_SLOP`` = 1e-5 m below the geometric
-one (the solver's penetration is ``distance + m_linearSlop``); heights here are measured from it.
+one (the solver's penetration is ``distance + m_linearSlop``); a drop's heights here are measured
+from the geometric surface, where a user reads approach and rebound (as ``stepping.drop`` reads the map).
 Bullet's own ``restitution`` is set to 0 here (it adds a velocity target of its own);
 ``delivered(scene, zeta, PyBulletSettings(restitution=e))`` measures what it delivers instead.
 
@@ -150,8 +151,9 @@ class PyBulletAdapter(SteppingAdapter):
         start = time.perf_counter()
         try:
             for i, (z0, v0) in enumerate(model.states):
+                # Heights above the geometric surface, where a user reads the drop (the map: ``kernels.surface``).
                 pb.resetBasePositionAndOrientation(
-                    b, [0.0, 0.0, scene.radius - LINEAR_SLOP + z0], [0, 0, 0, 1], physicsClientId=c
+                    b, [0.0, 0.0, scene.radius + z0], [0, 0, 0, 1], physicsClientId=c
                 )
                 pb.resetBaseVelocity(b, [0.0, 0.0, v0], [0.0, 0.0, 0.0], physicsClientId=c)
                 zs[i, 0], vs[i, 0] = z0, v0
@@ -159,9 +161,7 @@ class PyBulletAdapter(SteppingAdapter):
                     if scene.force:
                         pb.applyExternalForce(b, -1, push, [0.0, 0.0, 0.0], pb.LINK_FRAME, physicsClientId=c)
                     pb.stepSimulation(physicsClientId=c)
-                    zs[i, j] = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - (
-                        scene.radius - LINEAR_SLOP
-                    )
+                    zs[i, j] = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - scene.radius
                     vs[i, j] = pb.getBaseVelocity(b, physicsClientId=c)[0][2]
         finally:
             pb.disconnect(physicsClientId=c)

@@ -8,10 +8,11 @@ velocity at a step's end is ``v - a h / 2`` (the stored velocity is the mean ove
 - a drop *arrives* with approach speed ``v_minus`` when its parabola crosses z = 0 at that speed:
   ``touchdown_state`` (``contactalpha.stepping.flight``, re-exported here) gives the stored state
   one step-fraction ``phase`` before the crossing;
-- the *rebound* speed is the speed of the flight parabola at z = 0, read at the first state
-  reached by a step without contact force (``v_j - v_{j-1} = -a h``):
-  ``e_N = sqrt((v_j - a h/2)^2 + 2 a z_j) / v_minus``.  A drop test reads the same number from the
-  rebound height.
+- the *rebound* speed is the speed at z = 0 of the flight parabola through the first sample above
+  the surface after the contact (read one free step later where that step is free, the same
+  parabola): ``e_N = sqrt((v_j - a h/2)^2 + 2 a z_j) / v_minus``, whether the body rises on or
+  lands again within the next step (a hop shorter than a step, under a heavy load at a coarse
+  step).  A drop test reads the same number from the rebound height.
 
 **Touchdown phase.**  A spring-dashpot contact switches its force on at touchdown, so where
 touchdown falls within a step moves the rebound by O(h / contact time).  ``summarise`` averages
@@ -59,9 +60,10 @@ def measure_steps(z, v, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL):
     Returns
     -------
     MeasuredImpact
-        ``e_n`` from the flight parabola after the first free step (see the module docstring);
+        ``e_n`` from the flight parabola through the first sample above the surface after the
+        first below it, a hop shorter than a step included (see the module docstring);
         ``eps`` from the energy identity with the deepest sampled deformation; ``t_*`` in steps
-        times ``h`` from the first state.  No free step after the deepest point: "nonseparation"
+        times ``h`` from the first state.  No sample above the surface after it: "nonseparation"
         with e_N = 0.  Only the first impact counts: a later bounce inside the samples (a deeper
         one, say) is never mistaken for it.
     """
@@ -71,20 +73,20 @@ def measure_steps(z, v, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL):
     free = (np.abs(dv + accel * h) <= free_rtol * max(accel * h, abs(approach_speed))) & (z[:-1] > 0.0)
     inside = np.nonzero(z < 0.0)[0]
     k0 = int(inside[0]) if inside.size else 0
-    leaves = np.nonzero(free[k0:] & (v[k0 + 1 :] > 0.0))[0]
-    end = k0 + int(leaves[0]) + 2 if leaves.size else z.size  # up to the first free state after it
-    i_max = int(np.argmin(z[:end]))
+    above = np.nonzero(z[k0:] > 0.0)[0] if inside.size else np.empty(0, dtype=int)
+    j = k0 + int(above[0]) if above.size else z.size - 1  # the first sample above the surface after it
+    if above.size and j + 1 < z.size and free[j]:
+        j += 1  # the same parabola, one free step on (where ``stepping.drop`` reads it)
+    i_max = int(np.argmin(z[: j + 1]))
     d_max = -float(z[i_max])
-    after = np.nonzero(free[i_max:] & (v[i_max + 1 :] > 0.0))[0]
     w_c = 0.5 * approach_speed**2 + accel * d_max
-    if after.size == 0:
+    if above.size == 0:
         d_end = -float(z[-1])
         eps2 = accel * (d_max - d_end) / w_c
         return MeasuredImpact(
             float(np.sqrt(max(eps2, 0.0))), 0.0, END_STATES[NONSEPARATION], approach_speed,
             0.0, i_max * h, (z.size - 1) * h, d_max, d_end, 0.0,
         )  # fmt: skip
-    j = i_max + int(after[0]) + 1
     s = v[j] - 0.5 * accel * h
     rebound = math.sqrt(s * s + 2.0 * accel * z[j])
     e_n = rebound / approach_speed

@@ -6,6 +6,8 @@ print the same numbers).  ``refine=True`` runs the engine's own drops at its def
 refines the damping (``calibrate``), which needs the engine installed.
 """
 
+import warnings
+
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
@@ -13,6 +15,7 @@ from contactalpha.validation import check_flag
 from .parameters import contact_parameters, scene_accel
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import block_lines, stepped_lines
+from .stepped import EnergyGainWarning
 
 # Refinement outcomes that reached the target (``adapters.base.Refinement.status``).
 REACHED = ("ok", "unchanged")
@@ -56,9 +59,11 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *,
     if timestep is not None or verify is not None:
         if refine:
             raise ValueError("give --refine or --timestep, not both: the step's answer needs no engine run")
-        cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
-                                force=force, radius=radius, engine=engine, timestep=timestep, verify=verify,
-                                **{key: target})  # fmt: skip
+        with warnings.catch_warnings():  # the notes carry it (``result.stepped_lines``)
+            warnings.simplefilter("ignore", EnergyGainWarning)
+            cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed,
+                                    accel=accel, force=force, radius=radius, engine=engine, timestep=timestep,
+                                    verify=verify, **{key: target})  # fmt: skip
         ans = cp.stepped
         if ans.status != "ok":
             name = "e_N" if ans.restitution == "kinematic" else "eps"

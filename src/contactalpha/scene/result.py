@@ -25,6 +25,7 @@ import numpy as np
 from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
+from contactalpha.stepping.registry import stepper
 
 
 class Deferred:
@@ -155,10 +156,29 @@ def format_parameters(cp: ContactParameters) -> str:
     return "\n".join(lines)
 
 
+def gain_note(ans):
+    """The warning where one drop of the answer ``ans`` can leave faster than it came, else None.
+
+    The mean over the phase is the target, but at some touchdown phases the step adds energy (a
+    heavy load at a coarse step: MuJoCo's soft contact, for one, carries only (1 - d) of it); a
+    batch's answer names how many rows do.
+    """
+    over = (np.asarray(ans.status) == "ok") & (np.asarray(ans.maximum, dtype=float) > 1.0)
+    if not over.any():
+        return None
+    name = "e_N" if ans.restitution == "kinematic" else "eps"
+    worst = float(np.max(np.asarray(ans.maximum, dtype=float)[over]))
+    rows = f" in {int(over.sum())} of {over.size} rows" if np.ndim(ans.maximum) else ""
+    return (f"a single drop can leave faster than it came{rows}: {name} up to {worst:.4g} > 1 "
+            f"at some touchdown phases (the step adds energy there); the mean over random phases is the "
+            f"target, and a smaller step narrows the range")  # fmt: skip
+
+
 def stepped_lines(ans):
     """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
     name = "e_N" if ans.restitution == "kinematic" else "eps"
-    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase:"]
+    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
+             f"(drops read at {stepper(ans.engine).read_at}):"]
     if ans.status == "ok":
         lines += [
             f"  {ans.engine} damping   {ans.damping:.15g}   (its own parameter; zeta {ans.law_damping:.15g})",
@@ -166,6 +186,9 @@ def stepped_lines(ans):
             f"  one drop        {ans.minimum:.6g} to {ans.maximum:.6g}   (std {ans.std:.3g}; "
             f"{ans.steps_min}-{ans.steps_max} steps in contact)",
         ]
+        note = gain_note(ans)
+        if note is not None:
+            lines.append(f"  warning: {note}")
     else:
         lines += [
             f"  {ans.status}: no damping delivers it; the nearest mean {name} met is {ans.nearest:.6g}",

@@ -9,6 +9,7 @@ law's.  ``SteppedAnswer`` carries the rest; ``verify`` runs the installed engine
 """
 
 import math
+import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -21,6 +22,7 @@ from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_count, check_scalar
 
 from .law_scene import EngineScene
+from .result import gain_note
 
 # The word that asks for the engine's default step.
 DEFAULT_STEP = "default"
@@ -83,6 +85,22 @@ class SteppedAnswer:
     mean_error: object = math.nan
 
 
+class EnergyGainWarning(UserWarning):
+    """A single drop at the engine's step can leave faster than it came (e_N or eps above 1)."""
+
+
+def warn_gain(ans, stacklevel=5):
+    """``warnings.warn`` ``gain_note`` (``EnergyGainWarning``) where there is one; ``ans`` back.
+
+    ``stacklevel`` 5 names the caller of ``contact_parameters`` (through ``parameters._at_step``
+    and ``at_step`` or ``at_step_batch``).
+    """
+    note = gain_note(ans)
+    if note is not None:
+        warnings.warn(note, EnergyGainWarning, stacklevel=stacklevel)
+    return ans
+
+
 def needs_radius(engine):
     """True when ``engine``'s step map reads the sphere's radius (``Stepper.needs_radius``)."""
     return stepper(engine).needs_radius
@@ -125,7 +143,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         continuous_mean=sol.continuous[0], continuous_minimum=sol.continuous[1],
         continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)),
     )  # fmt: skip
-    return cp.replaced(engines=engines, stepped=answer)
+    return cp.replaced(engines=engines, stepped=warn_gain(answer))
 
 
 @dataclass(frozen=True)

@@ -41,7 +41,7 @@ from contactalpha.stepping.registry import stepper
 
 from .batched import masked_rows
 from .law_scene import EngineScene
-from .stepped import SteppedAnswer, resolve_timestep, solve_on_map
+from .stepped import SteppedAnswer, resolve_timestep, solve_on_map, warn_gain
 
 # Columns of the per-row answer.
 _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_max", "mean_error", "nearest",
@@ -135,6 +135,7 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
         steps_min=out.pop("steps_min"), steps_max=out.pop("steps_max"),
         timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), **out,
     )  # fmt: skip
+    answer = warn_gain(answer)
     return cp.replaced(engines=engines, stepped=answer, ok=ok.reshape(shape), reason=reason.reshape(shape))
 
 

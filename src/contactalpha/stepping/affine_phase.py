@@ -100,9 +100,10 @@ def _outcome(z, w, w1, n, forced, rest):
     """``drop.run_drop``'s decision after a step: SEPARATED, CAPTURED or -1 (go on).
 
     Its "rising" flag is "the step before ended moving up after a force" here: from the first
-    rising step on, every step rises until the body separates or is captured.
+    rising step on, every step rises until the body separates (the first state above the surface,
+    a short hop's included) or is captured (a step from below the surface ends below it).
     """
-    if not forced and n > 0 and z > 0.0 and w1 > 0.0:
+    if n > 0 and z > 0.0:
         return SEPARATED
     n1 = n + 1 if forced else n
     if n1 > 0 and w1 <= 0.0 and ((n > 0 and w > 0.0) or (abs(w1) <= rest and abs(w1 - w) <= rest)):
@@ -186,7 +187,7 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
             # The drop's decision: the roots of every test it reads split what is left likewise.
             top = min(hi, r)
             nb = 0
-            if n > 0 and not forced and abs(zm) <= abs(zd) * rr + abs(z2) * rr * rr:
+            if n > 0 and abs(zm) <= abs(zd) * rr + abs(z2) * rr * rr:
                 nb = roots_into(z0, z1, z2, lo, top, buf, nb)
             if n > 0 or forced:
                 bound = abs(ud) * rr + abs(u2) * rr * rr
@@ -207,7 +208,9 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                 t = lo + 0.5 * (hi - lo)
                 zm, wm, um = poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t)
             outcome = _outcome(zm, wm, um, n, forced, rest)
-            if forced:
+            if outcome == SEPARATED and forced:  # read at the state above the surface (``drop.run_drop``)
+                y0, y1, y2, u0, u1, u2 = z0, z1, z2, w0, w1, w2
+            elif forced:
                 n += 1
             if outcome == SEPARATED or outcome == CAPTURED:
                 status = outcome

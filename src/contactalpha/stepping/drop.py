@@ -1,14 +1,19 @@
 """A whole drop through any engine's step map, from the exact free-flight parabola (``flight``).
 
-The drop starts at ``flight.touchdown_state`` and is stepped by the engine's map until:
+The drop starts at ``flight.touchdown_state`` and is stepped by the engine's map until (heights
+and speeds read at ``kernels.surface``: PyBullet's geometric surface, 1e-5 m above its solver's):
 
-- **separation**: after the contact's first force, a step that starts above the surface
-  (z > 0), applies no contact force and ends moving up; e_N is ``flight.rebound_speed`` of its
-  end state over ``v_in``;
+- **separation**: after the contact's first force, the first stored state above the surface
+  (z > 0), what a user samples in the engine: e_N is the exit speed ``flight.rebound_speed`` of
+  the free parabola through it over ``v_in``, whether the body then rises or lands again within
+  the next step (a *short hop*, shorter than a step, under a heavy load at a coarse step).  The
+  state is read at the end of the free step from it (the same parabola); where that step applies a
+  force at once (PyBullet's speculative row on a re-landing), at the state itself;
 - **capture** (e_N = 0): after the contact's first force the body rose and then turned down
-  again without separating, or came to rest in contact (velocity and its change over a step
-  below ``flight.REST_FRACTION`` of ``v_in``), or still creeps slower than ``CREEP_FRACTION``
-  of ``v_in`` in contact when the steps run out (an overdamped contact creeping to rest);
+  again in contact, below the surface, or came to rest in contact (velocity and its change over
+  a step below ``flight.REST_FRACTION`` of ``v_in``), or still creeps slower than
+  ``CREEP_FRACTION`` of ``v_in`` in contact when the steps run out (an overdamped contact
+  creeping to rest);
 - **failure**: a non-finite state, or the steps ran out: NaN.
 
 A step applies a contact force when its end velocity differs from free flight's ``w - h a``
@@ -28,7 +33,7 @@ from numba import njit
 
 from .codes import CAPTURED, D_DMAX, D_EN, D_EPS, D_STATUS, D_STEPS, N_DROP, NON_FINITE, SEPARATED, STEP_LIMIT
 from .flight import REST_FRACTION, rebound_speed, touchdown_state
-from .kernels import DRAKE, MUJOCO, PYBULLET, step_map
+from .kernels import DRAKE, MUJOCO, PYBULLET, step_map, surface
 
 # A body still in contact when the steps run out, creeping slower than this fraction of the
 # approach speed, is captured too (an overdamped contact creeps to its rest without leaving).
@@ -57,7 +62,9 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
         Steps at most.
     """
     out = np.empty(N_DROP)
+    zs = surface(code, p)  # heights are read from the surface a user reads (``kernels.surface``)
     z, w = touchdown_state(v_in, accel, h, phase)
+    z += zs
     n = 0
     rising = False
     d_max = 0.0
@@ -70,16 +77,16 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
             status = NON_FINITE
             break
         forced = w1 != w - h * accel
-        if forced:
-            n += 1
-        elif n > 0 and z > 0.0 and w1 > 0.0:
-            v_out = rebound_speed(z1, w1, accel, h)
+        if n > 0 and z > zs:  # the first sample above the surface after the contact
+            v_out = rebound_speed(z - zs, w, accel, h) if forced else rebound_speed(z1 - zs, w1, accel, h)
             out[D_EN] = v_out / v_in
             out[D_EPS] = math.sqrt((0.5 * v_out * v_out + accel * d_max) / (w_c + accel * d_max))
             status = SEPARATED
             break
+        if forced:
+            n += 1
         if n > 0:
-            d_max = max(d_max, -z1)
+            d_max = max(d_max, zs - z1)
             if w1 > 0.0:
                 rising = True
             elif rising or (abs(w1) <= rest and abs(w1 - w) <= rest):
@@ -87,11 +94,11 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
                 z = z1
                 break
         z, w = z1, w1
-    if status == STEP_LIMIT and n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
+    if status == STEP_LIMIT and n > 0 and z < zs and abs(w) <= CREEP_FRACTION * v_in:
         status = CAPTURED
     if status == CAPTURED:
         out[D_EN] = 0.0
-        out[D_EPS] = math.sqrt(max(accel * (d_max + z) / (w_c + accel * d_max), 0.0))
+        out[D_EPS] = math.sqrt(max(accel * (d_max + z - zs) / (w_c + accel * d_max), 0.0))
     elif status != SEPARATED:
         out[D_EN] = math.nan
         out[D_EPS] = math.nan
@@ -112,10 +119,11 @@ def run_drops(code, p, h, phases, v_in, accel, max_steps):
 
 @njit(cache=True)
 def trajectory(code, p, h, phase, v_in, accel, n_steps):
-    """The stored states ``(z, w)`` of ``n_steps`` steps from ``touchdown_state`` (row 0 the start)."""
+    """The stored states ``(z, w)`` (the map's z) of ``n_steps`` steps from ``run_drop``'s start (row 0)."""
     zs = np.empty(n_steps + 1)
     ws = np.empty(n_steps + 1)
     zs[0], ws[0] = touchdown_state(v_in, accel, h, phase)
+    zs[0] += surface(code, p)
     for i in range(n_steps):
         zs[i + 1], ws[i + 1] = step_map(code, zs[i], ws[i], p, h, accel)
     return zs, ws

@@ -39,11 +39,35 @@ MAX_BRANCHES = max(count for _, count in AFFINE.values())
 
 
 @njit(cache=True)
-def branches(code, p, h, accel, forms, maps):
-    """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count."""
+def surface(code, p):
+    """Height in the map's ``z`` of the surface a user reads a drop at.
+
+    PyBullet's geometric surface lies ``slop`` above its solver's (``pybullet_map``); the other
+    engines' surfaces are the same.
+    """
     if code == PYBULLET:
-        return branches_pybullet(p, h, accel, forms, maps)
-    return branches_mujoco(p, h, accel, forms, maps)
+        return p[pybullet_map.SLOP]
+    return 0.0
+
+
+@njit(cache=True)
+def branches(code, p, h, accel, forms, maps):
+    """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count.
+
+    They are written in the height above ``surface`` (``zeta = z - surface``), where a drop is read.
+    """
+    if code == PYBULLET:
+        nf, nb = branches_pybullet(p, h, accel, forms, maps), pybullet_map.N_BRANCHES
+    else:
+        nf, nb = branches_mujoco(p, h, accel, forms, maps), mujoco_map.N_BRANCHES
+    zs = surface(code, p)
+    if zs != 0.0:
+        for i in range(nf):
+            forms[i, 2] += forms[i, 0] * zs
+        for b in range(nb):
+            maps[b, 2] += maps[b, 0] * zs - zs
+            maps[b, 5] += maps[b, 3] * zs
+    return nf
 
 
 @njit(cache=True)

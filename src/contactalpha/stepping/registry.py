@@ -40,6 +40,7 @@ class Stepper:
     block_damping : ``block -> the engine's own damping parameter`` (arrays go through), or None.
     step_setting : the name of the step in the engine adapter's settings.
     needs_radius : the map reads the sphere's radius (``from_block`` refuses None).
+    read_at : where a drop's approach and rebound are read (``kernels.surface``), in words.
     """
 
     name: str
@@ -58,6 +59,7 @@ class Stepper:
     block_damping: Callable | None = None
     step_setting: str = "timestep"
     needs_radius: bool = False
+    read_at: str = "the contact surface"
 
     @property
     def affine(self):
@@ -114,6 +116,7 @@ STEPPERS = (
         law_damping=pybullet_map.law_damping,
         block_damping=pybullet_map.block_damping,
         needs_radius=True,
+        read_at="the geometric surface (Bullet's solver surface lies the 1e-5 m linear slop below it)",
         source="bullet3 src/BulletDynamics/Featherstone: btMultiBodyConstraintSolver.cpp "
         "(setupMultiBodyContactConstraint, resolveSingleConstraintRowGeneric), btMultiBodyDynamicsWorld.cpp "
         "(solveConstraints, integrateMultiBodyTransforms); src/BulletCollision/CollisionDispatch: "
