@@ -53,12 +53,14 @@ _FROM_BATCH = {"damping": B_DAMPING, "mean": B_MEAN, "minimum": B_MIN, "maximum"
                "continuous_maximum": B_GUESS_MAX}  # fmt: skip
 
 
-def _block_row(block, i):
-    """Row ``i`` of an engine block of arrays (tuples entry by entry)."""
+def _block_row(block, i, shape):
+    """Row ``i`` of an engine block of arrays of the batch's ``shape`` (a row per world: its tuple)."""
 
     def pick(x):
         if isinstance(x, tuple):
             return tuple(pick(v) for v in x)
+        if isinstance(x, np.ndarray) and x.ndim > len(shape):
+            return tuple(float(v) for v in x.reshape(-1, x.shape[-1])[i])
         return float(np.asarray(x).ravel()[i]) if isinstance(x, np.ndarray) else x
 
     return {k: pick(v) for k, v in block.items()}
@@ -95,7 +97,7 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     zeta = np.full(n, np.nan)
     exact = ok_in.copy()
     if s.affine and restitution == "kinematic":
-        exact = _solved_in_batch(s, cp.engines[engine], h, m, v, a, r, e, ok_in, cols, status, source, zeta)
+        exact = _solved_in_batch(s, cp.engines[engine], shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta)
     # The law's a <= 0 rows have no touchdown phase: each exact row checks its own scene.
     rows = np.flatnonzero(exact)
     block = cp.engines[engine]
@@ -106,7 +108,7 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 progress(f"scene {count + 1} of {rows.size}")
             ri = None if r is None else float(r[i])
             try:
-                values, st, zi = _exact_row(s, _block_row(block, i), float(m[i]), float(v[i]), float(a[i]),
+                values, st, zi = _exact_row(s, _block_row(block, i, shape), float(m[i]), float(v[i]), float(a[i]),
                                             ri, h, float(e[i]), restitution)  # fmt: skip
             except ValueError as err:  # e.g. a drop too slow to fly a step before touchdown
                 values, st, zi = (math.nan,) * len(_COLUMNS), f"no answer at this step: {err}", math.nan
@@ -138,14 +140,16 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     return cp.replaced(engines=engines, stepped=answer, ok=ok.reshape(shape), reason=reason.reshape(shape))
 
 
-def _flat(x):
-    """A block's value with every array raveled (tuples entry by entry)."""
+def _flat(x, shape):
+    """A block's value with every array raveled over the batch's ``shape`` (a row per world kept whole)."""
     if isinstance(x, tuple):
-        return tuple(_flat(v) for v in x)
+        return tuple(_flat(v, shape) for v in x)
+    if isinstance(x, np.ndarray) and x.ndim > len(shape):
+        return np.asarray(x, dtype=float).reshape(-1, x.shape[-1])
     return np.asarray(x, dtype=float).ravel() if isinstance(x, np.ndarray) else x
 
 
-def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, zeta):
+def _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta):
     """Solve the rows of a piecewise-affine map exactly in one parallel call (``stepping.batch_inverse``).
 
     Fills the rows with a continuous answer; returns the mask of rows left to the one-at-a-time
@@ -153,7 +157,7 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     """
     flies = v >= 0.5 * a * h  # a drop flies a step before touchdown (``check_scene``)
     rows = np.flatnonzero(ok_in & flies)
-    params_all = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
+    params_all = s.from_block({key: _flat(x, shape) for key, x in block.items()}, m, r)
     params_all = np.ascontiguousarray(np.broadcast_to(params_all, (m.size, params_all.shape[-1])))
     params = params_all[rows]
     out = solve_batch(s, params, h, v[rows], a[rows], e[rows])
