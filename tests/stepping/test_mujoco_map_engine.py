@@ -131,7 +131,7 @@ def test_a_batch_at_the_step_is_what_mujoco_delivers():
     assert len(rows) == 3
     phases = np.arange(128) / 128
     for i in rows:
-        stiffness, damping = -cp.block["solref"][0][i], -cp.block["solref"][1][i]
+        stiffness, damping = -cp.block["solref"][i]  # a row per scene
         model, data = _engine(float(m[i]), "Euler")
         model.geom_solref[:] = (-stiffness, -damping)
         p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=MuJoCoSettings().impedance)

@@ -185,6 +185,10 @@ def _separates(law, value, restitution, A, settings):
 
 # Bisection steps on ln A for the boundary (2^-60 of the bracket's width).
 BOUNDARY_BISECTIONS = 60
+# Where the damping's inverse fails inside a bracket this narrow in ln A (the restitution jumps at
+# the boundary, so the inverse can miss its tolerance right next to it), the bracket's middle is
+# the answer: A_b to this relative error, the critical speed to (n + 1) / (2 n) of it.
+BOUNDARY_LN_TOL = 1e-6
 # Loads the boundary is searched between; where the inverse fails at the upper end (very large
 # loads), the upper end steps down by factors of LOAD_BRACKET_STEP until it succeeds.
 LOAD_BRACKET = (1e-8, 1e6)
@@ -219,6 +223,8 @@ def _boundary_load(law, eps, restitution, settings):
     for _ in range(BOUNDARY_BISECTIONS):
         mid = 0.5 * (lo + hi)
         s, status = _separates(law, eps, restitution, np.exp(mid), settings)
+        if s is None and hi - lo <= BOUNDARY_LN_TOL:
+            break  # the inverse fails next to the boundary (the restitution jumps there): inside the bracket
         if s is None:
             return np.nan, status
         lo, hi = (mid, hi) if s else (lo, mid)

@@ -17,6 +17,7 @@ speed): a drop from another height needs its own damping.
 """
 
 import math
+import warnings
 
 import numpy as np
 
@@ -32,10 +33,10 @@ from contactalpha.stepping.registry import STEPPER_NAMES
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
+from .batched import broadcast_shape, check_rows
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
-from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
-from .batched import broadcast_shape, check_rows
+from .result import ContactParameters, NoSeparationWarning, format_parameters, no_separation_note  # noqa: F401
 from .stepped_batch import at_step_batch
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
@@ -175,7 +176,8 @@ def contact_parameters(
         return _at_step(*scene, law, engine, timestep, verify)
     chosen = _law_of(law, engine)
     if batch:
-        return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, chosen), engine)
+        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return _only(_batched(*scene, chosen), engine)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -227,7 +229,10 @@ def contact_parameters(
 
 def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, map_radius, law, engine,
              timestep, verify):  # fmt: skip
-    """``contact_parameters`` at an engine's step (``scene.stepped``); ``radius`` is the law's, ``map_radius`` the map's."""
+    """``contact_parameters`` at an engine's step (``scene.stepped``).
+
+    ``radius`` is the continuous law's (None where it reads none), ``map_radius`` the step map's.
+    """
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if engine is None:
@@ -295,7 +300,12 @@ def _law_of(law, engine):
 
 
 def _only(cp, engine):
-    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked."""
+    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked.
+
+    One scene whose target leaves the bodies in contact warns (``NoSeparationWarning``).
+    """
+    if np.ndim(cp.ok) == 0 and no_separation_note(cp):
+        warnings.warn(no_separation_note(cp), NoSeparationWarning, stacklevel=3)
     if engine is None:
         return cp
     return cp.replaced(engines={engine: cp.engines[engine]}, engine=engine)

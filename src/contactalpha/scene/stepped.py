@@ -49,6 +49,9 @@ class SteppedAnswer:
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
         installed engine, or None.
+    few_steps : a batch's flat indices of the rows with an answer whose contact spans fewer than
+        ``FEW_STEPS`` steps (one landing then spreads widely about the mean; a
+        ``ContactStepsWarning`` gives their count); None for one scene (``steps_min`` says it).
     source : "exact" ("none" for a batch's row without a continuous answer): every answer is
         solved on the map (one scene at a time by ``stepping.inverse``, or a batch's rows together
         by ``stepping.batch_inverse``).
@@ -81,6 +84,7 @@ class SteppedAnswer:
     verify: dict | None = None
     source: object = "exact"
     mean_error: object = math.nan
+    few_steps: object = None
 
 
 def needs_radius(engine):

@@ -12,11 +12,13 @@ every number of the engine's block and ``ok = False`` with the reason.
 """
 
 import math
+import warnings
 from dataclasses import replace
 
 import numpy as np
 
 from contactalpha.adapters.registry import adapter
+from contactalpha.adapters.stepped import ContactStepsWarning
 from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
 from contactalpha.stepping.batch_inverse import (
@@ -43,6 +45,11 @@ from .batched import masked_rows
 from .law_scene import EngineScene
 from .stepped import SteppedAnswer, resolve_timestep, solve_on_map
 
+# A world whose contact spans fewer steps than this is flagged: one landing there spreads by tens
+# of percent of the target about the phase mean.
+FEW_STEPS = 5
+# Rows a flag's message names, at most.
+ROWS_NAMED = 10
 # Columns of the per-row answer.
 _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_max", "mean_error", "nearest",
             "continuous_mean", "continuous_minimum", "continuous_maximum")  # fmt: skip
@@ -97,7 +104,8 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     zeta = np.full(n, np.nan)
     exact = ok_in.copy()
     if s.affine and restitution == "kinematic":
-        exact = _solved_in_batch(s, cp.engines[engine], shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta)
+        block = cp.engines[engine]
+        exact = _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta)
     # The law's a <= 0 rows have no touchdown phase: each exact row checks its own scene.
     rows = np.flatnonzero(exact)
     block = cp.engines[engine]
@@ -108,7 +116,8 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 progress(f"scene {count + 1} of {rows.size}")
             ri = None if r is None else float(r[i])
             try:
-                values, st, zi = _exact_row(s, _block_row(block, i, shape), float(m[i]), float(v[i]), float(a[i]),
+                row = _block_row(block, i, shape)
+                values, st, zi = _exact_row(s, row, float(m[i]), float(v[i]), float(a[i]),
                                             ri, h, float(e[i]), restitution)  # fmt: skip
             except ValueError as err:  # e.g. a drop too slow to fly a step before touchdown
                 values, st, zi = (math.nan,) * len(_COLUMNS), f"no answer at this step: {err}", math.nan
@@ -131,13 +140,29 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 "(one scene's call names the largest step that reaches the target)"
             )
     out = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
+    few = _few_steps(engine, h, ok, cols[:, _COLUMNS.index("steps_min")])
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=e.reshape(shape),
         law_damping=np.where(ok, zeta, np.nan).reshape(shape), status=status.reshape(shape),
         steps_min=out.pop("steps_min"), steps_max=out.pop("steps_max"),
-        timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), **out,
+        timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), few_steps=few, **out,
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=answer, ok=ok.reshape(shape), reason=reason.reshape(shape))
+
+
+def _few_steps(engine, h, ok, steps_min):
+    """Flat indices of the answered rows under ``FEW_STEPS`` steps in contact; a warning gives the count."""
+    few = np.flatnonzero(ok & (steps_min < FEW_STEPS))
+    if few.size:
+        shown = ", ".join(str(int(i)) for i in few[:ROWS_NAMED]) + (", ..." if few.size > ROWS_NAMED else "")
+        warnings.warn(
+            f"{engine} at its step {h:.6g} s: {few.size} of {ok.size} world(s) have fewer than {FEW_STEPS} "
+            f"steps in contact (rows {shown}; all in stepped.few_steps): the mean is delivered over "
+            "touchdown phases, but one landing there spreads widely about it; a smaller step narrows it",
+            ContactStepsWarning,
+            stacklevel=4,
+        )
+    return few
 
 
 def _flat(x, shape):

@@ -128,7 +128,8 @@ def pack(stiffness, damping, impedance, diag_ratio=1.0):
 def from_block(block, mass, radius):
     """``p`` from the MuJoCo block of ``contact_parameters`` (direct-mode ``solref``, ``solimp``)."""
     del mass, radius  # per unit mass, and the map needs no geometry
-    return pack(-np.asarray(block["solref"])[..., 0], block_damping(block), np.asarray(block["solimp"])[..., 0])
+    solref, solimp = np.asarray(block["solref"]), np.asarray(block["solimp"])  # a tuple, or a row per world
+    return pack(-solref[..., 0], block_damping(block), solimp[..., 0])
 
 
 def block_damping(block):
