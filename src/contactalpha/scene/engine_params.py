@@ -74,7 +74,8 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
             raise UnreachableTarget(
                 f"no {engine} damping gives a mean {name} of {target!r} at its step {ans.timestep:.6g} s "
                 f"({ans.status}): the nearest mean met is {ans.nearest:.6g}; the largest step found that "
-                f"reaches the target is {ans.timestep_reachable:.6g} s",
+                f"reaches the target is {ans.timestep_reachable:.6g} s"
+                + (f" ({ans.search})" if ans.search else ""),
                 ans.nearest,
                 {"timestep": ans.timestep_reachable},
             )

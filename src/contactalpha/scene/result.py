@@ -186,7 +186,8 @@ def stepped_lines(ans):
     else:
         lines += [
             f"  {ans.status}: no damping delivers it; the nearest mean {name} met is {ans.nearest:.6g}",
-            f"  the largest step found that reaches the target: {ans.timestep_reachable:.6g} s",
+            f"  the largest step found that reaches the target: {ans.timestep_reachable:.6g} s"
+            + (f" ({ans.search})" if ans.search else ""),
             "  (the block above is the continuous law's)",
         ]
     lines.append(

@@ -44,7 +44,9 @@ class SteppedAnswer:
     steps_min, steps_max : steps in contact.
     status : "ok", "unreachable" or "not_converged" (``stepping.inverse``).
     nearest : when unreachable, the mean nearest the target the step can deliver.
-    timestep_reachable : when unreachable, the largest step that reaches the target, s.
+    timestep_reachable : when unreachable, the largest step that reaches the target, s (NaN when
+        none was found: ``search`` says where that search stopped).
+    search : why the search for ``timestep_reachable`` stopped short ("" when it did not).
     continuous_mean, continuous_minimum, continuous_maximum : what the continuous law's
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
@@ -85,6 +87,7 @@ class SteppedAnswer:
     source: object = "exact"
     mean_error: object = math.nan
     few_steps: object = None
+    search: str = ""
 
 
 def needs_radius(engine):
@@ -127,7 +130,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         steps_min=inv.stats.steps_min, steps_max=inv.stats.steps_max, status=inv.status,
         nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
         continuous_mean=sol.continuous[0], continuous_minimum=sol.continuous[1],
-        continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)),
+        continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)), search=inv.search,
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=answer)
 

@@ -38,7 +38,7 @@ from contactalpha.stepping.batch_inverse import (
     solve_batch,
 )
 from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
-from contactalpha.stepping.delivered import check_scene
+from contactalpha.stepping.delivered import MAX_CONTACT_STEPS, check_contact_steps, check_scene, contact_steps
 from contactalpha.stepping.registry import stepper
 
 from .batched import masked_rows
@@ -180,10 +180,12 @@ def _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, sou
     Fills the rows with a continuous answer; returns the mask of rows left to the one-at-a-time
     inverse (none).
     """
-    flies = v >= 0.5 * a * h  # a drop flies a step before touchdown (``check_scene``)
-    rows = np.flatnonzero(ok_in & flies)
     params_all = s.from_block({key: _flat(x, shape) for key, x in block.items()}, m, r)
     params_all = np.ascontiguousarray(np.broadcast_to(params_all, (m.size, params_all.shape[-1])))
+    with np.errstate(invalid="ignore"):  # a row without a continuous answer: NaN parameters
+        bounded = ~(contact_steps(s, params_all.T, h) > MAX_CONTACT_STEPS)  # ``check_contact_steps``
+    flies = (v >= 0.5 * a * h) & bounded  # a drop flies a step before touchdown (``check_scene``)
+    rows = np.flatnonzero(ok_in & flies)
     params = params_all[rows]
     out = solve_batch(s, params, h, v[rows], a[rows], e[rows])
     for name, c in _FROM_BATCH.items():
@@ -198,6 +200,7 @@ def _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, sou
     for i in np.flatnonzero(ok_in & ~flies):  # check_scene says why, as for one scene
         try:
             check_scene(params_all[i], h, v[i], a[i])
+            check_contact_steps(s, params_all[i], h)
         except ValueError as err:
             status[i], source[i] = f"no answer at this step: {err}", "exact"
     return np.zeros_like(ok_in)
