@@ -224,3 +224,21 @@ def test_critical_speed_at_a_step_limit_says_what_to_change():
         RuntimeWarning, match=r"step limit exceeded \(max_steps = 1\): give a larger max_steps"
     ):
         assert math.isnan(critical_speed(0.8, 0.5, 1.4e8, 9.81, max_steps=1))
+
+
+@pytest.mark.parametrize(
+    ("scene", "hint"),
+    [
+        (dict(approach_speed=1e-6, e_N=0.5), "give a faster approach or a smaller load"),
+        (dict(approach_speed=0.5, e_N=1e-4), "give e_N >= 0.001"),
+    ],
+)
+def test_a_scene_the_laws_inverse_does_not_resolve_says_what_to_change(scene, hint):
+    # S15: both failed with RuntimeError "... root tolerance not reached".
+    with pytest.raises(ValueError, match=hint) as err:
+        ca.contact_parameters(mass=0.5, stiffness=2e4, accel=9.81, engine="mujoco", **scene)
+    assert type(err.value).__name__ == "UnreachableTarget"
+    # Farther from the edge, as the message says, the same scene is solved.
+    nearer = {"approach_speed": 1e-4} if scene["approach_speed"] < 1e-3 else {"e_N": 1e-3}
+    cp = ca.contact_parameters(mass=0.5, stiffness=2e4, accel=9.81, engine="mujoco", **(scene | nearer))
+    assert cp.e_n == pytest.approx((scene | nearer)["e_N"], rel=1e-6)

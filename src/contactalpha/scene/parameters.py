@@ -159,7 +159,9 @@ def contact_parameters(
         large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
         for a batch, naming the argument and its first bad index.
     scene.reach.UnreachableTarget
-        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would.
+        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would,
+        or one the law's inverse does not resolve (a load factor next to 1, a target next to
+        capture), naming what to change.
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
