@@ -242,3 +242,21 @@ def test_a_scene_the_laws_inverse_does_not_resolve_says_what_to_change(scene, hi
     nearer = {"approach_speed": 1e-4} if scene["approach_speed"] < 1e-3 else {"e_N": 1e-3}
     cp = ca.contact_parameters(mass=0.5, stiffness=2e4, accel=9.81, engine="mujoco", **(scene | nearer))
     assert cp.e_n == pytest.approx((scene | nearer)["e_N"], rel=1e-6)
+
+
+def test_a_pybullet_batch_at_the_step_solves_each_row_with_its_own_mass():
+    # Planted bug (issue 44): the batch built with row 0's mass for every row passed all front-door
+    # cases; each row here has its own mass, and is the one-scene answer for its scene.
+    m = np.array([0.2, 0.5, 1.3])
+    scene = dict(stiffness=1e4, approach_speed=0.5, accel=9.81, e_N=0.5, engine="pybullet", radius=0.05)
+    cp = ca.contact_parameters(mass=m, **scene, timestep=5e-4)
+    assert cp.ok.all()
+    for i in range(3):
+        one = ca.contact_parameters(mass=float(m[i]), **scene, timestep=5e-4)
+        assert one.stepped.status == "ok"
+        for key in ("contactStiffness", "contactDamping"):
+            assert cp.block[key][i] == pytest.approx(one.block[key], rel=1e-6), (i, key)
+        assert cp.stepped.mean[i] == pytest.approx(0.5, abs=1e-6)
+        assert cp.stepped.steps_min[i] == one.stepped.steps_min
+    # The rows differ: a mass-blind batch could not give all three.
+    assert np.ptp(cp.block["contactDamping"]) > 0.1 * cp.block["contactDamping"].max()
