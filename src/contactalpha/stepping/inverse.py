@@ -150,15 +150,17 @@ def damping_for(
     if not bracketed:
         # Out of reach at this step: no damping brings the mean down to, or up to, the target.
         step = stiff = math.nan
-        search = Search(f"{engine}: the target is out of reach at {h:.4g} s; searching what reaches it")
-        with search:
-            if remedies:
+        note = ""
+        if remedies:
+            label = f"{engine}: the target is out of reach at {h:.4g} s; searching what reaches it"
+            with Search(label) as search:
                 step = reachable_timestep(engine, p, h, v, a, target, restitution, search)
                 if remedies == "both":
                     stiff = reachable_stiffness(engine, p, h, v, a, target, restitution, search)
+            note = search.note
         q = _with_damping(s, p, 0.0)
         st0 = _stats(engine, q, h, v, a, restitution)
-        return StepInverse(math.nan, q, st0, "unreachable", nearest, step, stiff, search.note)
+        return StepInverse(math.nan, q, st0, "unreachable", nearest, step, stiff, note)
     root = brentq(lambda c: _mean(engine, _with_damping(s, p, c), h, v, a, restitution) - target, lo, hi,
                   xtol=1e-300, rtol=DAMPING_RTOL)  # fmt: skip
     q = _with_damping(s, p, root)
