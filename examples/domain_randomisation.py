@@ -37,8 +37,8 @@ def drop(i):
     """Scene ``i`` dropped in MuJoCo with its solref and solimp: the e_N MuJoCo delivers."""
     omega = math.sqrt(stiffness[i] / mass[i])
     h = 2.0 * math.pi / omega / 20000  # 20,000 steps per undamped period
-    ref = " ".join(repr(float(x[i])) for x in solref)
-    imp = " ".join(repr(float(np.broadcast_to(x, (N,))[i])) for x in solimp)
+    ref = " ".join(repr(float(x)) for x in solref[i])  # solref: (N, 2), solimp: (N, 5), a row per scene
+    imp = " ".join(repr(float(x)) for x in solimp[i])
     model = mujoco.MjModel.from_xml_string(f"""
 <mujoco>
   <option timestep="{h!r}" gravity="0 0 -{G}"/>

@@ -354,7 +354,7 @@ def _print_engine(args, value, restitution):
     from contactalpha.adapters.registry import adapter
     from contactalpha.io import json_text
     from contactalpha.progress import Progress
-    from contactalpha.scene.engine_params import engine_block, format_block
+    from contactalpha.scene.engine_params import engine_answer, format_block
 
     if args.refine:
         label = f"contactalpha: refining on {args.engine}'s drops"
@@ -363,7 +363,7 @@ def _print_engine(args, value, restitution):
     else:
         label = f"contactalpha: {args.engine}'s parameters"
     with Progress(label) as progress:
-        params, notes = engine_block(
+        params, notes, stepped = engine_answer(
             args.engine, value, args.mass, args.stiffness, args.speed, args.accel, force=args.force,
             restitution=restitution, radius=args.radius, refine=args.refine,
             timestep=args.timestep, verify=args.verify, progress=None if args.quiet else progress,
@@ -371,6 +371,8 @@ def _print_engine(args, value, restitution):
     if args.json:
         units = getattr(adapter(args.engine), "units", {})
         data = {"engine": args.engine, "parameters": params, "units": units, "notes": notes}
+        if stepped is not None:  # the answer at the step as numbers (mean, minimum, maximum, steps, ...)
+            data["stepped"] = stepped
         print(json_text(data, indent=1))
     else:
         print(format_block(args.engine, params, notes))

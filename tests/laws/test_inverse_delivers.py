@@ -20,7 +20,8 @@ def test_far_past_the_load_range_a_damping_is_right_or_flagged(law, accel):
 
 
 def test_a_damping_of_zero_is_never_returned_for_a_target_below_one():
-    with pytest.raises(RuntimeError, match="mujoco_soft.* e_N = 0.5"):
+    # Not solved, and the message says what to change (issue 44, S15: it was a bare RuntimeError).
+    with pytest.raises(ValueError, match="mujoco_soft.* e_N = 0.5 .*a faster approach or a smaller load"):
         contact_parameters(e_N=0.5, mass=1.0, stiffness=1e4, approach_speed=0.5, accel=1e7, law="mujoco_soft")
 
 

@@ -20,6 +20,15 @@ NUMBER_FIELDS = (
 )
 
 
+def _entries(value, cp):
+    """A block value's entries, each of the batch's shape (MuJoCo's (n, 2) solref: its two columns)."""
+    if isinstance(value, tuple):
+        return value
+    if np.ndim(value) > np.ndim(cp.ok):
+        return tuple(np.moveaxis(np.asarray(value), -1, 0))
+    return (value,)
+
+
 def _rows(cp, keep):
     """Every per-scene number of ``cp`` at rows ``keep``, engine entries included, as a flat dict."""
     out = {f: np.asarray(getattr(cp, f))[keep] for f in (*NUMBER_FIELDS, "accel")}
@@ -27,7 +36,7 @@ def _rows(cp, keep):
         out[f] = np.asarray(getattr(cp, f), dtype=object)[keep]
     for engine, block in cp.engines.items():
         for name, value in block.items():
-            for j, x in enumerate(value if isinstance(value, tuple) else (value,)):
+            for j, x in enumerate(_entries(value, cp)):
                 out[f"{engine}.{name}[{j}]"] = np.broadcast_to(x, np.shape(cp.ok))[keep]
     return out
 
@@ -37,7 +46,7 @@ def _numbers(cp, i):
     values = [np.asarray(getattr(cp, f))[i] for f in NUMBER_FIELDS]
     for block in cp.engines.values():
         for value in block.values():
-            entries = value if isinstance(value, tuple) else (value,)
+            entries = _entries(value, cp)
             values += [np.broadcast_to(x, np.shape(cp.ok))[i] for x in entries]
     return values
 
@@ -70,7 +79,8 @@ def test_a_row_without_an_answer_is_nan_in_every_number_and_the_others_are_bit_i
 def test_mujocos_solref_of_a_flagged_row_is_nan_not_minus_zero():
     cp = ca.contact_parameters(e_N=[0.5, 0.001], mass=0.5, stiffness=1e4, approach_speed=0.5, accel=9.81,
                                law="mujoco_soft")  # fmt: skip
-    stiffness, damping = cp.engines["mujoco"]["solref"]
+    assert cp.engines["mujoco"]["solref"].shape == (2, 2)
+    stiffness, damping = cp.engines["mujoco"]["solref"].T
     assert np.isnan(stiffness[1]) and np.isnan(damping[1]) and damping[0] < 0.0
 
 

@@ -34,7 +34,7 @@ def test_a_failed_search_warns_with_its_status():
     with pytest.warns(RuntimeWarning, match="eps = 0.8 .*step limit exceeded"):
         v = critical_speed(0.8, 0.5, 1.4e8, G, max_steps=1)
     assert np.isnan(v)
-    assert critical_speed_status(0.8, 0.5, 1.4e8, G, max_steps=1)[1] == "step limit exceeded"
+    assert critical_speed_status(0.8, 0.5, 1.4e8, G, max_steps=1)[1].startswith("step limit exceeded")
 
 
 def test_another_law_takes_the_integrator_settings_too():

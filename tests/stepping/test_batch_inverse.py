@@ -143,6 +143,7 @@ def test_the_front_door_batch_is_exact_row_by_row(engine):
     checked = 0
     for i in np.flatnonzero(st.status == "ok"):
         row = {key: (tuple(float(np.ravel(x)[i]) for x in val) if isinstance(val, tuple)
+                     else tuple(float(x) for x in val[i]) if np.ndim(val) == 2  # a row per world
                      else (float(np.ravel(val)[i]) if isinstance(val, np.ndarray) else val))
                for key, val in block.items()}  # fmt: skip
         p = s.from_block(row, float(m[i]), radius)

@@ -82,6 +82,21 @@ def test_pybullet_speculative_row_and_breaking_threshold():
     assert w1 > -1.0 - h * a
 
 
+def test_pybullet_contact_point_edge_includes_the_linear_slop():
+    # The manifold keeps a point below the breaking threshold plus Bullet's 1e-5 m linear slop: half
+    # a slop inside that edge the row acts, half a slop outside it the step is free flight (issue 44:
+    # 0.99 and 1.01 of the edge lie on the same side with or without the slop).
+    m, k, c, h, a, r = 0.4, 5e3, 3.0, 1.0 / 240.0, 9.81, 0.05
+    p = pm.make_params(m, 2 * k, 0.5 * c, 2 * k, 0.5 * c, r)
+    edge = 0.02 * math.sqrt(3.0) * r + 1e-5  # gContactBreakingThreshold sqrt(3) r, plus PyBullet's slop
+    free = -1.0 - h * a
+    z1, w1 = pm.step_pybullet(edge - 0.5e-5, -1.0, p, h, a)
+    assert w1 > free  # the speculative row pushes: this step would end below the surface
+    assert m * (w1 - free) == pytest.approx(-(h * k + c) * z1, rel=1e-12)  # as the row's target says
+    z1, w1 = pm.step_pybullet(edge + 0.5e-5, -1.0, p, h, a)
+    assert w1 == free
+
+
 def test_pybullet_combines_the_bodies_like_bullet():
     p = pm.make_params(1.0, 3e5, 2.0, pm.UNSET_STIFFNESS, pm.UNSET_DAMPING, 0.05)
     k, c = pm.pair_values(p)

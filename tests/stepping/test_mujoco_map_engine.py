@@ -131,7 +131,7 @@ def test_a_batch_at_the_step_is_what_mujoco_delivers():
     assert len(rows) == 3
     phases = np.arange(128) / 128
     for i in rows:
-        stiffness, damping = -cp.block["solref"][0][i], -cp.block["solref"][1][i]
+        stiffness, damping = -cp.block["solref"][i]  # a row per scene
         model, data = _engine(float(m[i]), "Euler")
         model.geom_solref[:] = (-stiffness, -damping)
         p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=MuJoCoSettings().impedance)
@@ -144,3 +144,61 @@ def test_a_batch_at_the_step_is_what_mujoco_delivers():
         assert np.allclose(at_phases("mujoco", p, H, phases, v[i], G)["e_n"], measured, rtol=1e-9, atol=1e-12)
         assert abs(over_phase("mujoco", p, H, v[i], G).mean - e[i]) <= 1e-6
         assert cp.stepped.minimum[i] <= np.mean(measured) <= cp.stepped.maximum[i]
+
+
+def _armature_drop(mass, armature, stiffness, damping, impedance):
+    """A sphere on a vertical slide joint with ``armature``: diagApprox (1/m) is not A (1/(m + arm))."""
+    xml = f"""
+<mujoco>
+  <option timestep="{H!r}" gravity="0 0 -{G!r}"/>
+  <worldbody>
+    <geom type="plane" size="1 1 0.1" condim="1" solref="{-stiffness!r} {-damping!r}"
+          solimp="{impedance!r} {impedance!r} 0.001 0.5 2"/>
+    <body pos="0 0 0.05">
+      <joint type="slide" axis="0 0 1" armature="{armature!r}"/>
+      <geom type="sphere" size="0.05" mass="{mass!r}" condim="1" solref="{-stiffness!r} {-damping!r}"
+            solimp="{impedance!r} {impedance!r} 0.001 0.5 2"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def _run_unforced(model, data, z0, w0, n):
+    mujoco.mj_resetData(model, data)
+    data.qpos[0], data.qvel[0] = z0, w0
+    z, w = [z0], [w0]
+    for _ in range(n):
+        mujoco.mj_step(model, data)
+        z.append(float(data.qpos[0]))
+        w.append(float(data.qvel[0]))
+    return np.array(z), np.array(w)
+
+
+def test_a_contact_whose_diag_approx_is_not_its_inverse_mass_follows_mujoco():
+    # Every scene above is a free body (diag ratio 1): the ratio's place in the soft row is unseen
+    # there.  With armature the contact's true inverse mass is 1/(m + arm) while MuJoCo's
+    # diagApprox is the body's 1/m: the ratio r = diagApprox (m + arm) is 1.6 here.
+    from contactalpha.stepping.drop import trajectory
+    from contactalpha.stepping.kernels import MUJOCO
+
+    mass, armature, stiffness, damping, d, v = 0.5, 0.3, 2e4, 30.0, 0.9, 0.5
+    model = _armature_drop(mass, armature, stiffness, damping, d)
+    data = mujoco.MjData(model)
+    data.qpos[0] = -1e-3  # in contact: read the row MuJoCo builds
+    mujoco.mj_forward(model, data)
+    A = float(data.efc_J[0] ** 2 / data.M[0])  # J M^-1 J^T of the one row and one dof
+    ratio = float(data.efc_diagA[0]) / A
+    assert A == pytest.approx(1.0 / (mass + armature), rel=1e-12) and ratio == pytest.approx(1.6, rel=1e-12)
+    accel = G * mass / (mass + armature)  # gravity acts on the mass, the armature only resists
+    p = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=d, diag_ratio=ratio)
+    n = int(2.5 * math.pi / math.sqrt(stiffness) / H) + 10
+    for phase in (0.0, 0.31, 0.77):
+        z0, w0 = touchdown_state(v, accel, H, phase)
+        z_mj, w_mj = _run_unforced(model, data, z0, w0, n)
+        z, w = trajectory(MUJOCO, p, H, phase, v, accel, n)
+        assert np.max(np.abs(z - z_mj)) <= 1e-9 * np.max(np.abs(z_mj))
+        assert np.max(np.abs(w - w_mj)) <= 1e-9 * np.max(np.abs(w_mj))
+    free_body = stepper("mujoco").pack(stiffness=stiffness, damping=damping, impedance=d)
+    z, w = trajectory(MUJOCO, free_body, H, 0.31, v, accel, n)
+    assert np.max(np.abs(w - _run_unforced(model, data, *touchdown_state(v, accel, H, 0.31), n)[1])) > 1e-3

@@ -144,7 +144,9 @@ class MuJoCoAdapter(SteppingAdapter):
     def parameters(self, damping, scene, settings=None):
         """``solref`` (direct), ``solimp`` and, where it exists, ``solref`` as (timeconst, dampratio).
 
-        ``damping`` is the law's damping ratio zeta (>= 0); arrays go through.
+        ``damping`` is the law's damping ratio zeta (>= 0); arrays go through.  One scene's
+        ``solref`` and ``solimp`` are tuples; a batch's are arrays of shape ``(*batch, 2)`` and
+        ``(*batch, 5)``, a row per world (MJX's and MuJoCo Warp's ``geom_solref``/``geom_solimp``).
         """
         settings = self.settings if settings is None else settings
         zeta = np.asarray(check_range("damping", damping, 0.0, math.inf, hi_open=True))
@@ -154,6 +156,9 @@ class MuJoCoAdapter(SteppingAdapter):
         stiffness = np.broadcast_to(omega2, b.shape)
         tc, dr = timeconst_form(zeta, omega, settings.timestep)
         solref, solimp = direct_mode(float_or_array(stiffness), float_or_array(b), settings.impedance)
+        if b.ndim:  # a batch: one row per world, the shape MJX and MuJoCo Warp take ((..., 2), (..., 5))
+            solref = np.stack(solref, axis=-1)
+            solimp = np.stack(np.broadcast_arrays(*solimp, b), axis=-1)[..., :-1]
         return {
             "stiffness": float_or_array(stiffness),
             "damping": float_or_array(b),

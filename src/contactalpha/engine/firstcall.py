@@ -12,7 +12,9 @@ one impact or one table lookup costs when the same source runs as plain Python (
    bit for bit (tests/engine/test_firstcall.py compares them);
 3. once the twin has cost ``INTERPRET_BUDGET_S`` seconds in this process, the kernel is
    compiled and runs compiled from then on.  The budget decides only *when* to compile,
-   never a number.
+   never a number.  A row kernel's twin is also stopped inside a row once it passes what is
+   left of the budget (``run_bounded``): one slow row (an impact under a huge load) never runs
+   for minutes as Python; the compiled kernel redoes that row.
 
 Whatever numba compiles of this package outside the warm-up (array paths, the solver, the
 ball...) is announced on stderr: one line the first time, then one line per kernel with its
@@ -21,6 +23,7 @@ compile time (``CompileNotice``).  ``contactalpha warmup`` compiles every kernel
 """
 
 import contextlib
+import ctypes
 import math
 import os
 import sys
@@ -242,6 +245,40 @@ class _RowState:
         self.lock = threading.Lock()
 
 
+class TwinOverrun(Exception):
+    """A Python twin ran past its time (``run_bounded``): the compiled kernel does the work."""
+
+
+def run_bounded(fn, args, seconds):
+    """``fn(*args)`` in this thread, stopped by ``TwinOverrun`` once it has run ``seconds`` (wall time).
+
+    A timer thread raises the exception in this thread (CPython's ``PyThreadState_SetAsyncExc``)
+    at its next bytecode; one still pending when ``fn`` returns is dropped, so the caller sees
+    either ``fn``'s result or ``TwinOverrun``.
+    """
+    thread = ctypes.c_ulong(threading.get_ident())
+    lock = threading.Lock()
+    state = {"running": True, "fired": False}
+
+    def interrupt():
+        with lock:
+            if state["running"]:
+                state["fired"] = True
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(thread, ctypes.py_object(TwinOverrun))
+
+    timer = threading.Timer(max(seconds, 0.0), interrupt)
+    timer.daemon = True
+    timer.start()
+    try:
+        return fn(*args)
+    finally:
+        with lock:
+            state["running"] = False
+            timer.cancel()
+            if state["fired"]:
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(thread, None)  # drop one not yet raised
+
+
 _ROWS: dict = {}
 # Rows a twin runs between two looks at its clock: the first look comes after one row.
 ROW_BLOCK_MAX = 64
@@ -273,22 +310,31 @@ def interpret_rows(kernel, n, args):
         if state.done or kernel.signatures or _cached(kernel, (*args, 0, n)):
             state.done = True
             return 0
-        twin = python_twin(kernel)
-        plain = tuple(map(_as_ieee, args))
-        first, block = 0, 1
-        while first < n and state.interpreted_s <= INTERPRET_BUDGET_S:
-            stop = min(first + block, n)
-            clock = time.perf_counter()
-            try:
-                with np.errstate(all="ignore"):
-                    twin(*plain, first, stop)
-            except Exception:  # a case the twin cannot run as Python: the compiled kernel does it
-                state.done = True
-                return first
-            state.interpreted_s += time.perf_counter() - clock
-            first, block = stop, min(2 * block, ROW_BLOCK_MAX)
-        state.done = first < n
-        return first
+        return run_twin_rows(kernel, n, args, state)
+
+
+def run_twin_rows(kernel, n, args, state):
+    """``interpret_rows``' loop: the leading rows the twin runs within the budget ``state`` has left.
+
+    Each block of rows runs bounded by what is left (``run_bounded``): a row that would take
+    longer is stopped, and it and the rest run compiled.
+    """
+    twin = python_twin(kernel)
+    plain = tuple(map(_as_ieee, args))
+    first, block = 0, 1
+    while first < n and state.interpreted_s <= INTERPRET_BUDGET_S:
+        stop = min(first + block, n)
+        clock = time.perf_counter()
+        try:
+            with np.errstate(all="ignore"):
+                run_bounded(twin, (*plain, first, stop), INTERPRET_BUDGET_S - state.interpreted_s)
+        except Exception:  # past the budget, or a case the twin cannot run as Python: compiled
+            state.done = True
+            return first
+        state.interpreted_s += time.perf_counter() - clock
+        first, block = stop, min(2 * block, ROW_BLOCK_MAX)
+    state.done = first < n
+    return first
 
 
 def _cached(dispatcher, args):

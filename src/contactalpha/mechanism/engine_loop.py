@@ -43,7 +43,7 @@ from .mujoco_model import _mujoco, geom_id, load_model, mujoco_drop, start_state
 ROLLOUT_THREADS = 2
 
 # Touchdown phases of the first sample; doubled until the mean's error estimate is within PHASE_TOL.
-PHASES = 256
+PHASES = 64
 MAX_PHASES = 4096
 # Error estimate of a phase mean at which its sampling stops (half the answer's 2e-4 budget).
 PHASE_TOL = 1e-4
@@ -273,13 +273,13 @@ def solve_damping(loop, target, start, *, phases=PHASES, tol=PHASE_TOL, solve_to
     ref = refine(e_n_of, target, -start[1], solve_tol, refine_tol=solve_tol)
     b = ref.damping if math.isfinite(ref.damping) else 0.0
     delivered = loop.converged_mean((k, -b), n, tol)
-    if delivered.phases > n and ref.status == "ok":  # the root needs more phases: solve again there
+    if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases: solve again there
         n = delivered.phases
         means = {}
         ref = refine(e_n_of, target, b, solve_tol, refine_tol=solve_tol)
         b = ref.damping if math.isfinite(ref.damping) else 0.0
         delivered = loop.converged_mean((k, -b), n, tol)
-    status = ref.status
+    status = "ok" if ref.status == "unchanged" else ref.status  # the start already delivered
     if status == "ok" and not abs(delivered.mean - target) <= solve_tol + tol:
         status = "not_converged"
     return LoopAnswer((k, -b), delivered, start, reduced, status, len(means), loop.drops,

@@ -98,6 +98,24 @@ def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
         ) from None
 
 
+def broadcast_shape(**arrays):
+    """The broadcast shape of the named arrays (None skipped); else ValueError naming the two that clash."""
+    shape, owner = (), None
+    for name, value in arrays.items():
+        if value is None:
+            continue
+        try:
+            joined = np.broadcast_shapes(shape, np.shape(value))
+        except ValueError:
+            raise ValueError(
+                f"{name} has shape {np.shape(value)}, which does not broadcast with {owner}'s shape {shape}: "
+                "give arrays of one shape (or plain numbers)"
+            ) from None
+        owner = name if joined != shape else owner
+        shape = joined
+    return shape
+
+
 def _load_factor(law):
     """Load factor of arrays of scenes: Eq. 10 through ``engine.scaling`` for n = 3/2, else the law's."""
     if law.fast is ENGINE_TABLE:
@@ -145,7 +163,10 @@ def masked_rows(x, ok):
     if isinstance(x, tuple):
         return tuple(masked_rows(v, ok) for v in x)
     if isinstance(x, np.ndarray | float | int) and not isinstance(x, bool):
-        return np.where(ok, np.broadcast_to(np.asarray(x, dtype=float), ok.shape), np.nan)
+        x = np.asarray(x, dtype=float)
+        if x.ndim > ok.ndim:  # a row per world (MuJoCo's (n, 2) solref): the trailing axis is the row's
+            return np.where(ok.reshape(ok.shape + (1,) * (x.ndim - ok.ndim)), x, np.nan)
+        return np.where(ok, np.broadcast_to(x, ok.shape), np.nan)
     return x
 
 
@@ -194,6 +215,8 @@ def batched_parameters(
     )
     if (accel is None) == (force is None):
         raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
+    broadcast_shape(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel, force=force,
+                    **{name: target}, radius=radius)  # fmt: skip
     if force is None:
         a = check_rows("accel", accel, 0.0, np.inf, hi_open=True)
     else:

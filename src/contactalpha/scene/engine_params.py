@@ -14,17 +14,26 @@ from contactalpha.validation import check_flag
 
 from .parameters import contact_parameters, scene_accel
 from .reach import UnreachableTarget, unreachable_on_drops
-from .result import block_lines, stepped_lines
+from .result import as_plain_data, block_lines, stepped_lines
 from .stepped import EnergyGainWarning
 
 # Refinement outcomes that reached the target (``adapters.base.Refinement.status``).
 REACHED = ("ok", "unchanged")
 
 
-def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *, force=None,
-                 restitution="kinematic", radius=None, refine=False, timestep=None, verify=None,
-                 progress=None):  # fmt: skip
-    """``(parameters, notes)`` of ``engine`` for the scene; ``notes`` are lines about how they were found.
+def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, **options):
+    """``(parameters, notes)`` of ``engine`` for the scene: ``engine_answer`` without the step's numbers."""
+    return engine_answer(engine, target, mass, stiffness, approach_speed, accel, **options)[:2]
+
+
+def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *, force=None,
+                  restitution="kinematic", radius=None, refine=False, timestep=None, verify=None,
+                  progress=None):  # fmt: skip
+    """``(parameters, notes, stepped)`` of ``engine`` for the scene; ``notes`` say how they were found.
+
+    ``stepped`` is, with ``timestep``, the answer at the step as plain numbers (``SteppedAnswer``'s
+    fields: the predicted ``mean``, ``minimum``, ``maximum``, ``steps_min``, ``steps_max``, ...),
+    else None.
 
     Parameters
     ----------
@@ -70,11 +79,12 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *,
             raise UnreachableTarget(
                 f"no {engine} damping gives a mean {name} of {target!r} at its step {ans.timestep:.6g} s "
                 f"({ans.status}): the nearest mean met is {ans.nearest:.6g}; the largest step found that "
-                f"reaches the target is {ans.timestep_reachable:.6g} s",
+                f"reaches the target is {ans.timestep_reachable:.6g} s"
+                + (f" ({ans.search})" if ans.search else ""),
                 ans.nearest,
                 {"timestep": ans.timestep_reachable},
             )
-        return cp.block, stepped_lines(ans)
+        return cp.block, stepped_lines(ans), as_plain_data(cp)["stepped"]
     if not refine:
         cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
                                 force=force, radius=radius, engine=engine, **{key: target})  # fmt: skip
@@ -82,7 +92,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *,
         step = a.timestep(a.settings)
         if step is not None:
             notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
-        return cp.block, notes
+        return cp.block, notes, None
     accel = scene_accel(mass, accel, force)
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     params, ref, got = a.calibrate(scene, target, progress=progress)
@@ -92,7 +102,7 @@ def engine_block(engine, target, mass, stiffness, approach_speed, accel=None, *,
         f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
         f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
         f"({ref.status}; spread over touchdown phases {got.spread:.3g}; {got.contact_steps} steps)",
-    ]
+    ], None
 
 
 def format_block(engine, params, notes):

@@ -17,6 +17,7 @@ from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
 from contactalpha.laws.maps import check_settings, check_target, damping_for_unchecked, impact_unchecked
 
+from .reach import UnreachableTarget
 from .result import ContactParameters
 
 # Approach speeds, as factors of the given one, at which the fixed physical damping is checked.
@@ -31,6 +32,34 @@ class EngineScene:
     stiffness: object
     approach_speed: object
     radius: object
+
+
+# Where the law's inverse fails, a load factor this close to 1, or a target this small, is named as
+# the cause: the load outweighs the approach, or the target is next to capture.
+XI_NEAR_ONE = 1.0 - 1e-6
+TARGET_SMALL = 1e-3
+
+
+def unresolved(law, value, restitution, xi, approach_speed, accel, status):
+    """``UnreachableTarget`` for a scene the law's inverse does not resolve: what the user can change."""
+    name = target_name(restitution)
+    where = f"no {law.damping} of law {law.name!r} gives {name} = {value!r} at xi = {xi!r} ({status})"
+    hints = []
+    if xi >= XI_NEAR_ONE:
+        hints.append(
+            f"the load factor is within {1.0 - xi:.2g} of 1: the load (accel = {accel!r} m/s^2) "
+            f"outweighs the approach (approach_speed = {approach_speed!r} m/s); give a faster approach "
+            "or a smaller load"
+        )
+    if value < TARGET_SMALL:
+        hints.append(
+            f"{name} = {value!r} is next to capture (no rebound), where the restitution falls steeply "
+            f"with the damping; give {name} >= {TARGET_SMALL:g}, or model the contact as capture"
+        )
+    if not hints:
+        hints.append("the scene is at the edge of what the law resolves; give a target or a load farther "
+                     "from it")  # fmt: skip
+    return UnreachableTarget(f"{where}: {'; '.join(hints)}")
 
 
 def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel, radius=None):
@@ -48,10 +77,7 @@ def law_contact_parameters(law, value, restitution, mass, stiffness, approach_sp
         )
     sol = damping_for_unchecked(law, value, xi, restitution)
     if not sol.ok:
-        raise RuntimeError(
-            f"no {law.damping} of law {law.name!r} gives {target_name(restitution)} = {value!r} "
-            f"at xi = {xi!r}: {sol.status}"
-        )
+        raise unresolved(law, value, restitution, xi, approach_speed, accel, sol.status)
     p = float(sol.damping)
     scene = EngineScene(mass, stiffness, approach_speed, radius)
     e_n_half, e_n_twice = (
@@ -185,6 +211,10 @@ def _separates(law, value, restitution, A, settings):
 
 # Bisection steps on ln A for the boundary (2^-60 of the bracket's width).
 BOUNDARY_BISECTIONS = 60
+# Where the damping's inverse fails inside a bracket this narrow in ln A (the restitution jumps at
+# the boundary, so the inverse can miss its tolerance right next to it), the bracket's middle is
+# the answer: A_b to this relative error, the critical speed to (n + 1) / (2 n) of it.
+BOUNDARY_LN_TOL = 1e-6
 # Loads the boundary is searched between; where the inverse fails at the upper end (very large
 # loads), the upper end steps down by factors of LOAD_BRACKET_STEP until it succeeds.
 LOAD_BRACKET = (1e-8, 1e6)
@@ -219,6 +249,8 @@ def _boundary_load(law, eps, restitution, settings):
     for _ in range(BOUNDARY_BISECTIONS):
         mid = 0.5 * (lo + hi)
         s, status = _separates(law, eps, restitution, np.exp(mid), settings)
+        if s is None and hi - lo <= BOUNDARY_LN_TOL:
+            break  # the inverse fails next to the boundary (the restitution jumps there): inside the bracket
         if s is None:
             return np.nan, status
         lo, hi = (mid, hi) if s else (lo, mid)

@@ -17,6 +17,7 @@ speed): a drop from another height needs its own damping.
 """
 
 import math
+import warnings
 
 import numpy as np
 
@@ -28,12 +29,14 @@ from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import DEFAULT_LAW, get_law
 from contactalpha.laws.domain import target_name
+from contactalpha.stepping.registry import STEPPER_NAMES
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
 from . import stepped
+from .batched import broadcast_shape, check_rows
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
-from .result import ContactParameters, format_parameters  # noqa: F401  (format: the CLI's)
+from .result import ContactParameters, NoSeparationWarning, format_parameters, no_separation_note  # noqa: F401
 from .stepped_batch import at_step_batch
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
@@ -156,16 +159,27 @@ def contact_parameters(
         large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
         for a batch, naming the argument and its first bad index.
     scene.reach.UnreachableTarget
-        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would.
+        A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would,
+        or one the law's inverse does not resolve (a load factor next to 1, a target next to
+        capture), naming what to change.
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
+    batch = _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+    map_radius = radius
+    if radius is not None and engine in STEPPER_NAMES and stepped.needs_radius(engine):
+        # The engine's step map reads the geometry (PyBullet's breaking threshold) even where its
+        # law's parameters do not: checked here, on every path, and kept from the law if unread.
+        map_radius = _checked_radius(radius, batch)
+        if not _law_reads_radius(_law_of(law, engine)):
+            radius = None
     if timestep is not None or verify is not None:
-        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius, map_radius)
         return _at_step(*scene, law, engine, timestep, verify)
     chosen = _law_of(law, engine)
-    if _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius):
-        return _only(_batched(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, chosen), engine)
+    if batch:
+        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return _only(_batched(*scene, chosen), engine)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:
@@ -215,32 +229,54 @@ def contact_parameters(
     )
 
 
-def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine, timestep, verify):
-    """``contact_parameters`` at an engine's step (``scene.stepped``)."""
+def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, map_radius, law, engine,
+             timestep, verify):  # fmt: skip
+    """``contact_parameters`` at an engine's step (``scene.stepped``).
+
+    ``radius`` is the continuous law's (None where it reads none), ``map_radius`` the step map's.
+    """
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
-    if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius):
+    if engine is None:
+        raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
+    restitution = "kinematic" if eps is None else "energetic"
+    name = target_name(restitution)
+    if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, map_radius):
         if verify is not None:
             raise ValueError("verify= takes one scene; a batch at the step is checked one scene at a time")
-        if engine is None:
-            raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
-        own = radius if radius is None or _law_reads_radius(_law_of(law, engine)) else None
+        broadcast_shape(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
+                        force=force, **{name: e_n if eps is None else eps}, radius=map_radius)  # fmt: skip
+        target = check_rows(name, e_n if eps is None else eps, 0.0, 1.0, lo_open=True, hi_open=True)
+        _check_load_rows(accel, force)
         cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                                radius=own, law=law, engine=engine)  # fmt: skip
-        target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
-        return at_step_batch(cp, cp.engine, timestep, mass, stiffness, approach_speed, cp.accel, radius,
+                                radius=radius, law=law, engine=engine)  # fmt: skip
+        return at_step_batch(cp, cp.engine, timestep, mass, stiffness, approach_speed, cp.accel, map_radius,
                              target, restitution)  # fmt: skip
-    # A map that reads the geometry (PyBullet's breaking threshold) takes the radius even where the
-    # continuous law's parameters do not.
-    own = radius
-    if radius is not None and engine is not None and stepped.needs_radius(engine):
-        own = radius if _law_reads_radius(_law_of(law, engine)) else None
-    cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                            radius=own, law=law, engine=engine)  # fmt: skip
+    # The mean restitution at the step is 1 only without damping and with no loss to the step: an
+    # open range, named as the target the user gave.
     value, restitution = _target(eps, e_n)
-    args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
+    check_scalar(name, value, 0.0, 1.0, lo_open=True, hi_open=True)
+    cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
+                            radius=radius, law=law, engine=engine)  # fmt: skip
+    args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), map_radius)
     cp = stepped.at_step(cp, args[0], timestep, *args[1:], value, restitution)
     return cp if verify is None else stepped.verify(cp, verify, *args[1:])
+
+
+def _check_load_rows(accel, force):
+    """A batch at the step needs every row's load > 0, as one scene does: else the whole batch is refused."""
+    name, value = ("accel", accel) if force is None else ("force", force)
+    try:
+        check_rows(name, value, 0.0, np.inf, lo_open=True, hi_open=True)
+    except ValueError as err:
+        raise ValueError(f"timestep needs a load pressing the bodies together in every row: {err}") from None
+
+
+def _checked_radius(radius, batch):
+    """``radius`` checked > 0 and finite: by name for one scene, by its first bad index for a batch."""
+    if not batch:
+        return _positive("radius", radius)
+    return check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
 
 
 def _law_reads_radius(law):
@@ -266,7 +302,12 @@ def _law_of(law, engine):
 
 
 def _only(cp, engine):
-    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked."""
+    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked.
+
+    One scene whose target leaves the bodies in contact warns (``NoSeparationWarning``).
+    """
+    if np.ndim(cp.ok) == 0 and no_separation_note(cp):
+        warnings.warn(no_separation_note(cp), NoSeparationWarning, stacklevel=3)
     if engine is None:
         return cp
     return cp.replaced(engines={engine: cp.engines[engine]}, engine=engine)

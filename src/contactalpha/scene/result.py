@@ -5,7 +5,8 @@
 **One scene or a batch.**  A call with plain numbers gives plain Python values in every field
 (``float``, ``str``, ``bool``); a call with any array input gives numpy arrays of the scenes'
 broadcast shape in every per-scene field (``xi``, ``damping``, ..., ``ok``, ``reason``, and every
-number in ``engines``; a tuple such as MuJoCo's ``solref`` is a tuple of arrays).  ``law``,
+number in ``engines``; MuJoCo's ``solref`` and ``solimp``, one scene's tuples, are arrays of shape
+``(*batch, 2)`` and ``(*batch, 5)``, a row per world, as MJX and MuJoCo Warp take them).  ``law``,
 ``damping_name``, ``physical_unit`` and ``engine`` are one string for the whole call.
 
 **Units.**  The stiffness given is physical on every path: N/m for the n = 1 laws, N/m^1.5 for
@@ -26,6 +27,21 @@ from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 from contactalpha.stepping.registry import stepper
+
+
+class NoSeparationWarning(UserWarning):
+    """The target is met with the bodies staying in contact: no rebound at this load."""
+
+
+def no_separation_note(cp):
+    """Why one scene's answer has no rebound ("" when the bodies separate)."""
+    if cp.end_state == "separation":
+        return ""
+    return (
+        f"the bodies will not separate: at this load (xi = {cp.xi:.6g}) the target is met with the bodies "
+        f"staying in contact (end state {cp.end_state}, e_N = {cp.e_n:.6g}); a rebound needs a smaller "
+        "load, a faster approach or a larger target"
+    )
 
 
 class Deferred:
@@ -140,7 +156,8 @@ def format_parameters(cp: ContactParameters) -> str:
         f"xi              {cp.xi:.15g}   (load factor)",
         f"{cp.damping_name:15s} {cp.damping:.15g}   ({cp.source}; dimensionless)",
         f"damping         {cp.physical_damping:.15g} {cp.physical_unit}   ({law.damping_physical})",
-        f"end state       {cp.end_state}",
+        f"end state       {cp.end_state}"
+        + ("   (no rebound: the bodies will not separate)" if no_separation_note(cp) else ""),
         f"eps             {cp.eps:.15g}",
         f"e_N             {cp.e_n:.15g}",
         f"accel           {cp.accel:.15g} m/s^2",
@@ -192,7 +209,8 @@ def stepped_lines(ans):
     else:
         lines += [
             f"  {ans.status}: no damping delivers it; the nearest mean {name} met is {ans.nearest:.6g}",
-            f"  the largest step found that reaches the target: {ans.timestep_reachable:.6g} s",
+            f"  the largest step found that reaches the target: {ans.timestep_reachable:.6g} s"
+            + (f" ({ans.search})" if ans.search else ""),
             "  (the block above is the continuous law's)",
         ]
     lines.append(

@@ -46,11 +46,16 @@ class SteppedAnswer:
     steps_min, steps_max : steps in contact.
     status : "ok", "unreachable" or "not_converged" (``stepping.inverse``).
     nearest : when unreachable, the mean nearest the target the step can deliver.
-    timestep_reachable : when unreachable, the largest step that reaches the target, s.
+    timestep_reachable : when unreachable, the largest step that reaches the target, s (NaN when
+        none was found: ``search`` says where that search stopped).
+    search : why the search for ``timestep_reachable`` stopped short ("" when it did not).
     continuous_mean, continuous_minimum, continuous_maximum : what the continuous law's
         parameters deliver at this step (the error the step makes without this correction).
     verify : ``{"phases", "mean", "minimum", "maximum", "seconds", "version"}`` measured in the
         installed engine, or None.
+    few_steps : a batch's flat indices of the rows with an answer whose contact spans fewer than
+        ``FEW_STEPS`` steps (one landing then spreads widely about the mean; a
+        ``ContactStepsWarning`` gives their count); None for one scene (``steps_min`` says it).
     source : "exact" ("none" for a batch's row without a continuous answer): every answer is
         solved on the map (one scene at a time by ``stepping.inverse``, or a batch's rows together
         by ``stepping.batch_inverse``).
@@ -83,6 +88,8 @@ class SteppedAnswer:
     verify: dict | None = None
     source: object = "exact"
     mean_error: object = math.nan
+    few_steps: object = None
+    search: str = ""
 
 
 class EnergyGainWarning(UserWarning):
@@ -141,7 +148,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
         steps_min=inv.stats.steps_min, steps_max=inv.stats.steps_max, status=inv.status,
         nearest=float(inv.nearest), timestep_reachable=float(inv.timestep_reachable),
         continuous_mean=sol.continuous[0], continuous_minimum=sol.continuous[1],
-        continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)),
+        continuous_maximum=sol.continuous[2], mean_error=float(abs(sol.mean - target)), search=inv.search,
     )  # fmt: skip
     return cp.replaced(engines=engines, stepped=warn_gain(answer))
 

@@ -12,11 +12,13 @@ every number of the engine's block and ``ok = False`` with the reason.
 """
 
 import math
+import warnings
 from dataclasses import replace
 
 import numpy as np
 
 from contactalpha.adapters.registry import adapter
+from contactalpha.adapters.stepped import ContactStepsWarning
 from contactalpha.laws.domain import target_name as restitution_name
 from contactalpha.progress import Progress
 from contactalpha.stepping.batch_inverse import (
@@ -36,13 +38,18 @@ from contactalpha.stepping.batch_inverse import (
     solve_batch,
 )
 from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
-from contactalpha.stepping.delivered import check_scene
+from contactalpha.stepping.delivered import MAX_CONTACT_STEPS, check_contact_steps, check_scene, contact_steps
 from contactalpha.stepping.registry import stepper
 
 from .batched import masked_rows
 from .law_scene import EngineScene
 from .stepped import SteppedAnswer, resolve_timestep, solve_on_map, warn_gain
 
+# A world whose contact spans fewer steps than this is flagged: one landing there spreads by tens
+# of percent of the target about the phase mean.
+FEW_STEPS = 5
+# Rows a flag's message names, at most.
+ROWS_NAMED = 10
 # Columns of the per-row answer.
 _COLUMNS = ("damping", "mean", "minimum", "maximum", "std", "steps_min", "steps_max", "mean_error", "nearest",
             "continuous_mean", "continuous_minimum", "continuous_maximum")  # fmt: skip
@@ -53,12 +60,14 @@ _FROM_BATCH = {"damping": B_DAMPING, "mean": B_MEAN, "minimum": B_MIN, "maximum"
                "continuous_maximum": B_GUESS_MAX}  # fmt: skip
 
 
-def _block_row(block, i):
-    """Row ``i`` of an engine block of arrays (tuples entry by entry)."""
+def _block_row(block, i, shape):
+    """Row ``i`` of an engine block of arrays of the batch's ``shape`` (a row per world: its tuple)."""
 
     def pick(x):
         if isinstance(x, tuple):
             return tuple(pick(v) for v in x)
+        if isinstance(x, np.ndarray) and x.ndim > len(shape):
+            return tuple(float(v) for v in x.reshape(-1, x.shape[-1])[i])
         return float(np.asarray(x).ravel()[i]) if isinstance(x, np.ndarray) else x
 
     return {k: pick(v) for k, v in block.items()}
@@ -95,7 +104,8 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     zeta = np.full(n, np.nan)
     exact = ok_in.copy()
     if s.affine and restitution == "kinematic":
-        exact = _solved_in_batch(s, cp.engines[engine], h, m, v, a, r, e, ok_in, cols, status, source, zeta)
+        block = cp.engines[engine]
+        exact = _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta)
     # The law's a <= 0 rows have no touchdown phase: each exact row checks its own scene.
     rows = np.flatnonzero(exact)
     block = cp.engines[engine]
@@ -106,7 +116,8 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 progress(f"scene {count + 1} of {rows.size}")
             ri = None if r is None else float(r[i])
             try:
-                values, st, zi = _exact_row(s, _block_row(block, i), float(m[i]), float(v[i]), float(a[i]),
+                row = _block_row(block, i, shape)
+                values, st, zi = _exact_row(s, row, float(m[i]), float(v[i]), float(a[i]),
                                             ri, h, float(e[i]), restitution)  # fmt: skip
             except ValueError as err:  # e.g. a drop too slow to fly a step before touchdown
                 values, st, zi = (math.nan,) * len(_COLUMNS), f"no answer at this step: {err}", math.nan
@@ -129,33 +140,53 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 "(one scene's call names the largest step that reaches the target)"
             )
     out = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
+    few = _few_steps(engine, h, ok, cols[:, _COLUMNS.index("steps_min")])
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=e.reshape(shape),
         law_damping=np.where(ok, zeta, np.nan).reshape(shape), status=status.reshape(shape),
         steps_min=out.pop("steps_min"), steps_max=out.pop("steps_max"),
-        timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), **out,
+        timestep_reachable=np.full(shape, np.nan), source=source.reshape(shape), few_steps=few, **out,
     )  # fmt: skip
     answer = warn_gain(answer)
     return cp.replaced(engines=engines, stepped=answer, ok=ok.reshape(shape), reason=reason.reshape(shape))
 
 
-def _flat(x):
-    """A block's value with every array raveled (tuples entry by entry)."""
+def _few_steps(engine, h, ok, steps_min):
+    """Flat indices of the answered rows under ``FEW_STEPS`` steps in contact; a warning gives the count."""
+    few = np.flatnonzero(ok & (steps_min < FEW_STEPS))
+    if few.size:
+        shown = ", ".join(str(int(i)) for i in few[:ROWS_NAMED]) + (", ..." if few.size > ROWS_NAMED else "")
+        warnings.warn(
+            f"{engine} at its step {h:.6g} s: {few.size} of {ok.size} world(s) have fewer than {FEW_STEPS} "
+            f"steps in contact (rows {shown}; all in stepped.few_steps): the mean is delivered over "
+            "touchdown phases, but one landing there spreads widely about it; a smaller step narrows it",
+            ContactStepsWarning,
+            stacklevel=4,
+        )
+    return few
+
+
+def _flat(x, shape):
+    """A block's value with every array raveled over the batch's ``shape`` (a row per world kept whole)."""
     if isinstance(x, tuple):
-        return tuple(_flat(v) for v in x)
+        return tuple(_flat(v, shape) for v in x)
+    if isinstance(x, np.ndarray) and x.ndim > len(shape):
+        return np.asarray(x, dtype=float).reshape(-1, x.shape[-1])
     return np.asarray(x, dtype=float).ravel() if isinstance(x, np.ndarray) else x
 
 
-def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, zeta):
+def _solved_in_batch(s, block, shape, h, m, v, a, r, e, ok_in, cols, status, source, zeta):
     """Solve the rows of a piecewise-affine map exactly in one parallel call (``stepping.batch_inverse``).
 
     Fills the rows with a continuous answer; returns the mask of rows left to the one-at-a-time
     inverse (none).
     """
-    flies = v >= 0.5 * a * h  # a drop flies a step before touchdown (``check_scene``)
-    rows = np.flatnonzero(ok_in & flies)
-    params_all = s.from_block({key: _flat(x) for key, x in block.items()}, m, r)
+    params_all = s.from_block({key: _flat(x, shape) for key, x in block.items()}, m, r)
     params_all = np.ascontiguousarray(np.broadcast_to(params_all, (m.size, params_all.shape[-1])))
+    with np.errstate(invalid="ignore"):  # a row without a continuous answer: NaN parameters
+        bounded = ~(contact_steps(s, params_all.T, h) > MAX_CONTACT_STEPS)  # ``check_contact_steps``
+    flies = (v >= 0.5 * a * h) & bounded  # a drop flies a step before touchdown (``check_scene``)
+    rows = np.flatnonzero(ok_in & flies)
     params = params_all[rows]
     out = solve_batch(s, params, h, v[rows], a[rows], e[rows])
     for name, c in _FROM_BATCH.items():
@@ -170,6 +201,7 @@ def _solved_in_batch(s, block, h, m, v, a, r, e, ok_in, cols, status, source, ze
     for i in np.flatnonzero(ok_in & ~flies):  # check_scene says why, as for one scene
         try:
             check_scene(params_all[i], h, v[i], a[i])
+            check_contact_steps(s, params_all[i], h)
         except ValueError as err:
             status[i], source[i] = f"no answer at this step: {err}", "exact"
     return np.zeros_like(ok_in)

@@ -50,6 +50,7 @@ from contactalpha.engine.codes import (
     OUT_X_END,
     SEPARATION,
     STATUS,
+    STEP_LIMIT,
 )
 from contactalpha.engine.driver import ATOL, MAX_STEPS, RTOL
 from contactalpha.engine.kernel import impact_kernel
@@ -321,6 +322,8 @@ def critical_speed_status(
         )
     else:
         v, status = _hertz_critical_speed(flat, mass, stiffness, accel, rtol, atol, max_steps)
+    for i in np.flatnonzero(status == STATUS[STEP_LIMIT]):
+        status[i] = f"{status[i]} (max_steps = {max_steps}): give a larger max_steps"
     if np.ndim(e) == 0:
         return float(v[0]), status[0]
     return v.reshape(np.shape(e)), status.reshape(np.shape(e))

@@ -25,6 +25,10 @@ from .registry import stepper
 
 # A drop runs at most this many contact times (a slowly ringing capture comes to rest within it).
 REST_CONTACT_TIMES = 400
+# A scene whose contact time spans more steps than this is refused (``check_contact_steps``): a
+# drop's work grows with the steps (the steps this package proposes for soft, slow PyBullet scenes
+# reach about 7,000).
+MAX_CONTACT_STEPS = 20_000
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,31 @@ def check_scene(p, timestep, approach_speed, accel):
     return p, h, v, a
 
 
+def contact_steps(s, p, h):
+    """Steps per contact time of stepper ``s`` (its ``contact_time`` over the step ``h``)."""
+    return s.contact_time(p) / h
+
+
+def too_many_steps(s, p, h):
+    """Why a scene with more than ``MAX_CONTACT_STEPS`` steps per contact is refused ("" if it is not)."""
+    n = contact_steps(s, p, h)
+    if n <= MAX_CONTACT_STEPS:
+        return ""
+    return (
+        f"timestep = {h!r} s gives {n:,.0f} steps per contact ({s.name}'s contact time "
+        f"{s.contact_time(p):.4g} s over the step), above the {MAX_CONTACT_STEPS:,} this package solves for: "
+        f"give a step of at least {s.contact_time(p) / MAX_CONTACT_STEPS:.3g} s, or use the continuous "
+        "law's parameters (no timestep), which the step's answer approaches as the step shrinks"
+    )
+
+
+def check_contact_steps(s, p, h):
+    """ValueError (``too_many_steps``) for a scene of more than ``MAX_CONTACT_STEPS`` steps per contact."""
+    why = too_many_steps(s, p, h)
+    if why:
+        raise ValueError(why)
+
+
 def step_limit(s, p, h):
     """Steps a drop of stepper ``s`` may take: ``REST_CONTACT_TIMES`` contact times, at least 1000.
 
@@ -120,6 +149,7 @@ def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid
     """
     s = stepper(engine)
     p, h, v, a = check_scene(p, timestep, approach_speed, accel)
+    check_contact_steps(s, p, h)
     check_positive("tol", tol)
     grid = check_count("grid", grid, 4, 1_000_000)
     max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)

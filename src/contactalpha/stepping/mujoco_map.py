@@ -128,12 +128,13 @@ def pack(stiffness, damping, impedance, diag_ratio=1.0):
 def from_block(block, mass, radius):
     """``p`` from the MuJoCo block of ``contact_parameters`` (direct-mode ``solref``, ``solimp``)."""
     del mass, radius  # per unit mass, and the map needs no geometry
-    return pack(-block["solref"][0], block_damping(block), block["solimp"][0])
+    solref, solimp = np.asarray(block["solref"]), np.asarray(block["solimp"])  # a tuple, or a row per world
+    return pack(-solref[..., 0], block_damping(block), solimp[..., 0])
 
 
 def block_damping(block):
     """MuJoCo's own damping ``-solref[1]`` (direct mode, per unit mass) of a block; arrays go through."""
-    return -np.asarray(block["solref"][1], dtype=float)
+    return -np.asarray(block["solref"], dtype=float)[..., 1]
 
 
 def law_damping(p, approach_speed):
