@@ -24,6 +24,7 @@ import numpy as np
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
+from .inputs import check_link, link_inertias
 
 INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
@@ -129,6 +130,7 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
     p = _Plant(model_path)
     plant, ctx = p.plant, p.context
+    _check_links(plant, model_path)
     if qpos is not None:
         _set(plant, ctx, "qpos", qpos, plant.num_positions())
     g1, g2 = (p.geometry(name) for name in pair)
@@ -156,6 +158,15 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v,
         qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv), forces=dict(forces or {}),
     )  # fmt: skip
+
+
+def _check_links(plant, model_path):
+    """``inputs.check_link`` on every link of the file; a link moves when its joint has velocities."""
+    dk = _drake()
+    joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
+    moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
+    for name, (mass, inertia) in link_inertias(model_path).items():
+        check_link(name, mass, inertia, name in moving)
 
 
 def drake_drop(

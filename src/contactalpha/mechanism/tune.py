@@ -22,12 +22,14 @@ from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
 from contactalpha.scene.law_scene import EngineScene
 from contactalpha.scene.parameters import contact_parameters
+from contactalpha.scene.reach import UnreachableTarget
 from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
+from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
@@ -76,6 +78,8 @@ def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, 
     path = Path(model)
     if not path.is_file():
         raise ValueError(f"model = {str(model)!r} is not a file")
+    check_model_size(path)
+    qpos, qvel = check_coordinates("qpos", qpos), check_coordinates("qvel", qvel)
     pair = tuple(str(g) for g in pair)
     if len(pair) != 2:
         raise ValueError(f"pair = {pair!r} must name two geometries")
@@ -103,7 +107,8 @@ class Tuning:
     engine's own drop with ``check``, else NaN), ``mass_change`` (relative change of m_eff over
     that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``),
     ``discrete`` (``discrete.DiscreteAnswer`` of the engine's step map, or None where no step
-    was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous).
+    was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous),
+    ``reached``: False where no damping reaches the target at the step (``force_write``).
     """
 
     contact: object
@@ -117,12 +122,14 @@ class Tuning:
     drop: object = field(default=None, repr=False)
     discrete: object = None
     timestep: float | None = None
+    reached: bool = True
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
     h = contact.engine_row["timestep"] if timestep is None else float(timestep)
+    check_step_resolves(h, contact.effective_mass, k)
     step = discrete_answer(contact, t, target, h) if discrete is not False else None
     row = contact.engine_row
     params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
@@ -167,7 +174,7 @@ def _step_notes(engine, step, target, discrete, written):
         f"at {engine}'s step {step.timestep:g} s the law's answer delivers a phase mean {st.mean:.6g} "
         f"(one drop: {st.minimum:.6g} to {st.maximum:.6g}; {st.steps_min}-{st.steps_max} steps)"
     ]
-    use = discrete is True or abs(st.mean - target) > DISCRETE_TOL
+    use = _wants_step(step, target, discrete)
     if use and inv.status == "ok":
         notes.append(
             f"discrete answer (phase-mean inverse of {engine}'s step at m_eff): {written}; "
@@ -180,6 +187,25 @@ def _step_notes(engine, step, target, discrete, written):
             f"{inv.nearest:.6g}); largest step that reaches it: {inv.timestep_reachable:.3g} s"
         )
     return False, notes
+
+
+def _wants_step(step, target, discrete):
+    """Whether the step's answer is wanted: always (``discrete`` True), or where the law's misses."""
+    return discrete is True or abs(step.continuous.mean - target) > DISCRETE_TOL
+
+
+def _unreachable(step, target, discrete):
+    """``UnreachableTarget`` where the step's answer is wanted and no damping reaches it, else None."""
+    if step is None or not _wants_step(step, target, discrete) or step.inverse.status == "ok":
+        return None
+    inv = step.inverse
+    return UnreachableTarget(
+        f"no damping reaches e_N {target} at {step.engine}'s step {step.timestep:g} s ({inv.status}; "
+        f"nearest phase mean {inv.nearest:.6g}); largest step that reaches it: "
+        f"{inv.timestep_reachable:.3g} s; nothing written (--force-write, force_write=True, writes "
+        "the law's answer anyway)",
+        nearest=float(inv.nearest), remedies={"timestep": float(inv.timestep_reachable)},
+    )  # fmt: skip
 
 
 def _write_mujoco(contact, output, params):
@@ -232,6 +258,7 @@ def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete)
     h = es.default_step if timestep is None else float(timestep)
     if h is None or discrete is False:
         return params, notes, cp, None
+    check_step_resolves(h, contact.effective_mass, float(params["pair_stiffness"]))
     if contact.accel <= 0.0:
         notes.append(f"{engine}'s step map needs a pressing load: the continuous answer is kept")
         return params, notes, cp, None
@@ -317,6 +344,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
+    force_write=False,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -343,6 +371,9 @@ def tune(
     discrete : None uses the phase-mean inverse of the engine's step map (``stepping``, at the
         contact's m_eff and load; ``discrete``) where the continuous answer's phase mean at the
         step misses the target by more than ``DISCRETE_TOL``; True always, False never.
+    force_write : where that answer is wanted and no damping reaches the target at the step,
+        ``tune`` raises ``scene.reach.UnreachableTarget`` and writes nothing; True writes the
+        law's answer anyway and returns it with ``reached`` False.
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
@@ -352,12 +383,16 @@ def tune(
     Tuning
     """
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
+    timestep = check_timestep(timestep)
     t = _tuner(engine, model)
     if output is not None:
         write.check_output(model, output)
     reader = t.reader if t.reader is not None else None
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
     params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
+    miss = _unreachable(step, target, discrete)
+    if miss is not None and not force_write:
+        raise miss
     if not contact.at_touch:
         notes.append(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
@@ -365,7 +400,8 @@ def tune(
         )
     written = t.write(contact, output, params, notes) if output is not None else None
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
-    result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h)
+    result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h,
+                    reached=miss is None)  # fmt: skip
     if refine:
         if t.name != "mujoco" or output is None:
             raise ValueError("refine works with engine 'mujoco' and an output file")

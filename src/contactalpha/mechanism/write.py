@@ -44,10 +44,14 @@ def _stamp(root, what):
 
 
 def check_output(model, output):
-    """The output path; ValueError when it is the model file itself (never overwritten)."""
+    """The output path; ValueError if it is the model itself (never overwritten), a folder, or nowhere."""
     out = Path(output)
     if out.exists() and Path(model).exists() and out.resolve() == Path(model).resolve():
         raise ValueError(f"output = {str(output)!r} is the model file itself; give another path (-o)")
+    if out.is_dir():
+        raise ValueError(f"output = {str(output)!r} is a folder; give the path of the file to write (-o)")
+    if not out.parent.is_dir():
+        raise ValueError(f"output = {str(output)!r}: its folder {str(out.parent)!r} does not exist")
     return out
 
 
