@@ -9,13 +9,14 @@ contact stiffness (N/m) MuJoCo applies.
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 from hand import MODELS
 
 from contactalpha.mechanism.mujoco_row import current_stiffness
-from contactalpha.mechanism.tune import read_contact, tune
+from contactalpha.mechanism.tune import UnmodelledSettingWarning, read_contact, tune
 
 PENDULUM = str(MODELS / "pendulum.xml")
 PAIR = ("wall", "tip")
@@ -65,3 +66,33 @@ def test_tuned_row_has_mujocos_effective_impedance(mujoco, tmp_path):
     assert abs(d_e - result.details.impedance) > 0.03  # the pendulum's row is far from a free body's
     assert result.details.effective_impedance == pytest.approx(d_e, rel=1e-6)
     assert force / depth == pytest.approx(k, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "option, words",
+    [
+        ('integrator="RK4"/>', "integrator rk4"),
+        ('integrator="Euler" density="1.2"/>', "fluid forces (density 1.2"),
+    ],
+)
+def test_tune_warns_on_settings_the_answer_leaves_out(mujoco, tmp_path, option, words):
+    """Each setting the answer does not model gives one warning naming it; the plain model none."""
+    text = (MODELS / "pendulum.xml").read_text()
+    model = tmp_path / "m.xml"
+    model.write_text(text.replace('integrator="Euler"/>', option))
+    with pytest.warns(UnmodelledSettingWarning) as caught:
+        tune(model, PAIR, 0.5, qvel=[1.6], stiffness=1e4)
+    assert [w for w in caught if words in str(w.message)] and len(caught) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnmodelledSettingWarning)
+        tune(PENDULUM, PAIR, 0.5, qvel=[1.6], stiffness=1e4)
+
+
+@pytest.mark.parametrize("flag, words", [('override="enable"', "enables override"),
+                                         ('contact="disable"', "disables contact")])  # fmt: skip
+def test_tune_refuses_settings_under_which_no_pair_acts(mujoco, tmp_path, flag, words):
+    model = tmp_path / "m.xml"
+    text = (MODELS / "pendulum.xml").read_text()
+    model.write_text(text.replace('integrator="Euler"/>', f'integrator="Euler"><flag {flag}/></option>'))
+    with pytest.raises(ValueError, match=words):
+        tune(model, PAIR, 0.5, qvel=[1.6], stiffness=1e4)

@@ -24,7 +24,7 @@ import numpy as np
 from contactalpha.validation import check_scalar
 
 # Largest model file tune reads, bytes.
-MAX_MODEL_BYTES = 20_000_000
+MAX_MODEL_BYTES = 10_000_000
 # The six values of a link's inertia in URDF and SDF.
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 # Principal moments below this fraction of the largest one are zero (a singular inertia).

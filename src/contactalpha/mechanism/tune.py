@@ -47,6 +47,10 @@ class MassChangeWarning(UserWarning):
     """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
 
 
+class UnmodelledSettingWarning(UserWarning):
+    """A setting of the MuJoCo model changes the contact's e_N and the answer leaves it out."""
+
+
 @dataclass(frozen=True)
 class Reader:
     """A model reader: ``name``, the Python ``module`` it needs, file ``suffixes``, ``read`` call."""
@@ -126,6 +130,9 @@ class Tuning:
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
+    for setting in contact.engine_row.get("unmodelled", ()):
+        warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
+                      stacklevel=3)  # fmt: skip
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
     h = contact.engine_row["timestep"] if timestep is None else float(timestep)
