@@ -1,5 +1,6 @@
 """What ``tune`` refuses, by name: steps, coordinates, outputs, links, large files, unreachable targets."""
 
+import os
 import re
 
 import hand
@@ -55,13 +56,13 @@ def test_cli_names_the_folder_given_as_output(tmp_path, capsys):
     assert f"its folder {str(tmp_path / 'no')!r} does not exist" in err
 
 
-def test_model_size_is_bounded(tmp_path, monkeypatch, capsys):
-    """Above ``MAX_MODEL_BYTES`` a model is refused naming its size and the limit (a 2 kB stand-in)."""
+def test_model_size_is_bounded(tmp_path, capsys):
+    """A file one byte above ``MAX_MODEL_BYTES`` (sparse: nothing is written) is refused before reading."""
     big = tmp_path / "big.xml"
-    big.write_text("<mujoco>" + " " * 2000 + "</mujoco>")
-    monkeypatch.setattr(inputs, "MAX_MODEL_BYTES", 1000)
+    big.write_text("<mujoco/>")
+    os.truncate(big, inputs.MAX_MODEL_BYTES + 1)
     err = _one_line_error(capsys, ["tune", str(big), "--pair", "a", "b", "--e-n", "0.5", "--speed", "1"])
-    assert "big.xml' is 0.0 MB, above the 0.001 MB tune reads" in err
+    assert f"big.xml' is {(inputs.MAX_MODEL_BYTES + 1) / 1e6:.1f} MB, above the 10 MB tune reads" in err
 
 
 def _arm(tmp_path, mass=None, inertia=None, suffix=".urdf"):
