@@ -129,6 +129,22 @@ def test_drake_refuses_a_massless_or_negative_link(pydrake, tmp_path, capsys, ma
     assert f"link 'arm': mass = {float(mass)!r} kg" in err and not out.exists()
 
 
+def test_drake_takes_a_massless_link_with_a_welded_mass(pydrake, tmp_path):
+    """The arm's mass on a link welded to it: one body of 1.5 kg, as MuJoCo fuses it (the arm's m_eff)."""
+    text = ARM.read_text()
+    inertial = text[text.index("<inertial>"):text.index("</inertial>") + len("</inertial>")]
+    weight = f'<link name="weight">{inertial}</link><joint name="w" type="fixed"><parent link="arm"/>' \
+             '<child link="weight"/></joint></robot>'  # fmt: skip
+    model = tmp_path / "arm.urdf"
+    model.write_text(text.replace(inertial, "").replace("</robot>", weight))
+    got = tune(model, ("floor", "tip"), 0.5, speed=0.5, stiffness=1e4, engine="drake").contact
+    m, d, i_com, tip = 1.5, 1 / 3, 0.04, 0.5
+    assert got.effective_mass == pytest.approx((i_com + m * d * d) / tip**2, rel=1e-9)
+    model.write_text(model.read_text().replace('<mass value="1.5"/>', '<mass value="0"/>'))
+    with pytest.raises(ValueError, match=r"link 'arm' and the links welded to it \['weight'\]: mass = 0.0"):
+        tune(model, ("floor", "tip"), 0.5, qvel=[-1.0], stiffness=1e4, engine="drake")
+
+
 def test_drake_refuses_an_unphysical_inertia(pydrake, tmp_path, capsys):
     model = _arm(tmp_path, inertia='ixx="0.01" iyy="0.01" izz="0.04"')
     with pytest.raises(ValueError, match="link 'arm': principal moments"):

@@ -161,12 +161,32 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
 
 
 def _check_links(plant, model_path):
-    """``inputs.check_link`` on every link of the file; a link moves when its joint has velocities."""
+    """``inputs.check_link`` on every link of the file; a link moves when its joint has velocities.
+
+    A moving link with links welded to it (fixed joints) moves as one body with them: the group's
+    mass must be above 0 (each link's own values physical), as MuJoCo fuses such links.
+    """
     dk = _drake()
     joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
     moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
-    for name, (mass, inertia) in link_inertias(model_path).items():
-        check_link(name, mass, inertia, name in moving)
+    welded = {}
+    for j in joints:
+        if j.num_velocities() == 0:
+            welded.setdefault(j.parent_body().name(), []).append(j.child_body().name())
+    links = link_inertias(model_path)
+    for name, (mass, inertia) in links.items():
+        group, stack = [], [name]
+        while stack:
+            group.append(stack.pop())
+            stack += welded.get(group[-1], [])
+        if name not in moving or len(group) == 1:
+            check_link(name, mass, inertia, name in moving)
+            continue
+        check_link(name, mass, inertia, False)
+        total = sum(links.get(g, (0.0,))[0] for g in group)
+        if not total > 0.0:
+            raise ValueError(f"link {name!r} and the links welded to it {group[1:]}: mass = {total!r} kg; "
+                             "it must be above 0 for links that move with their own joint")  # fmt: skip
 
 
 def drake_drop(
