@@ -62,14 +62,14 @@ def check_timestep(timestep):
     return check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
 
 
-def check_step_resolves(timestep, effective_mass, stiffness):
+def check_step_resolves(timestep, effective_mass, stiffness, name="timestep"):
     """ValueError when ``timestep`` is not shorter than the undamped contact time ``pi sqrt(m/k)``."""
     if timestep is None:
         return
     contact_time = math.pi * math.sqrt(effective_mass / stiffness)
     if not timestep < contact_time:
         raise ValueError(
-            f"timestep = {timestep!r} s is not shorter than the contact (pi sqrt(m_eff/k) = "
+            f"{name} = {timestep!r} s is not shorter than the contact (pi sqrt(m_eff/k) = "
             f"{contact_time:.3g} s undamped): the engine steps over it; give a smaller timestep"
         )
 

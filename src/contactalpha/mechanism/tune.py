@@ -136,7 +136,8 @@ def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
     h = contact.engine_row["timestep"] if timestep is None else float(timestep)
-    check_step_resolves(h, contact.effective_mass, k)
+    named = "the model's timestep" if timestep is None else "timestep"
+    check_step_resolves(h, contact.effective_mass, k, named)
     step = discrete_answer(contact, t, target, h) if discrete is not False else None
     row = contact.engine_row
     params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
