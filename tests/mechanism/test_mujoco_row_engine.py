@@ -73,6 +73,9 @@ def test_tuned_row_has_mujocos_effective_impedance(mujoco, tmp_path):
     [
         ('integrator="RK4"/>', "integrator rk4"),
         ('integrator="Euler" density="1.2"/>', "fluid forces (density 1.2"),
+        ('integrator="Euler"/><default><joint damping="0.05"/></default>', "joint 'hinge' damping 0.05"),
+        ('integrator="Euler"/><default><joint frictionloss="0.2"/></default>', "'hinge' frictionloss 0.2"),
+        ('integrator="Euler"/><default><joint stiffness="3"/></default>', "joint 'hinge' stiffness 3"),
     ],
 )
 def test_tune_warns_on_settings_the_answer_leaves_out(mujoco, tmp_path, option, words):

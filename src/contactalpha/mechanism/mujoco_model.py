@@ -201,10 +201,10 @@ def unmodelled_settings(model):
     """The model's settings that change the contact's e_N and that ``tune``'s answer leaves out.
 
     Text, one line each: an integrator outside ``MODELLED_INTEGRATORS`` (RK4) and fluid forces
-    (``density``, ``viscosity``).  Settings under which no tuned pair acts are refused (ValueError):
-    the override flag (``opt.o_solref``, ``o_solimp`` and ``o_margin`` replace every contact's,
-    the written pair's too), contacts or constraints disabled.  docs/engines/mujoco.md lists what
-    the answer assumes.
+    (``density``, ``viscosity``); ``read_mujoco`` adds the joint forces of ``_joint_forces``.
+    Settings under which no tuned pair acts are refused (ValueError): the override flag
+    (``opt.o_solref``, ``o_solimp`` and ``o_margin`` replace every contact's, the written pair's
+    too), contacts or constraints disabled.  docs/engines/mujoco.md lists what the answer assumes.
     """
     mj = _mujoco()
     opt, out = model.opt, []
@@ -227,6 +227,26 @@ def unmodelled_settings(model):
     return tuple(out)
 
 
+def _joint_forces(model, J):
+    """Joint damping, springs and friction loss on the joints the contact row moves (``J != 0``)."""
+    mj = _mujoco()
+    moved = np.flatnonzero(np.abs(np.asarray(J)) > 1e-12 * max(1e-300, float(np.max(np.abs(J)))))
+    out = []
+    off = mj.mjtDisableBit
+    kinds = (("damping", model.dof_damping, off.mjDSBL_DAMPER),
+             ("frictionloss", model.dof_frictionloss, off.mjDSBL_FRICTIONLOSS),
+             ("stiffness", model.jnt_stiffness[model.dof_jntid], off.mjDSBL_SPRING))  # fmt: skip
+    for what, values, bit in kinds:
+        if model.opt.disableflags & bit:
+            continue
+        for dof in moved:
+            if values[dof] > 0.0:
+                joint = model.joint(int(model.dof_jntid[dof])).name or f"#{int(model.dof_jntid[dof])}"
+                out.append(f"joint {joint!r} {what} {float(values[dof]):g} acts in the contact and is not "
+                           "in the answer")  # fmt: skip
+    return tuple(out)
+
+
 def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     """``MechanismContact`` of ``pair`` in the MJCF/URDF ``model_path`` (see the module doc)."""
     mj = _mujoco()
@@ -241,6 +261,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     J = _gap_jacobian(model, data, g1, g2, point, normal)
     M = mass_matrix(model, data)
     m_eff, v, qv = approach(J, M, qvel, speed)
+    unmodelled += _joint_forces(model, J)
     tau_g = -np.array(data.qfrc_bias)  # at zero velocity: gravity only
     tau_f = _forces_tau(model, data, forces)
     data.qvel[:] = qv
