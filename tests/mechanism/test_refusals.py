@@ -173,3 +173,18 @@ def test_unreachable_at_the_step_exits_3_and_writes_nothing(mujoco, tmp_path, ca
         tune(PENDULUM, ("wall", "tip"), 0.9, qvel=[1.6], stiffness=3e5, forces={"arm": (-20.0, 0, 0)},
              timestep=2e-3)  # fmt: skip
     assert miss.value.nearest > 0.9 and 0.0 < miss.value.remedies["timestep"] < 2e-3
+
+
+def test_a_failed_write_names_the_users_path(tmp_path, monkeypatch):
+    """The atomic write's OSError (it names its temporary file) becomes one naming the output."""
+    from contactalpha.mechanism import write
+
+    def refuse(path, text):
+        raise PermissionError(13, "Permission denied", str(tmp_path / ".t.xml.atomic-1.tmp"))
+
+    monkeypatch.setattr(write, "write_text_atomic", refuse)
+    (tmp_path / "m.xml").write_text("<mujoco><contact/></mujoco>")
+    with pytest.raises(ValueError, match=re.escape(f"output = {str(tmp_path / 't.xml')!r} cannot be written: "
+                                                   "Permission denied")) as err:  # fmt: skip
+        write.write_mjcf(tmp_path / "m.xml", tmp_path / "t.xml", ("a", "b"), {})
+    assert ".tmp" not in str(err.value)
