@@ -84,7 +84,7 @@ def test_tune_warns_on_settings_the_answer_leaves_out(mujoco, tmp_path, option, 
     model = tmp_path / "m.xml"
     model.write_text(text.replace('integrator="Euler"/>', option))
     with pytest.warns(UnmodelledSettingWarning) as caught:
-        tune(model, PAIR, 0.5, qvel=[1.6], stiffness=1e4)
+        tune(model, PAIR, 0.5, qvel=[1.6], stiffness=1e4)  # no engine loop: the reduced model's answer
     assert [w for w in caught if words in str(w.message)] and len(caught) == 1
     with warnings.catch_warnings():
         warnings.simplefilter("error", UnmodelledSettingWarning)

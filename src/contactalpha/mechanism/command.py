@@ -45,6 +45,9 @@ def add_parser(make, number):
     t.add_argument("--discrete", choices=tuple(DISCRETE_CHOICES), default="auto",
                    help="the step map's phase-mean answer: where the law's misses by more than 1e-3 "
                    "(auto), always, or never")  # fmt: skip
+    t.add_argument("--no-engine-loop", action="store_true",
+                   help="MuJoCo: write the reduced model's answer without solving on the engine's own "
+                   "drops of the whole model (the default solves there)")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
     t.add_argument("--force-write", action="store_true",
@@ -79,7 +82,8 @@ def run(args, parser):
                 engine=args.engine, stiffness=args.stiffness, forces=_forces(args.force, parser),
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
                 check=args.check, timestep=args.timestep, refine=args.refine,
-                discrete=DISCRETE_CHOICES[args.discrete], force_write=args.force_write,
+                discrete=DISCRETE_CHOICES[args.discrete], engine_loop=not args.no_engine_loop,
+                force_write=args.force_write,
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None
@@ -91,9 +95,10 @@ def run(args, parser):
         shown = " ".join(f"{float(v):.12g}" for v in (value if isinstance(value, tuple) else (value,)))
         print(f"{result.engine + '.' + name:32s} {shown}")
     print("\n".join(f"# {line}" for line in result.notes))
-    print(f"written {result.output}")
+    print(f"written {result.output}" if result.output is not None else "# nothing written")
     if not result.reached:
-        print(f"contactalpha: unreachable: no damping reaches e_N {args.e_n} at the step; the law's answer "
-              f"written anyway (--force-write) to {result.output}", file=sys.stderr)  # fmt: skip
+        written = (f"written anyway (--force-write) to {result.output}" if result.output is not None
+                   else "nothing written (--force-write writes this answer anyway)")  # fmt: skip
+        print(f"contactalpha: unreachable: {result.unreachable}; {written}", file=sys.stderr)
         return EXIT_UNREACHABLE
     return 0

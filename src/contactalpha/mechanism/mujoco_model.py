@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from . import uris
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 
@@ -41,12 +42,20 @@ def _mujoco():
 
 
 def load_model(model):
-    """An ``MjModel`` from a file path (MJCF or URDF) or an MJCF string (starting with ``<``)."""
+    """An ``MjModel`` from a file path (MJCF or URDF), an MJCF string (starting with ``<``), or itself.
+
+    A URDF's ``package://`` mesh URIs are resolved by ``uris`` (``--package-path``, ``ROS_PACKAGE_PATH``,
+    or beside the file as PyBullet does).
+    """
     mj = _mujoco()
+    if isinstance(model, mj.MjModel):
+        return model
     text = str(model)
     try:
         if text.lstrip().startswith("<"):
             return mj.MjModel.from_xml_string(text)
+        if text.lower().endswith(".urdf") and uris.needs_resolving(text):
+            return mj.MjModel.from_xml_string(uris.resolved_text(text, uris.active()))
         return mj.MjModel.from_xml_path(text)
     except ValueError as err:
         raise ValueError(
@@ -284,7 +293,8 @@ def mujoco_drop(
 
     Parameters
     ----------
-    model : path or MJCF string.
+    model : path, MJCF string, or an ``MjModel`` (used as it is: ``pair_solref`` and ``timestep``
+        change it in place; ``engine_loop`` drops one loaded model at many phases).
     pair : (geometry 1, geometry 2).
     qpos, qvel : touchdown configuration and joint velocity.
     timestep : s (default the model's).

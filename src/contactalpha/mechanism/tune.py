@@ -22,13 +22,13 @@ from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
 from contactalpha.scene.law_scene import EngineScene
 from contactalpha.scene.parameters import contact_parameters
-from contactalpha.scene.reach import UnreachableTarget
 from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
+from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
@@ -48,7 +48,10 @@ class MassChangeWarning(UserWarning):
 
 
 class UnmodelledSettingWarning(UserWarning):
-    """A setting of the MuJoCo model changes the contact's e_N and the answer leaves it out."""
+    """A setting of the MuJoCo model changes the contact's e_N and the answer leaves it out.
+
+    Not given where the engine loop reached the target: its drops run the whole model.
+    """
 
 
 @dataclass(frozen=True)
@@ -112,7 +115,9 @@ class Tuning:
     that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``),
     ``discrete`` (``discrete.DiscreteAnswer`` of the engine's step map, or None where no step
     was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous),
-    ``reached``: False where no damping reaches the target at the step (``force_write``).
+    ``loop`` (``engine_loop.LoopAnswer`` of the engine loop, or None where it did not run),
+    ``reached`` (False where no damping reaches the target: at the step, or in the engine loop)
+    and ``unreachable`` (why, one line; "" where reached).
     """
 
     contact: object
@@ -126,13 +131,12 @@ class Tuning:
     drop: object = field(default=None, repr=False)
     discrete: object = None
     timestep: float | None = None
+    loop: object = None
     reached: bool = True
+    unreachable: str = ""
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
-    for setting in contact.engine_row.get("unmodelled", ()):
-        warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
-                      stacklevel=3)  # fmt: skip
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
     h = contact.engine_row["timestep"] if timestep is None else float(timestep)
@@ -203,17 +207,13 @@ def _wants_step(step, target, discrete):
 
 
 def _unreachable(step, target, discrete):
-    """``UnreachableTarget`` where the step's answer is wanted and no damping reaches it, else None."""
+    """Why no damping reaches the target at the step where its answer is wanted (one line), else ""."""
     if step is None or not _wants_step(step, target, discrete) or step.inverse.status == "ok":
-        return None
+        return ""
     inv = step.inverse
-    return UnreachableTarget(
-        f"no damping reaches e_N {target} at {step.engine}'s step {step.timestep:g} s ({inv.status}; "
-        f"nearest phase mean {inv.nearest:.6g}); largest step that reaches it: "
-        f"{inv.timestep_reachable:.3g} s; nothing written (--force-write, force_write=True, writes "
-        "the law's answer anyway)",
-        nearest=float(inv.nearest), remedies={"timestep": float(inv.timestep_reachable)},
-    )  # fmt: skip
+    return (f"no damping reaches e_N {target} at {step.engine}'s step {step.timestep:g} s ({inv.status}; "
+            f"nearest phase mean {inv.nearest:.6g}); largest step that reaches it: "
+            f"{inv.timestep_reachable:.3g} s")  # fmt: skip
 
 
 def _write_mujoco(contact, output, params):
@@ -352,7 +352,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
-    force_write=False,
+    engine_loop=False, force_write=False,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -379,12 +379,16 @@ def tune(
     discrete : None uses the phase-mean inverse of the engine's step map (``stepping``, at the
         contact's m_eff and load; ``discrete``) where the continuous answer's phase mean at the
         step misses the target by more than ``DISCRETE_TOL``; True always, False never.
-    force_write : where that answer is wanted and no damping reaches the target at the step,
-        ``tune`` raises ``scene.reach.UnreachableTarget`` and writes nothing; True writes the
-        law's answer anyway and returns it with ``reached`` False.
+    force_write : where no damping reaches the target (the step's answer is wanted and the map
+        reaches none, or the engine loop reaches none) ``tune`` writes nothing and returns the
+        answer with ``reached`` False and ``unreachable`` saying why; True writes it anyway.
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
+    engine_loop : solve the damping on the engine's own drops of the whole model at its step, over
+        the touchdown phase, from the reduced model's answer (``engine_loop``; MuJoCo), and name
+        what the reduced model leaves out with each part's share.  ``contactalpha tune`` runs it
+        by default; here it is off, for callers that tune many contacts.
 
     Returns
     -------
@@ -399,24 +403,48 @@ def tune(
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
     params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
     miss = _unreachable(step, target, discrete)
-    if miss is not None and not force_write:
-        raise miss
     if not contact.at_touch:
         notes.append(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
             "values are at it, not at first touch"
         )
-    written = t.write(contact, output, params, notes) if output is not None else None
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
-    result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h,
-                    reached=miss is None)  # fmt: skip
+    result = Tuning(contact, t.name, params, notes, None, details=details, discrete=step, timestep=h,
+                    reached=not miss, unreachable=miss)  # fmt: skip
+    if engine_loop:
+        result = _looped(result, target)
+    if result.loop is None or result.loop.status != "ok":  # the loop's drops include every setting
+        for setting in contact.engine_row.get("unmodelled", ()) if t.name == "mujoco" else ():
+            warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
+                          stacklevel=2)  # fmt: skip
+    if output is not None and (result.reached or force_write):
+        result = replace(result, output=t.write(contact, output, result.parameters, result.notes))
     if refine:
-        if t.name != "mujoco" or output is None:
-            raise ValueError("refine works with engine 'mujoco' and an output file")
+        if t.name != "mujoco" or result.output is None:
+            raise ValueError("refine works with engine 'mujoco' and an output file"
+                             + ("" if result.reached else f" (nothing written: {result.unreachable})"))
         result = _refined(result, target, timestep)
-    if check and t.drop:
-        result = _checked(result, timestep, refined=refine)
+    if check and t.drop and (result.reached or result.output is not None or t.name == "mujoco"):
+        result = _checked(result, timestep, refined=refine)  # unreached and unwritten: nothing to drop
     return result
+
+
+def _looped(result, target):
+    """``result`` with the engine loop's answer (MuJoCo), the file rewritten where it reached the target."""
+    if result.engine != "mujoco":
+        note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
+        return replace(result, notes=[*result.notes, note])
+    source = result.output if result.output is not None else _in_memory_mjcf(result)
+    answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
+    params = result.parameters
+    ok = answer.status == "ok"
+    if ok:
+        params = {**params, "solref": answer.solref}
+        if result.output is not None:
+            _write_mujoco(result.contact, result.output, params)
+    why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
+    return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
+                   unreachable=why)  # fmt: skip
 
 
 def _refined(result, target, timestep):

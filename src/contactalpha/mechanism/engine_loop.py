@@ -1,0 +1,374 @@
+"""The engine in the loop: a contact of the user's whole model tuned on the engine's own drops.
+
+The reduced model (``read_contact``: the effective mass, the free load, the engine's one-contact
+map) leaves out what the whole model does during the contact: joint damping, a leg folding (the
+effective mass moving), friction, joint limits, servo gains, other contacts.  Here MuJoCo itself
+runs the tuned model from touchdown at many touchdown phases, and the damping is solved on what
+it delivers.
+
+**The contact's e_N in a mechanism** is what a user measures in the engine: the rate of the pair's
+signed gap (the contact point's relative normal speed) where it first comes back through zero
+after touchdown, read off the parabola through the samples around the crossing
+(``crossing.rebound_speed``), over the gap's closing speed at the start of the drop.
+
+**Phases.** A drop starts ``phase`` of a step before touchdown on the free motion
+(``mujoco_model.mujoco_drop``); the phase is periodic (phase 1 is phase 0 one step earlier).  The
+mean over a uniform phase is sampled at the midpoints ``(i + 1/2) / N``: a rectangle rule on a
+periodic function, exact to rounding for a smooth e_N(phase) and off by at most about the jumps'
+sizes over N where one drop's step count changes.  Its error is estimated as half the difference
+of the two interleaved half-samples' means (each a rectangle rule of N/2 points, shifted by half
+their spacing), and N doubles from ``PHASES`` until that estimate is within ``PHASE_TOL``.
+
+**The solve.** Secant steps on the damping slot of the pair's ``solref`` (the stiffness kept) from
+the reduced model's answer (``adapters.base.refine``), each step one N-phase mean, to within
+``SOLVE_TOL`` of the target; the delivered mean at the root is then resampled to ``PHASE_TOL``.
+
+``explain`` names what the reduced model leaves out, with the share of each that can be switched
+off in the engine: the phase mean at the reduced model's parameters with it, minus without it.
+"""
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from contactalpha.adapters.base import refine
+from contactalpha.scene.stepped import phase_mean_error
+
+from .mujoco_model import geom_id, load_model, mujoco_drop
+
+# Touchdown phases of the first sample; doubled until the mean's error estimate is within PHASE_TOL.
+PHASES = 256
+MAX_PHASES = 4096
+# Error estimate of a phase mean at which its sampling stops (half the answer's 2e-4 budget).
+PHASE_TOL = 1e-4
+# |phase mean - target| at which the secant on the damping stops.
+SOLVE_TOL = 2e-5
+
+
+@dataclass(frozen=True)
+class PhaseMean:
+    """The engine's e_N over ``phases`` touchdown phases.
+
+    ``mean``, ``minimum``, ``maximum``, ``error`` (the estimate above), ``values`` (one per
+    phase), ``mass_change`` (the largest relative change of the effective mass over any drop's
+    contact) and ``failed`` (drops with no rebound: the mean is NaN).
+    """
+
+    mean: float
+    minimum: float
+    maximum: float
+    error: float
+    phases: int
+    values: np.ndarray = field(repr=False)
+    mass_change: float = math.nan
+    failed: int = 0
+
+
+def phase_grid(n):
+    """The ``n`` midpoint phases ``(i + 1/2) / n`` in [0, 1)."""
+    if int(n) < 2 or int(n) % 2:
+        raise ValueError(f"phases = {n!r} must be an even number >= 2")
+    return (np.arange(int(n)) + 0.5) / int(n)
+
+
+def _pair_rows(m, pair):
+    g1, g2 = (geom_id(m, name) for name in pair)
+    rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
+    if not rows:
+        raise ValueError(
+            f"the engine loop needs a <pair> of {pair[0]!r} and {pair[1]!r} in the model "
+            "(the file tune writes has one)"
+        )
+    return rows
+
+
+class MujocoLoop:
+    """The user's tuned MJCF loaded once in MuJoCo, dropped at many phases with any pair solref.
+
+    Parameters
+    ----------
+    model : the tuned MJCF (path or string) with a ``<pair>`` of the two geometries.
+    pair : (geometry 1, geometry 2).
+    qpos, qvel : the touchdown configuration and joint velocity.
+    timestep : the engine's step, s (default the model's).
+    forces : {body: (fx, fy, fz)} constant forces, N, world axes.
+    edit : a callable ``edit(MjModel)`` applied once after loading (``explain`` switches parts off).
+    """
+
+    def __init__(self, model, pair, qpos, qvel, *, timestep=None, forces=None, edit=None):
+        self.model = load_model(model)
+        if edit is not None:
+            edit(self.model)
+        self.pair = tuple(pair)
+        self.rows = _pair_rows(self.model, self.pair)
+        self.qpos = np.asarray(qpos, dtype=float)
+        self.qvel = np.asarray(qvel, dtype=float)
+        self.timestep = float(self.model.opt.timestep) if timestep is None else float(timestep)
+        self.forces = dict(forces or {})
+        self.solref = tuple(float(x) for x in self.model.pair_solref[self.rows[0]])
+        self.drops = 0
+
+    def drops_at(self, solref, phases):
+        """The ``MechanismDrop`` of each phase with the pair's ``solref``."""
+        self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
+        out = []
+        for phase in phases:
+            out.append(mujoco_drop(self.model, self.pair, self.qpos, self.qvel, timestep=self.timestep,
+                                   forces=self.forces, phase=float(phase)))  # fmt: skip
+        self.drops += len(out)
+        return out
+
+    def phase_mean(self, solref, phases=PHASES):
+        """``PhaseMean`` of the pair's e_N with ``solref`` at ``phases`` midpoint phases.
+
+        A drop that touched and did not come back through the surface within its second is
+        captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
+        drop that never touched makes the mean NaN: ``failed`` counts them.
+        """
+        drops = self.drops_at(solref, phase_grid(phases))
+        values = np.array([d.e_n if math.isfinite(d.e_n) or not d.steps else 0.0 for d in drops])
+        change = max((d.mass_change for d in drops if d.steps), default=math.nan)
+        failed = int(np.sum(~np.isfinite(values)))
+        if failed:
+            return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
+        half = phase_mean_error(values)
+        return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
+                         int(phases), values, float(change))  # fmt: skip
+
+    def converged_mean(self, solref, phases=PHASES, tol=PHASE_TOL):
+        """``phase_mean`` with N doubled from ``phases`` until its error estimate is within ``tol``."""
+        n = int(phases)
+        while True:
+            pm = self.phase_mean(solref, n)
+            if not math.isfinite(pm.mean) or pm.error <= tol or n >= MAX_PHASES:
+                return pm
+            n *= 2
+
+
+@dataclass(frozen=True)
+class LoopAnswer:
+    """The damping solved on the engine's drops.
+
+    ``solref`` the answer; ``delivered`` its ``PhaseMean``; ``reduced_solref`` and ``reduced`` the
+    reduced model's answer and what the engine delivers with it; ``status`` "ok", "unreachable"
+    (no damping >= 0 reaches the target: the nearest is ``delivered``), "not_converged" or
+    "failed" (drops without a rebound); ``iterations`` phase means of the secant; ``drops`` run;
+    ``seconds`` of CPU.
+    """
+
+    solref: tuple
+    delivered: PhaseMean
+    reduced_solref: tuple
+    reduced: PhaseMean
+    status: str
+    iterations: int
+    drops: int
+    seconds: float
+
+
+def solve_damping(loop, target, start, *, phases=PHASES, tol=PHASE_TOL, solve_tol=SOLVE_TOL):
+    """``LoopAnswer``: the pair's solref damping whose engine phase mean is ``target``.
+
+    Parameters
+    ----------
+    loop : MujocoLoop.
+    target : e_N in (0, 1).
+    start : the reduced model's solref (stiffness, damping slots; direct form, both <= 0).
+    phases, tol : the phase sampling (``MujocoLoop.converged_mean``).
+    solve_tol : |phase mean - target| at which the secant stops.
+    """
+    clock = time.process_time()
+    start = (float(start[0]), float(start[1]))
+    if not (start[0] < 0.0 and start[1] <= 0.0):
+        raise ValueError(f"solref = {start!r}: the engine loop solves the direct form (both slots <= 0)")
+    reduced = loop.converged_mean(start, phases, tol)
+    if not math.isfinite(reduced.mean):
+        return LoopAnswer(start, reduced, start, reduced, "failed", 0, loop.drops,
+                          time.process_time() - clock)  # fmt: skip
+    n, k = reduced.phases, start[0]
+    means = {-start[1]: reduced}
+
+    def e_n_of(b):
+        if b not in means:
+            means[b] = loop.phase_mean((k, -b), n)
+        return means[b].mean
+
+    ref = refine(e_n_of, target, -start[1], solve_tol, refine_tol=solve_tol)
+    b = ref.damping if math.isfinite(ref.damping) else 0.0
+    delivered = loop.converged_mean((k, -b), n, tol)
+    if delivered.phases > n and ref.status == "ok":  # the root needs more phases: solve again there
+        n = delivered.phases
+        means = {}
+        ref = refine(e_n_of, target, b, solve_tol, refine_tol=solve_tol)
+        b = ref.damping if math.isfinite(ref.damping) else 0.0
+        delivered = loop.converged_mean((k, -b), n, tol)
+    status = ref.status
+    if status == "ok" and not abs(delivered.mean - target) <= solve_tol + tol:
+        status = "not_converged"
+    return LoopAnswer((k, -b), delivered, start, reduced, status, len(means), loop.drops,
+                      time.process_time() - clock)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Part:
+    """A part of the whole model the reduced model leaves out, and how to switch it off in MuJoCo."""
+
+    name: str
+    present: object  # present(MjModel, pair rows) -> a description, or "" when the model has none
+    switch_off: object  # switch_off(MjModel, pair rows), in place
+
+
+def _damping(m, rows):
+    on = np.flatnonzero(np.asarray(m.dof_damping) > 0.0)
+    return f"{on.size} joints, up to {float(np.max(m.dof_damping)):.3g} N s/m" if on.size else ""
+
+
+def _friction(m, rows):
+    dims = sorted({int(m.pair_dim[r]) for r in rows})
+    return f"condim {dims[0]}" if dims[0] > 1 else ""
+
+
+def _limits(m, rows):
+    n = int(np.sum(np.asarray(m.jnt_limited) > 0))
+    return f"{n} limited joints" if n else ""
+
+
+def _actuators(m, rows):
+    servo = int(np.sum(np.any(np.asarray(m.actuator_biasprm) != 0.0, axis=1))) if m.nu else 0
+    return f"{servo} of {m.nu} actuators with gains at zero control" if servo else ""
+
+
+def _springs(m, rows):
+    n = int(np.sum(np.asarray(m.jnt_stiffness) > 0.0))
+    return f"{n} joints with springs" if n else ""
+
+
+def _others(m, rows):
+    n = int(np.sum((np.asarray(m.geom_contype) | np.asarray(m.geom_conaffinity)) > 0))
+    extra = m.npair - len(rows)
+    return f"{n} colliding geometries, {extra} other <pair>s" if n or extra else ""
+
+
+def _set(name, value):
+    def off(m, rows):
+        getattr(m, name)[:] = value
+
+    return off
+
+
+def _both(first, second):
+    def off(m, rows):
+        first(m, rows)
+        second(m, rows)
+
+    return off
+
+
+PARTS = (
+    Part("joint damping", _damping, _set("dof_damping", 0.0)),
+    Part("friction and the cone", _friction, lambda m, rows: m.pair_dim.__setitem__(rows, 1)),
+    Part("joint limits", _limits, _set("jnt_limited", 0)),
+    Part("actuators", _actuators, _both(_set("actuator_biasprm", 0.0), _set("actuator_gainprm", 0.0))),
+    Part("joint springs", _springs, _set("jnt_stiffness", 0.0)),
+    Part("other contacts", _others, _both(_set("geom_contype", 0), _set("geom_conaffinity", 0))),
+)
+
+
+@dataclass(frozen=True)
+class Share:
+    """A part's share of the gap.
+
+    ``part``: what the model has of it (``present``), and ``share``, the phase mean at the
+    reduced model's answer with it minus without it (NaN where switching it off loses the rebound).
+    """
+
+    part: str
+    present: str
+    share: float
+
+
+def explain(model, pair, qpos, qvel, solref, full, *, timestep=None, forces=None):
+    """The ``Share`` of each of ``PARTS`` the model has, at the reduced model's ``solref``.
+
+    ``full`` is the ``PhaseMean`` with everything on (its phase count is used for each part).
+    The parts' shares need not add up to the whole gap: the rest is the effective mass moving over
+    the contact, the step and the parts' interactions.
+    """
+    out = []
+    probe = load_model(model)
+    for part in PARTS:
+        rows = _pair_rows(probe, pair)
+        present = part.present(probe, rows)
+        if not present:
+            continue
+        loop = MujocoLoop(model, pair, qpos, qvel, timestep=timestep, forces=forces,
+                          edit=lambda m, p=part: p.switch_off(m, _pair_rows(m, pair)))  # fmt: skip
+        pm = loop.phase_mean(solref, full.phases)
+        out.append(Share(part.name, present, float(full.mean - pm.mean)))
+    return tuple(out)
+
+
+def base_of(model, geom):
+    """How the body of ``geom`` hangs from the world: "fixed", "floating (free joint)" or its root joints."""
+    m = load_model(model)
+    root = int(m.body_rootid[int(m.geom_bodyid[int(geom)])])
+    if root == 0:
+        return "fixed (the world)"
+    n = int(m.body_jntnum[root])
+    if n == 0:
+        return "fixed (the root body is welded to the world)"
+    kinds = [int(m.jnt_type[int(m.body_jntadr[root]) + i]) for i in range(n)]
+    if 0 in kinds:  # mjJNT_FREE
+        return "floating (free joint)"
+    return f"floating on {n} root joints (slide and hinge)"
+
+
+def loop_notes(answer, shares, target, timestep, bases):
+    """Text lines of an engine loop's answer and of what the reduced model leaves out."""
+    d, r = answer.delivered, answer.reduced
+    lines = [
+        f"engine loop (MuJoCo, the whole model at its step {timestep:g} s, {d.phases} touchdown phases): "
+        f"{answer.status}; solref[1] = {answer.solref[1]:.9g}; mean e_N {d.mean:.6g} (sampling error "
+        f"estimate {d.error:.2g}), one drop {d.minimum:.6g} to {d.maximum:.6g}; {answer.iterations} phase "
+        f"means, {answer.drops} drops, {answer.seconds:.1f} s of CPU",
+        f"reduced model (m_eff, free load, the one-contact map) solref[1] = {answer.reduced_solref[1]:.9g} "
+        f"for {target:g}: MuJoCo delivers {r.mean:.6g} with it (gap {r.mean - target:+.4f})",
+        f"base: {' / '.join(dict.fromkeys(bases))}",
+    ]
+    if shares:
+        parts = "; ".join(f"{s.part} ({s.present}) {s.share:+.4f}" for s in shares)
+        rest = (r.mean - target) - sum(s.share for s in shares)
+        lines.append(
+            f"what the reduced model leaves out (phase mean with the part minus without): {parts}; "
+            f"the rest {rest:+.4f} (the effective mass moving by up to {r.mass_change:.3g} over the "
+            "contact, the parts' interactions)"
+        )
+    if answer.status == "unreachable":
+        lines.append(f"no damping >= 0 reaches e_N {target:g} in MuJoCo: the nearest mean is {d.mean:.6g}")
+    elif answer.status != "ok":
+        lines.append(f"the engine loop did not converge ({answer.status}): the reduced model's answer kept")
+    return lines
+
+
+def in_engine(source, contact, solref, target, timestep):
+    """``(LoopAnswer, shares, notes)`` of the tuned MJCF ``source`` (path or text) in MuJoCo.
+
+    Refuses a configuration not at first touch: the drops start at the touchdown state.
+    """
+    if not contact.at_touch:
+        raise ValueError(
+            f"the engine loop starts its drops at first touch; the pair is {contact.gap:.3g} m apart at "
+            "this configuration: give the configuration of touch (qpos)"
+        )
+    c = contact
+    loop = MujocoLoop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
+    answer = solve_damping(loop, target, solref)
+    shares = ()
+    if math.isfinite(answer.reduced.mean):
+        shares = explain(source, c.pair, c.qpos, c.qvel, answer.reduced_solref, answer.reduced,
+                         timestep=loop.timestep, forces=c.forces)  # fmt: skip
+    m = loop.model
+    bases = [base_of(m, geom_id(m, g)) for g in contact.pair]
+    return answer, shares, loop_notes(answer, shares, target, loop.timestep, bases)
