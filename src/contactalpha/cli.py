@@ -2,21 +2,50 @@
 
 Every subcommand takes the restitution the same way (``--eps`` or ``--e-n``, or ``--kinematic``),
 and its options before or after the subcommand's name; ``-h`` shows examples.
+
+Building the parser imports no kernel (no numba, no SciPy): what ``--help`` shows comes from the
+leaf ``contactalpha.defaults`` and the subcommands' parser modules, and each handler imports what
+it runs.
 """
 
 import argparse
+import importlib.util
 import math
 import os
 import re
 import sys
+from pathlib import Path
 
-from contactalpha.adapters.registry import ENGINE_NAMES, adapter
 from contactalpha.calibration import command as calibrate_command
-from contactalpha.engine.driver import ATOL, RTOL, impact
-from contactalpha.engine.solver import EPS_TOL, solve_alpha
-from contactalpha.mechanism import command as tune_command
-from contactalpha.scene.reach import EXIT_UNREACHABLE, UnreachableTarget
+from contactalpha.defaults import (
+    ATOL,
+    ENGINE_LAWS,
+    ENGINE_NAMES,
+    EPS_TOL,
+    EXIT_UNREACHABLE,
+    RTOL,
+    STIFFNESS_UNITS,
+)
 from contactalpha.version import __version__
+
+
+def _parser_module(name):
+    """The parser module ``contactalpha.<name>``, loaded without its package's ``__init__``.
+
+    ``contactalpha.mechanism`` imports every engine's model reader when it loads; its ``command``
+    module (the ``tune`` subcommand's parser) needs none of them until it runs.
+    """
+    if name in sys.modules:
+        return sys.modules[name]
+    path = Path(__file__).parent.joinpath(*name.split(".")[1:]).with_suffix(".py")
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+tune_command = _parser_module("contactalpha.mechanism.command")
 
 
 def _number(text):
@@ -69,14 +98,11 @@ FORCE_HELP = (
 
 
 def stiffness_help():
-    """How ``params`` reads --stiffness, from the registries: physical, the unit of each law's k."""
-    from contactalpha.adapters.registry import ADAPTERS
-    from contactalpha.laws import LAWS
-
+    """How ``params`` reads --stiffness (from ``defaults``): physical, the unit of each law's k."""
     parts = []
-    for unit in dict.fromkeys(law.stiffness_unit for law in LAWS):
-        laws = ", ".join(law.name for law in LAWS if law.stiffness_unit == unit)
-        engines = ", ".join(a.name for a in ADAPTERS if a.law.stiffness_unit == unit)
+    for unit in dict.fromkeys(STIFFNESS_UNITS.values()):
+        laws = ", ".join(law for law, u in STIFFNESS_UNITS.items() if u == unit)
+        engines = ", ".join(e for e, law in ENGINE_LAWS.items() if STIFFNESS_UNITS[law] == unit)
         parts.append(f"{unit} for {laws} (engines {engines or 'none'})")
     return (
         "the contact law's physical stiffness k: " + "; ".join(parts) + "; never per unit mass (MuJoCo's "
@@ -273,16 +299,22 @@ def main(argv=None):
         # stdout at devnull so that Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except UnreachableTarget as exc:
-        # No damping reaches the target: the nearest reachable one and the remedy, one line.
-        print(f"contactalpha: unreachable: {' '.join(str(exc).split())}", file=sys.stderr)
-        return EXIT_UNREACHABLE
     except (ValueError, RuntimeError, OSError, ImportError) as exc:
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        if _unreachable(exc):
+            # No damping reaches the target: the nearest reachable one and the remedy, one line.
+            print(f"contactalpha: unreachable: {message}", file=sys.stderr)
+            return EXIT_UNREACHABLE
         # Bad input, a failed solve, a file that cannot be written, an optional engine not
         # installed (its message says how to install it): one line, never a traceback.
-        message = " ".join(str(exc).split()) or type(exc).__name__
         print(f"contactalpha: error: {message}", file=sys.stderr)
         return 2
+
+
+def _unreachable(exc):
+    """True for ``scene.reach.UnreachableTarget`` (only a loaded ``reach`` can have raised one)."""
+    reach = sys.modules.get("contactalpha.scene.reach")
+    return reach is not None and isinstance(exc, reach.UnreachableTarget)
 
 
 def _check_config(args, parser):
@@ -323,10 +355,10 @@ def _export_c(args, parser):
 
 def _print_engine(args, value, restitution):
     """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
+    from contactalpha.adapters.registry import adapter
     from contactalpha.io import json_text
-    from contactalpha.scene.engine_params import engine_block, format_block
-
     from contactalpha.progress import Progress
+    from contactalpha.scene.engine_params import engine_block, format_block
 
     if args.refine:
         label = f"contactalpha: refining on {args.engine}'s drops"
@@ -350,8 +382,9 @@ def _print_engine(args, value, restitution):
 
 
 def _params(args, parser):
-    from contactalpha.io import json_text
     from contactalpha.adapters.engine_conventions import UNIT_NOTES
+    from contactalpha.adapters.registry import adapter
+    from contactalpha.io import json_text
     from contactalpha.scene.parameters import contact_parameters
     from contactalpha.scene.result import as_plain_data, format_parameters
 
@@ -403,6 +436,8 @@ def _warmup(args, parser):
 
 
 def _alpha(args, parser):
+    from contactalpha.engine.solver import solve_alpha
+
     value, restitution = _restitution(args, parser)
     xi = [v for v in (args.xi_positional, args.xi) if v is not None]
     if len(xi) != 1:
@@ -419,6 +454,8 @@ def _alpha(args, parser):
 
 
 def _impact(args, parser):
+    from contactalpha.engine.driver import impact
+
     r = impact(args.alpha, args.xi, rtol=args.rtol, atol=args.atol)
     print(f"eps          {r.eps:.15g}")
     print(f"e_N          {r.e_n:.15g}")

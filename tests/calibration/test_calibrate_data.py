@@ -85,6 +85,32 @@ def test_semicolons_with_decimal_commas_are_read(tmp_path):
     assert read_drop(path).values == pytest.approx([0.0, 0.5, 0.9, 1.22, 1.48, 1.69], rel=1e-15)
 
 
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        # Sniffed as comma-separated: every number split in two, its integer part read as the time.
+        (
+            "t\n-0,012\n0,003\n0,5\n0,9\n1,22\n1,48\n",
+            r"row 1 '-0,012' has 2 comma-separated cells and the header 1: decimal commas\?",
+        ),
+        (
+            "t (s),note\n0,0,a\n0,5,b\n0,9,c\n1,22,d\n1,48,e\n",
+            r"row 1 '0,0,a' has 3 .* header 2: decimal commas\?",
+        ),
+        (
+            't\n"0,0"\n"0,5"\n"0,9"\n"1,22"\n"1,48"\n',
+            r"row 1, column 't': '0,0' is not a number: a decimal comma\?",
+        ),
+    ],
+)
+def test_decimal_commas_in_a_comma_separated_file_are_named(tmp_path, text, message):
+    path = tmp_path / "drop.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message) as info:
+        read_drop(path)
+    assert "separate the columns with ';' or a tab" in str(info.value)
+
+
 def test_one_millisecond_jitter_is_accepted_but_a_missed_impact_is_not():
     from contactalpha.calibration import hypotheses, sequence
     from contactalpha.calibration.data import check_times

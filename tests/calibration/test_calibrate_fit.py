@@ -77,6 +77,25 @@ def test_heights_with_one_percent_noise():
     assert null.fixed == ("stiffness",) and null.p == 2
 
 
+def test_sigma_is_the_residual_standard_error_of_an_independent_linear_fit():
+    # constant_e on heights is a linear model: log h_k = log(v0^2 / 2g) + 2 k log e (stiffness held).
+    # NumPy's least squares on it gives the residuals; sigma = sqrt(RSS / (n - p)), p = 2.
+    rng = np.random.default_rng(3)
+    k = np.arange(12)
+    noisy = V0**2 / (2 * G) * EPS ** (2 * k) * np.exp(rng.normal(0.0, 0.01, k.size))
+    f = fit_hypothesis(
+        hypotheses.HYPOTHESES["constant_e"],
+        from_arrays("heights", values=noisy),
+        Setup(M, G),
+        intervals=False,
+    )
+    coef, rss, *_ = np.linalg.lstsq(np.column_stack([np.ones(k.size), k]), np.log(noisy), rcond=None)
+    assert f.values["e"] == pytest.approx(np.exp(coef[1] / 2), rel=1e-7)
+    assert (f.n, f.p) == (12, 2)
+    assert f.rss == pytest.approx(rss[0], rel=1e-6)
+    assert f.sigma == pytest.approx(np.sqrt(rss[0] / (12 - 2)), rel=1e-6)
+
+
 def test_tracked_trajectory():
     rng = np.random.default_rng(10)
     s = _sequence(contacts=40)

@@ -1,5 +1,7 @@
 """The Python twins of the scalar kernels give the compiled kernels' numbers, bit for bit."""
 
+import types
+
 import numpy as np
 import pytest
 from numba import njit
@@ -68,8 +70,24 @@ def test_first_call_interprets_then_compiles_once(monkeypatch, capsys):
     assert twice.signatures and fc.compiled
     err = capsys.readouterr().err
     assert "compiling numba kernels on first use" in err and "twice compiled in" in err
+    assert err.index("compiling twice ...") < err.index("twice compiled in")
     assert fc(16.0) == 8.0
     assert capsys.readouterr().err == ""  # said once
+
+
+def test_a_compile_is_announced_when_it_starts(monkeypatch, capsys):
+    def kernel():
+        pass
+
+    kernel.__module__ = "contactalpha.somewhere"
+    ev = types.SimpleNamespace(data={"dispatcher": types.SimpleNamespace(py_func=kernel)})
+    monkeypatch.setattr(firstcall.NOTICE, "said", True)  # not the first compile of the process
+    firstcall.NOTICE.on_start(ev)
+    try:
+        assert capsys.readouterr().err == "contactalpha:   compiling kernel ...\n"  # before it ends
+    finally:
+        firstcall.NOTICE.on_end(ev)
+    assert capsys.readouterr().err.startswith("contactalpha:   kernel compiled in ")
 
 
 def test_compiled_only_compiles_silently(capsys):

@@ -2,29 +2,28 @@
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from contactalpha.adapters.engine_conventions import opensim_dissipation
-from contactalpha.adapters.registry import ADAPTERS
 from contactalpha.laws import get_law
 from contactalpha.scene.ball import GRAVITY
-from contactalpha.scene.law_scene import EngineScene
-from contactalpha.scene.parameters import LAW
-from contactalpha.scene.result import block_lines
 from contactalpha.validation import check_positive, check_range, renamed_keywords
 
 from . import data as data_mod
 from . import family  # noqa: F401  (registers the contact-law family's laws)
 from .band import METHOD
+from .engines import engine_lines, engine_parameters
 from .fit import LEVEL, Setup, fit_hypothesis
 from .hypotheses import HYPOTHESES, hypothesis_names
 
 # Laws whose AIC is more than this above the best get no intervals (their Akaike weight is below
 # 5e-5: intervals of a law the data reject would only cost time).
 INTERVAL_AIC_GAP = 20.0
+# Laws whose AIC is within this of the lowest tie with it (Burnham and Anderson's "substantial
+# support", an Akaike weight ratio above exp(-1) = 0.37): the report names a tie, not a choice.
+TIE_AIC_GAP = 2.0
 
 
 @dataclass
@@ -38,6 +37,8 @@ class Calibration:
     radius : m, or None.
     fits : law name -> fit.LawFit, in the order asked.
     selected : name of the law with the lowest AIC.
+    tied : the laws within ``TIE_AIC_GAP`` of the lowest AIC, lowest first (the selected one alone
+        when no other is that close): two or more are a tie, which the report prints as one.
     weights : law name -> Akaike weight (relative likelihood of the laws asked).
     engines : law name -> engine parameters (``engine_parameters``).
     notes : what was done to the data before the fit (a cap on the observations).
@@ -51,6 +52,7 @@ class Calibration:
     weights: dict
     engines: dict
     notes: list = field(default_factory=list)
+    tied: list = field(default_factory=list)
 
     @property
     def best(self):
@@ -73,6 +75,8 @@ class Calibration:
             "interval_method": "profile likelihood, F(1, n - p) threshold",
             "selected": self.selected,
             "selection": "lowest AIC = n log(RSS/n) + 2 (p + 1)",
+            "tied": self.tied,
+            "tie_aic_gap": TIE_AIC_GAP,
             "laws": {
                 name: _fit_dict(f, self.weights[name], self.engines[name]) for name, f in self.fits.items()
             },
@@ -146,57 +150,6 @@ def stiffness_from_moduli(radius, moduli, poisson=(0.0, 0.0)):
         check_range(name, nu, -1.0, 0.5, lo_open=True, hi_open=True)
     e1, e2 = float(check_positive("moduli[0]", e1)), float(check_positive("moduli[1]", e2))
     return float(hertz_stiffness(e1, float(n1), float(radius), modulus_2=e2, poisson_2=float(n2)))
-
-
-def engine_parameters(fit, setup, radius=None):
-    """Inputs of the engines that run the fitted law, at its first impact, in each engine's units.
-
-    Only engines whose contact law is the fitted law's (``hypotheses.Law.contact_law``: OpenSim and
-    Exudyn for the Hunt-Crossley n = 3/2 laws, MuJoCo for ``mujoco_soft_damping``, Drake for
-    ``hunt_crossley_linear_damping``, PyBullet for ``kelvin_voigt_damping``) are listed; each
-    block is the adapter's own (``adapters.contract.EngineAdapter.parameters``), with the fit's
-    given settings (MuJoCo's impedance).  A law whose damping is a constant of the material holds
-    for every bounce; the others hold for the first impact's approach speed only.
-    """
-    s = fit.sequence
-    law = HYPOTHESES[fit.law]
-    v1, e1 = float(s.v_in[0]), float(s.e_n[0])
-    if not (s.v_out.size and e1 > 0.0):
-        return {"status": "the first contact does not separate: no restitution to convert"}
-    damping, stiffness = law.engine_inputs(fit.values, setup.mass, setup.accel, v1)
-    scene = EngineScene(setup.mass, float(stiffness), v1, radius)
-    contact_law = get_law(law.contact_law)
-    given = {name: fit.values[name] for name in fit.given}
-    engines = {
-        a.name: a.parameters(float(damping), scene, **_settings(a, given))
-        for a in ADAPTERS
-        if a.law.name == contact_law.name
-    }
-    out = {
-        "at_approach_speed": v1,
-        "e_n": e1,
-        "contact_law": contact_law.name,
-        contact_law.damping: float(damping),
-        **given,
-        "engines": engines,
-        "note": f"{contact_law.damping} (and the engines' damping) hold for this approach speed; "
-        "reset them per impact",
-    }
-    if law.constant_damping:
-        out["note"] = "constant damping: the engines' damping holds for every bounce"
-    if not engines:
-        out["note"] = f"no engine adapter runs {contact_law.name}; its damping {contact_law.damping} is above"
-    if "damping" in fit.values and contact_law.name == LAW:
-        d = fit.values["damping"]
-        out["opensim_constant_dissipation"] = float(opensim_dissipation(d * v1, v1))
-        out["note"] = "constant damping: OpenSim's dissipation holds for every bounce"
-    return out
-
-
-def _settings(adapter, given):
-    """``{"settings": ...}`` carrying the fit's given settings into an adapter that has them."""
-    mine = {k: v for k, v in given.items() if hasattr(adapter.settings, k)}
-    return {"settings": replace(adapter.settings, **mine)} if mine else {}
 
 
 def _as_data(source, kind, t, tolerance):
@@ -317,8 +270,10 @@ def calibrate(
     rel = np.exp(-0.5 * (aic - aic.min()))
     weights = dict(zip(names, (rel / rel.sum()).tolist(), strict=True))
     selected = names[int(np.argmin(aic))]
+    tied = sorted((n for n in names if fits[n].aic - best_aic < TIE_AIC_GAP), key=lambda n: fits[n].aic)
+    say("engine inputs, each checked at its engine's default step")
     engines = {n: engine_parameters(fits[n], setup, radius) for n in names}
-    return Calibration(d, setup, radius, fits, selected, weights, engines, [note] if note else [])
+    return Calibration(d, setup, radius, fits, selected, weights, engines, [note] if note else [], tied)
 
 
 def _given(names, impedance):
@@ -345,7 +300,9 @@ def format_calibration(cal):
     lines = [f"{cal.data.kind}: {cal.data.count} observations from {cal.data.source}"]
     lines += [f"note: {n}" for n in cal.notes]
     for name, f in cal.fits.items():
-        mark = "*" if name == cal.selected else " "
+        # "*" the selected law; "=" each law of a tie (within TIE_AIC_GAP of the lowest AIC).
+        tie = len(cal.tied) > 1
+        mark = ("=" if name in cal.tied else " ") if tie else ("*" if name == cal.selected else " ")
         lines.append(
             f"{mark} {name:12s} AIC {f.aic:10.2f}  BIC {f.bic:10.2f}  sigma {f.sigma:.3g}  {f.status}"
         )
@@ -361,9 +318,18 @@ def format_calibration(cal):
             unit = units.get(key, "1")
             lines.append(f"    {key:10s} {value:.6g} {'' if unit == '1' else unit}  {span}{held}")
         lines += _e_n_lines(f)
-        lines += _engine_lines(cal.engines[name])
-    lines.append(f"selected: {cal.selected} (lowest AIC)")
+        lines += engine_lines(cal.engines[name])
+    lines.append(_selection_line(cal))
     return "\n".join(lines)
+
+
+def _selection_line(cal):
+    if len(cal.tied) < 2:
+        return f"selected: {cal.selected} (lowest AIC)"
+    return (
+        f"selected: none, a tie: {', '.join(cal.tied)} are within {TIE_AIC_GAP:g} of the lowest AIC "
+        f"({cal.selected}'s): the data do not tell them apart"
+    )
 
 
 def _e_n_lines(f):
@@ -385,14 +351,3 @@ def _e_n_lines(f):
         band = f"  [{lo[i]:.6f}, {hi[i]:.6f}]" if np.isfinite([lo[i], hi[i]]).all() else ""
         out.append(f"      contact {i + 1:3d}  v- {v[i]:.6g} m/s  e_N {e[i]:.6f}{band}")
     return out
-
-
-def _engine_lines(eng):
-    if "engines" not in eng:
-        return [f"    engines: {eng.get('status', '')}"]
-    out = [f"    {line}" for engine, block in eng["engines"].items() for line in block_lines(engine, block)]
-    if "opensim_constant_dissipation" in eng:
-        out.append(
-            f"    {'opensim.dissipation (all bounces)':32s} {eng['opensim_constant_dissipation']:.10g}"
-        )
-    return out + [f"    # {eng['note']}"]

@@ -3,7 +3,8 @@
 Three kinds, told apart by the CSV's column names (case-insensitive; other columns are ignored).
 A unit in brackets or parentheses after a name is honoured: ``t (ms)``, ``h [cm]`` (``UNITS``
 lists them; an unknown one is refused).  Comma, semicolon and tab separated files are read; in a
-semicolon or tab separated file a decimal comma (``0,125``) is read as a decimal point.
+semicolon or tab separated file a decimal comma (``0,125``) is read as a decimal point; in a
+comma-separated one it would split every number in two, and is refused by name.
 
 ``times``
     Column ``t``: the time of each impact (touchdown), s, one row per impact, in order; or
@@ -49,6 +50,12 @@ UNITS = {
 }
 COLUMN_QUANTITY = {"t": "time", "dt": "time", "h": "length", "z": "length"}
 _UNIT = re.compile(r"\s*[\(\[](.*)[\)\]]\s*$")
+# A number written with a decimal comma (0,125; -1,5).
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+$")
+DECIMAL_COMMA_FIX = (
+    "in a comma-separated file write decimal points (0.125), or separate the columns with ';' or a tab "
+    "(a decimal comma is then read)"
+)
 
 
 @dataclass(frozen=True)
@@ -102,7 +109,8 @@ def _floats(rows, column, header, decimal_comma=False):
             out[i] = float(cell.replace(",", ".") if decimal_comma else cell) * scale
         except (ValueError, IndexError):
             cell = row[column] if column < len(row) else ""
-            raise ValueError(f"row {i + 1}, column {header!r}: {cell!r} is not a number") from None
+            hint = f": a decimal comma? {DECIMAL_COMMA_FIX}" if _DECIMAL_COMMA.match(cell.strip()) else ""
+            raise ValueError(f"row {i + 1}, column {header!r}: {cell!r} is not a number{hint}") from None
     return out
 
 
@@ -246,6 +254,8 @@ def read_drop(path, interval_tolerance=None):
     if not rows:
         raise ValueError(f"{path}: empty file")
     header, body = rows[0], rows[1:]
+    if dialect.delimiter == ",":
+        _refuse_split_decimals(path, header, body)
     keys = {_column_key(h): i for i, h in reversed(list(enumerate(header)))}
     name = str(path)
     comma = dialect.delimiter in ";\t"
@@ -269,6 +279,20 @@ def read_drop(path, interval_tolerance=None):
         f"{path}: no known columns in the header {header!r}; expected 't' (impact times), 'dt' "
         "(intervals), 'h' (drop and apex heights) or 't' and 'z' (trajectory)"
     )
+
+
+def _refuse_split_decimals(path, header, body):
+    """ValueError if a row of a comma-separated file has more cells than the header, digits among them.
+
+    Decimal commas in a comma-separated file split every number in two (``0,125`` -> ``0``, ``125``):
+    read as they stand, the times would be their integer parts.
+    """
+    for i, row in enumerate(body):
+        if len(row) > len(header) and any(c.strip().isdigit() for c in row[1:]):
+            raise ValueError(
+                f"{path}: row {i + 1} {','.join(row)!r} has {len(row)} comma-separated cells and the header "
+                f"{len(header)}: decimal commas? {DECIMAL_COMMA_FIX}"
+            )
 
 
 # Most observations fitted: impact times and heights beyond these are the slowest bounces, each

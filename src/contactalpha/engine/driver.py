@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from contactalpha.defaults import ATOL, RTOL
 from contactalpha.validation import (
     PLAIN_FLOATS,
     FloatOrArray,
@@ -44,10 +45,7 @@ from .kernel import impact_kernel
 from .scaling import scaled_load, scaled_load_unchecked
 from .threads import flat_owned, run_rows
 
-# Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
-# over the paper's domain, which the alpha root-finder needs for 1e-10.
-RTOL = 1e-12
-ATOL = 1e-14
+# Default tolerances (their home is the leaf ``contactalpha.defaults``, which --help reads).
 # Step budget of one impact; the stiff ridge (alpha ~ 1e4) needs ~1e5.
 MAX_STEPS = 2_000_000
 

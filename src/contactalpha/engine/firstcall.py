@@ -122,7 +122,7 @@ class CompileNotice(event.Listener):
         return module.startswith("contactalpha.") or dispatcher in self.announced
 
     def on_start(self, ev):
-        """A compile starts: the first line once, and the clock of a top-level kernel."""
+        """A compile starts: the first line once, the kernel's name now, and its clock."""
         self.depth += 1
         if self.depth == 1 and _INTERPRET[0] and self.ours(ev.data["dispatcher"]):
             if not self.said:
@@ -133,6 +133,9 @@ class CompileNotice(event.Listener):
                     file=sys.stderr,
                     flush=True,
                 )
+            # Said as it starts: a compile can take minutes on a loaded machine.
+            name = ev.data["dispatcher"].py_func.__name__
+            print(f"contactalpha:   compiling {name} ...", file=sys.stderr, flush=True)
             self.started = time.perf_counter()
 
     def on_end(self, ev):

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from contactalpha.defaults import EPS_TOL
 from contactalpha.validation import (
     PLAIN_FLOATS,
     RESTITUTIONS,
@@ -96,8 +97,8 @@ from .scaling import scaled_load, scaled_load_unchecked
 from .table import EPS_MIN, XI_MAX, alpha_from_table, kinematic_alpha_from_table
 from .threads import flat_owned, run_rows
 
-# Default absolute tolerance on the restitution coefficient reached, and the loosest accepted.
-EPS_TOL = 1e-12
+# Default absolute tolerance on the restitution coefficient reached (its home: ``defaults``), and
+# the loosest accepted.
 TOL_MAX = 1e-3
 # Relative width of the final bracket around the onset alpha (eps = 0).
 ONSET_RTOL = 1e-11

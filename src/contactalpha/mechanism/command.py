@@ -15,7 +15,7 @@ EXAMPLES = (
 
 def add_parser(make, number):
     """Add the ``tune`` subcommand: ``make(name, help)`` gives its parser, ``number`` parses floats."""
-    from .tune import TUNER_NAMES
+    from contactalpha.defaults import TUNER_NAMES  # a leaf: --help imports no kernel
 
     t = make("tune", "tune a contact of an MJCF/URDF/SDF model for Newton's e_N and write it back")
     t.add_argument("model", help="the model file (MJCF .xml, URDF .urdf, SDF .sdf); never overwritten")

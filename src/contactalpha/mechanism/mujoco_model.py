@@ -256,6 +256,32 @@ def _joint_forces(model, J):
     return tuple(out)
 
 
+def other_contacts(model, data, g1, g2, margin=ROW_MARGIN):
+    """``("a/b", ...)``: the contacts other than the pair's active at ``data``'s configuration.
+
+    Every geometry's margin is raised by ``margin`` (m) in memory for the look, so that a body
+    resting exactly on another (the stack's lower sphere on the floor) is found.
+    """
+    mj = _mujoco()
+    saved = model.geom_margin.copy(), model.pair_margin.copy()
+    model.geom_margin[:] = saved[0] + margin
+    model.pair_margin[:] = saved[1] + margin
+    try:
+        mj.mj_forward(model, data)
+        found = []
+        for i in range(data.ncon):
+            a, b = (int(x) for x in data.contact[i].geom)
+            if {a, b} == {g1, g2}:
+                continue
+            names = [mj.mj_id2name(model, mj.mjtObj.mjOBJ_GEOM, g) or f"geom {g}" for g in (a, b)]
+            found.append("/".join(names))
+        return tuple(dict.fromkeys(found))
+    finally:
+        model.geom_margin[:] = saved[0]
+        model.pair_margin[:] = saved[1]
+        mj.mj_forward(model, data)
+
+
 def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     """``MechanismContact`` of ``pair`` in the MJCF/URDF ``model_path`` (see the module doc)."""
     mj = _mujoco()
@@ -267,6 +293,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
         raise ValueError(f"pair = {tuple(pair)!r} names one geometry twice")
     set_state(model, data, qpos, None)
     point, normal, gap, row = contact_row(model, data, g1, g2)
+    row["other_contacts"] = other_contacts(model, data, g1, g2)
     J = _gap_jacobian(model, data, g1, g2, point, normal)
     M = mass_matrix(model, data)
     m_eff, v, qv = approach(J, M, qvel, speed)
@@ -320,7 +347,7 @@ def mujoco_drop(
     for body, force in (forces or {}).items():
         d.xfrc_applied[mj.mj_name2id(m, mj.mjtObj.mjOBJ_BODY, str(body))] = (*force, 0.0, 0.0, 0.0)
     speed0 = -float(_gap_rate_at_start(m, d.qpos, d.qvel, g1, g2))
-    _back_in_time(m, d, float(phase) * float(m.opt.timestep))
+    _back_in_time(m, d, float(phase) * float(m.opt.timestep), g1, g2)
     h = float(m.opt.timestep)
     nmax = int(math.ceil(duration / h))
     gaps, inv_masses = [], []
@@ -344,16 +371,25 @@ def mujoco_drop(
     return MechanismDrop.of(exit_speed / speed0, exit_speed, t_exit, inv_masses, h)
 
 
-def _back_in_time(m, d, tc):
+def _back_in_time(m, d, tc, g1, g2):
     """Move ``d`` back by ``tc`` on its free motion; store the velocity of half a step earlier.
 
     Semi-implicit Euler (``qvel += h qacc``, then the positions with the new ``qvel``) keeps its
     positions on the free motion when the stored velocity is the one half a step before the
-    stored position's time (``stepping.flight.touchdown_state``).
+    stored position's time (``stepping.flight.touchdown_state``).  The free motion is the
+    mechanism's with every constraint but the pair's contact: a body resting on a support (the
+    stack's lower sphere) stays on it.  The pair's ``<pair>`` rows are switched off for that by a
+    margin of -1 m; where the model has none, the pair's own contact at touch carries no force.
     """
     mj = _mujoco()
-    mj.mj_forward(m, d)
-    qacc = np.array(d.qacc_smooth)
+    rows = [i for i in range(m.npair) if {int(m.pair_geom1[i]), int(m.pair_geom2[i])} == {g1, g2}]
+    saved = m.pair_margin[rows].copy()
+    m.pair_margin[rows] = -1.0
+    try:
+        mj.mj_forward(m, d)
+        qacc = np.array(d.qacc)
+    finally:
+        m.pair_margin[rows] = saved
     h = float(m.opt.timestep)
     mean = np.array(d.qvel) - 0.5 * tc * qacc
     qpos = np.array(d.qpos)

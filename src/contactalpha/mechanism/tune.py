@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from contactalpha import defaults
 from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
@@ -41,6 +42,10 @@ MASS_CHANGE_WARN = 0.01
 DRAKE_SAMPLES = 1000
 # |delivered - target| at which refining on the engine's drop stops.
 REFINE_TOL = 2e-4
+
+
+class OtherContactsWarning(UserWarning):
+    """Contacts other than the pair's are active at the configuration: the reduced model leaves them out."""
 
 
 class MassChangeWarning(UserWarning):
@@ -331,6 +336,8 @@ TUNERS = (
     Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, True),
 )
 TUNER_NAMES = tuple(t.name for t in TUNERS)
+if TUNER_NAMES != defaults.TUNER_NAMES:  # what `tune --help` lists without importing us
+    raise ImportError(f"contactalpha.defaults.TUNER_NAMES is not {TUNER_NAMES}: update it")
 
 
 def _tuner(engine, model):
@@ -408,6 +415,14 @@ def tune(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
             "values are at it, not at first touch"
         )
+    others = contact.engine_row.get("other_contacts", ())
+    if others:
+        loop = "the engine loop includes them" if engine_loop else "engine_loop=True includes them"
+        text = f"other contacts active at this configuration: {', '.join(others)}; the reduced model leaves "
+        text += f"them out ({loop})"
+        notes.append(text)
+        if not engine_loop:
+            warnings.warn(text, OtherContactsWarning, stacklevel=2)
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
     result = Tuning(contact, t.name, params, notes, None, details=details, discrete=step, timestep=h,
                     reached=not miss, unreachable=miss)  # fmt: skip

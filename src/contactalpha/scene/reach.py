@@ -16,10 +16,9 @@ import math
 from dataclasses import fields, replace
 
 from contactalpha.adapters.base import DELIVERED_TOL
+from contactalpha.defaults import EXIT_UNREACHABLE  # noqa: F401  (the CLI's exit status, re-exported)
 from contactalpha.stepping.inverse import largest_passing
 
-# Exit status of `contactalpha params` when no damping reaches the target.
-EXIT_UNREACHABLE = 3
 # Scan of a remedy (engine drops, slow): factor per trial, trials at most (2^-12 of the start),
 # bisections after it.
 SHRINK = 2.0**-0.5
