@@ -445,18 +445,16 @@ def tune(
 
 
 def _looped(result, target):
-    """``result`` with the engine loop's answer (MuJoCo), the file rewritten where it reached the target."""
+    """``result`` with the engine loop's answer (MuJoCo), run in memory: ``tune`` writes the file after."""
     if result.engine != "mujoco":
         note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
         return replace(result, notes=[*result.notes, note])
-    source = result.output if result.output is not None else _in_memory_mjcf(result)
+    source = _in_memory_mjcf(result)
     answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
     params = result.parameters
     ok = answer.status == "ok"
     if ok:
         params = {**params, "solref": answer.solref}
-        if result.output is not None:
-            _write_mujoco(result.contact, result.output, params)
     why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
     return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
                    unreachable=why)  # fmt: skip
