@@ -243,9 +243,13 @@ def build_parser():
     )
     f.add_argument(
         "--verify",
-        type=int,
+        type=lambda text: text if text == "default" else int(text),
+        nargs="?",
+        const="default",
         metavar="N",
-        help="with --timestep: run the installed engine at N touchdown phases, measured against predicted",
+        help="with --timestep: run the installed engine at N touchdown phases, measured against "
+        "predicted, with the sampling error of the N-phase mean (alone: N doubles until that error is "
+        "small; docs/stepping.md)",
     )
     f.add_argument(
         "--law",

@@ -91,13 +91,18 @@ def test_tune_pybullet_writes_the_discrete_answer(mujoco, tmp_path):
     assert law.parameters["contactDamping"] != pytest.approx(got.parameters["contactDamping"], rel=1e-3)
 
 
-def test_tune_pybullet_out_of_reach_keeps_the_law(mujoco):
-    """e_N 0.9 at 1/240 s: no damping reaches it (zero damping gives a phase mean of 0.66); the
-    continuous answer stays and the notes say so."""
+def test_tune_pybullet_out_of_reach_keeps_the_law(mujoco, tmp_path):
+    """e_N 0.9 at 1/240 s: no damping reaches it (zero damping gives a phase mean of 0.66): tune
+    writes nothing (reached False); with force_write the continuous answer is written and the notes say so."""
     from contactalpha.mechanism.tune import tune
 
-    got = tune(ARM, PAIR, 0.9, engine="pybullet", qvel=QVEL, stiffness=_stiffness(24, pybullet_map.TIMESTEP))
-    assert got.discrete.inverse.status == "unreachable"
+    k = _stiffness(24, pybullet_map.TIMESTEP)
+    miss = tune(ARM, PAIR, 0.9, engine="pybullet", qvel=QVEL, stiffness=k, output=tmp_path / "t.py")
+    assert miss.output is None and not (tmp_path / "t.py").exists()
+    assert "no damping reaches e_N 0.9 at pybullet's step" in miss.unreachable
+    got = tune(ARM, PAIR, 0.9, engine="pybullet", qvel=QVEL, stiffness=k, output=tmp_path / "t.py",
+               force_write=True)  # fmt: skip
+    assert got.output.exists() and not got.reached and got.discrete.inverse.status == "unreachable"
     assert got.discrete.inverse.nearest < 0.7
     law = tune(ARM, PAIR, 0.9, engine="pybullet", qvel=QVEL, stiffness=_stiffness(24, pybullet_map.TIMESTEP),
                discrete=False)  # fmt: skip

@@ -6,6 +6,9 @@ and writes the parameters beside the model (``docs/models-from-files.md``).
 """
 
 from .contact import MechanismContact
-from .tune import MASS_CHANGE_WARN, MassChangeWarning, Tuning, read_contact, tune
+from .tune import MASS_CHANGE_WARN, MassChangeWarning, Tuning, UnmodelledSettingWarning, read_contact, tune
 
-__all__ = ["MASS_CHANGE_WARN", "MassChangeWarning", "MechanismContact", "Tuning", "read_contact", "tune"]
+__all__ = [
+    "MASS_CHANGE_WARN", "MassChangeWarning", "MechanismContact", "Tuning", "UnmodelledSettingWarning",
+    "read_contact", "tune",
+]  # fmt: skip

@@ -50,6 +50,9 @@ def add_parser(make, number):
                    "drops of the whole model (the default solves there)")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
+    t.add_argument("--force-write", action="store_true",
+                   help="write the law's answer even where no damping reaches the target at the step "
+                   "(the exit status is still the unreachable one, 3)")  # fmt: skip
     return t
 
 
@@ -66,6 +69,7 @@ def _forces(items, parser):
 def run(args, parser):
     """Run the subcommand; returns the exit status (ValueError propagates to the CLI's handler)."""
     from contactalpha.adapters.mujoco_soft import IMPEDANCE
+    from contactalpha.scene.reach import EXIT_UNREACHABLE
 
     from .tune import default_output, tune
 
@@ -79,19 +83,22 @@ def run(args, parser):
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
                 check=args.check, timestep=args.timestep, refine=args.refine,
                 discrete=DISCRETE_CHOICES[args.discrete], engine_loop=not args.no_engine_loop,
+                force_write=args.force_write,
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None
+        finally:
+            for w in caught:
+                print(f"contactalpha: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
     print("\n".join(result.contact.summary()))
     for name, value in result.parameters.items():
         shown = " ".join(f"{float(v):.12g}" for v in (value if isinstance(value, tuple) else (value,)))
         print(f"{result.engine + '.' + name:32s} {shown}")
     print("\n".join(f"# {line}" for line in result.notes))
-    print(f"written {result.output}")
-    for w in caught:
-        print(f"contactalpha: warning: {' '.join(str(w.message).split())}", file=sys.stderr)
-    if result.loop is not None and result.loop.status != "ok":
-        print(f"contactalpha: the engine loop did not reach e_N {args.e_n:g} ({result.loop.status}): "
-              "the file holds the reduced model's answer", file=sys.stderr)  # fmt: skip
-        return 3
+    print(f"written {result.output}" if result.output is not None else "# nothing written")
+    if not result.reached:
+        written = (f"written anyway (--force-write) to {result.output}" if result.output is not None
+                   else "nothing written (--force-write writes this answer anyway)")  # fmt: skip
+        print(f"contactalpha: unreachable: {result.unreachable}; {written}", file=sys.stderr)
+        return EXIT_UNREACHABLE
     return 0

@@ -96,6 +96,8 @@ def _vec(x):
 
 
 def _show(value):
+    if isinstance(value, (tuple, list)) and all(isinstance(v, str) for v in value):
+        return "; ".join(value) or "none"
     if isinstance(value, (tuple, list, np.ndarray)):
         return _vec(value)
     return f"{value:.12g}" if isinstance(value, float) else str(value)

@@ -24,6 +24,7 @@ import numpy as np
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
+from .inputs import check_link, link_inertias
 
 INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
@@ -129,6 +130,7 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
     p = _Plant(model_path)
     plant, ctx = p.plant, p.context
+    _check_links(plant, model_path)
     if qpos is not None:
         _set(plant, ctx, "qpos", qpos, plant.num_positions())
     g1, g2 = (p.geometry(name) for name in pair)
@@ -156,6 +158,35 @@ def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v,
         qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv), forces=dict(forces or {}),
     )  # fmt: skip
+
+
+def _check_links(plant, model_path):
+    """``inputs.check_link`` on every link of the file; a link moves when its joint has velocities.
+
+    A moving link with links welded to it (fixed joints) moves as one body with them: the group's
+    mass must be above 0 (each link's own values physical), as MuJoCo fuses such links.
+    """
+    dk = _drake()
+    joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
+    moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
+    welded = {}
+    for j in joints:
+        if j.num_velocities() == 0:
+            welded.setdefault(j.parent_body().name(), []).append(j.child_body().name())
+    links = link_inertias(model_path)
+    for name, (mass, inertia) in links.items():
+        group, stack = [], [name]
+        while stack:
+            group.append(stack.pop())
+            stack += welded.get(group[-1], [])
+        if name not in moving or len(group) == 1:
+            check_link(name, mass, inertia, name in moving)
+            continue
+        check_link(name, mass, inertia, False)
+        total = sum(links.get(g, (0.0,))[0] for g in group)
+        if not total > 0.0:
+            raise ValueError(f"link {name!r} and the links welded to it {group[1:]}: mass = {total!r} kg; "
+                             "it must be above 0 for links that move with their own joint")  # fmt: skip
 
 
 def drake_drop(

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contactalpha.adapters.base import refine
+from contactalpha.scene.stepped import phase_mean_error
 
 from .crossing import rebound_speed
 from .mujoco_model import _mujoco, geom_id, load_model, mujoco_drop, start_state, touchdown
@@ -201,7 +202,7 @@ class MujocoLoop:
         failed = int(np.sum(~np.isfinite(values)))
         if failed:
             return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
-        half = 0.5 * abs(values[0::2].mean() - values[1::2].mean())
+        half = phase_mean_error(values)
         return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
                          int(phases), values, float(change))  # fmt: skip
 

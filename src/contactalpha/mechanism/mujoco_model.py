@@ -202,6 +202,61 @@ def contact_row(model, data, g1, g2):
         mj.mj_forward(model, data)
 
 
+# MuJoCo's integrators the answer is for: semi-implicit Euler, and the implicit ones (the same
+# step where no velocity-dependent force acts in the contact; measured: identical e_N).
+MODELLED_INTEGRATORS = ("euler", "implicit", "implicitfast")
+
+
+def unmodelled_settings(model):
+    """The model's settings that change the contact's e_N and that ``tune``'s answer leaves out.
+
+    Text, one line each: an integrator outside ``MODELLED_INTEGRATORS`` (RK4) and fluid forces
+    (``density``, ``viscosity``); ``read_mujoco`` adds the joint forces of ``_joint_forces``.
+    Settings under which no tuned pair acts are refused (ValueError): the override flag
+    (``opt.o_solref``, ``o_solimp`` and ``o_margin`` replace every contact's, the written pair's
+    too), contacts or constraints disabled.  docs/engines/mujoco.md lists what the answer assumes.
+    """
+    mj = _mujoco()
+    opt, out = model.opt, []
+    if opt.enableflags & mj.mjtEnableBit.mjENBL_OVERRIDE:
+        raise ValueError(
+            "the model enables override (<flag override=\"enable\"/>): its o_solref, o_solimp and "
+            "o_margin replace every contact's, a tuned pair's too; disable it to tune"
+        )
+    for bit in (mj.mjtDisableBit.mjDSBL_CONTACT, mj.mjtDisableBit.mjDSBL_CONSTRAINT):
+        if opt.disableflags & bit:
+            name = bit.name.removeprefix("mjDSBL_").lower()
+            raise ValueError(f"the model disables {name} (<flag {name}=\"disable\"/>): no pair touches")
+    integrator = mj.mjtIntegrator(opt.integrator).name.removeprefix("mjINT_").lower()
+    if integrator not in MODELLED_INTEGRATORS:
+        out.append(f"integrator {integrator}: the answer is for {'/'.join(MODELLED_INTEGRATORS)}; "
+                   f"{integrator} changes the contact's e_N")  # fmt: skip
+    if opt.density > 0.0 or opt.viscosity > 0.0:
+        out.append(f"fluid forces (density {opt.density:g}, viscosity {opt.viscosity:g}) act in the "
+                   "contact and are not in the answer")  # fmt: skip
+    return tuple(out)
+
+
+def _joint_forces(model, J):
+    """Joint damping, springs and friction loss on the joints the contact row moves (``J != 0``)."""
+    mj = _mujoco()
+    moved = np.flatnonzero(np.abs(np.asarray(J)) > 1e-12 * max(1e-300, float(np.max(np.abs(J)))))
+    out = []
+    off = mj.mjtDisableBit
+    kinds = (("damping", model.dof_damping, off.mjDSBL_DAMPER),
+             ("frictionloss", model.dof_frictionloss, off.mjDSBL_FRICTIONLOSS),
+             ("stiffness", model.jnt_stiffness[model.dof_jntid], off.mjDSBL_SPRING))  # fmt: skip
+    for what, values, bit in kinds:
+        if model.opt.disableflags & bit:
+            continue
+        for dof in moved:
+            if values[dof] > 0.0:
+                joint = model.joint(int(model.dof_jntid[dof])).name or f"#{int(model.dof_jntid[dof])}"
+                out.append(f"joint {joint!r} {what} {float(values[dof]):g} acts in the contact and is not "
+                           "in the answer")  # fmt: skip
+    return tuple(out)
+
+
 def other_contacts(model, data, g1, g2, margin=ROW_MARGIN):
     """The contacts other than the pair's active at ``data``'s configuration, and the pair's points.
 
@@ -236,6 +291,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     """``MechanismContact`` of ``pair`` in the MJCF/URDF ``model_path`` (see the module doc)."""
     mj = _mujoco()
     model = load_model(model_path)
+    unmodelled = unmodelled_settings(model)
     data = mj.MjData(model)
     g1, g2 = (geom_id(model, name) for name in pair)
     if g1 == g2:
@@ -246,6 +302,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     J = _gap_jacobian(model, data, g1, g2, point, normal)
     M = mass_matrix(model, data)
     m_eff, v, qv = approach(J, M, qvel, speed)
+    unmodelled += _joint_forces(model, J)
     tau_g = -np.array(data.qfrc_bias)  # at zero velocity: gravity only
     tau_f = _forces_tau(model, data, forces)
     data.qvel[:] = qv
@@ -256,7 +313,8 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
         engine="mujoco", model=str(model_path), pair=tuple(pair), point=point, normal=normal, gap=gap,
         jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v, qpos=np.array(data.qpos),
-        qvel=np.array(qv), forces=dict(forces or {}), engine_row={**row, "JMinvJT": 1.0 / m_eff},
+        qvel=np.array(qv), forces=dict(forces or {}),
+        engine_row={**row, "JMinvJT": 1.0 / m_eff, "unmodelled": unmodelled},
     )  # fmt: skip
 
 

@@ -30,6 +30,7 @@ from . import write
 from .discrete import ENGINE_STEPS, step_answer
 from .drake_model import drake_drop, read_drake
 from .engine_loop import in_engine
+from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
@@ -49,6 +50,13 @@ class OtherContactsWarning(UserWarning):
 
 class MassChangeWarning(UserWarning):
     """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
+
+
+class UnmodelledSettingWarning(UserWarning):
+    """A setting of the MuJoCo model changes the contact's e_N and the answer leaves it out.
+
+    Not given where the engine loop reached the target: its drops run the whole model.
+    """
 
 
 @dataclass(frozen=True)
@@ -82,6 +90,8 @@ def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, 
     path = Path(model)
     if not path.is_file():
         raise ValueError(f"model = {str(model)!r} is not a file")
+    check_model_size(path)
+    qpos, qvel = check_coordinates("qpos", qpos), check_coordinates("qvel", qvel)
     pair = tuple(str(g) for g in pair)
     if len(pair) != 2:
         raise ValueError(f"pair = {pair!r} must name two geometries")
@@ -110,7 +120,9 @@ class Tuning:
     that drop, NaN without one), ``details`` (the engine's derivation, e.g. ``MuJoCoTuning``),
     ``discrete`` (``discrete.DiscreteAnswer`` of the engine's step map, or None where no step
     was evaluated), ``timestep`` (the step of that answer and of the check, s; None: continuous),
-    ``loop`` (``engine_loop.LoopAnswer`` of the engine loop, or None where it did not run).
+    ``loop`` (``engine_loop.LoopAnswer`` of the engine loop, or None where it did not run),
+    ``reached`` (False where no damping reaches the target: at the step, or in the engine loop)
+    and ``unreachable`` (why, one line; "" where reached).
     """
 
     contact: object
@@ -125,12 +137,16 @@ class Tuning:
     discrete: object = None
     timestep: float | None = None
     loop: object = None
+    reached: bool = True
+    unreachable: str = ""
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
     k = current_stiffness(contact) if stiffness is None else stiffness
     t = mujoco_tuning(contact, target, k, impedance)
     h = contact.engine_row["timestep"] if timestep is None else float(timestep)
+    named = "the model's timestep" if timestep is None else "timestep"
+    check_step_resolves(h, contact.effective_mass, k, named)
     step = discrete_answer(contact, t, target, h) if discrete is not False else None
     row = contact.engine_row
     params = {"solref": t.solref, "solimp": t.solimp, "condim": (row["condim"],),
@@ -175,7 +191,7 @@ def _step_notes(engine, step, target, discrete, written):
         f"at {engine}'s step {step.timestep:g} s the law's answer delivers a phase mean {st.mean:.6g} "
         f"(one drop: {st.minimum:.6g} to {st.maximum:.6g}; {st.steps_min}-{st.steps_max} steps)"
     ]
-    use = discrete is True or abs(st.mean - target) > DISCRETE_TOL
+    use = _wants_step(step, target, discrete)
     if use and inv.status == "ok":
         notes.append(
             f"discrete answer (phase-mean inverse of {engine}'s step at m_eff): {written}; "
@@ -188,6 +204,21 @@ def _step_notes(engine, step, target, discrete, written):
             f"{inv.nearest:.6g}); largest step that reaches it: {inv.timestep_reachable:.3g} s"
         )
     return False, notes
+
+
+def _wants_step(step, target, discrete):
+    """Whether the step's answer is wanted: always (``discrete`` True), or where the law's misses."""
+    return discrete is True or abs(step.continuous.mean - target) > DISCRETE_TOL
+
+
+def _unreachable(step, target, discrete):
+    """Why no damping reaches the target at the step where its answer is wanted (one line), else ""."""
+    if step is None or not _wants_step(step, target, discrete) or step.inverse.status == "ok":
+        return ""
+    inv = step.inverse
+    return (f"no damping reaches e_N {target} at {step.engine}'s step {step.timestep:g} s ({inv.status}; "
+            f"nearest phase mean {inv.nearest:.6g}); largest step that reaches it: "
+            f"{inv.timestep_reachable:.3g} s")  # fmt: skip
 
 
 def _write_mujoco(contact, output, params):
@@ -240,6 +271,7 @@ def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete)
     h = es.default_step if timestep is None else float(timestep)
     if h is None or discrete is False:
         return params, notes, cp, None
+    check_step_resolves(h, contact.effective_mass, float(params["pair_stiffness"]))
     if contact.accel <= 0.0:
         notes.append(f"{engine}'s step map needs a pressing load: the continuous answer is kept")
         return params, notes, cp, None
@@ -327,7 +359,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
-    engine_loop=False,
+    engine_loop=False, force_write=False,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -354,6 +386,9 @@ def tune(
     discrete : None uses the phase-mean inverse of the engine's step map (``stepping``, at the
         contact's m_eff and load; ``discrete``) where the continuous answer's phase mean at the
         step misses the target by more than ``DISCRETE_TOL``; True always, False never.
+    force_write : where no damping reaches the target (the step's answer is wanted and the map
+        reaches none, or the engine loop reaches none) ``tune`` writes nothing and returns the
+        answer with ``reached`` False and ``unreachable`` saying why; True writes it anyway.
     refine : MuJoCo: refine the law's damping ratio on the engine's own drop from touchdown
         (secant, to ``REFINE_TOL``) and write that; it absorbs what the first-order answer
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
@@ -367,12 +402,14 @@ def tune(
     Tuning
     """
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
+    timestep = check_timestep(timestep)
     t = _tuner(engine, model)
     if output is not None:
         write.check_output(model, output)
     reader = t.reader if t.reader is not None else None
     contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
     params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
+    miss = _unreachable(step, target, discrete)
     if not contact.at_touch:
         notes.append(
             f"the pair is {contact.gap:.3g} m apart at this configuration: "
@@ -397,33 +434,41 @@ def tune(
         notes.append(text)
         if not engine_loop:
             warnings.warn(text, OtherContactsWarning, stacklevel=2)
-    written = t.write(contact, output, params, notes) if output is not None else None
     h = step.timestep if step is not None else _step_of(t.name, contact, timestep)
-    result = Tuning(contact, t.name, params, notes, written, details=details, discrete=step, timestep=h)
+    result = Tuning(contact, t.name, params, notes, None, details=details, discrete=step, timestep=h,
+                    reached=not miss, unreachable=miss)  # fmt: skip
     if engine_loop:
         result = _looped(result, target)
+    if result.loop is None or result.loop.status != "ok":  # the loop's drops include every setting
+        for setting in contact.engine_row.get("unmodelled", ()) if t.name == "mujoco" else ():
+            warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
+                          stacklevel=2)  # fmt: skip
+    if output is not None and (result.reached or force_write):
+        result = replace(result, output=t.write(contact, output, result.parameters, result.notes))
     if refine:
-        if t.name != "mujoco" or output is None:
-            raise ValueError("refine works with engine 'mujoco' and an output file")
+        if t.name != "mujoco" or result.output is None:
+            raise ValueError("refine works with engine 'mujoco' and an output file"
+                             + ("" if result.reached else f" (nothing written: {result.unreachable})"))
         result = _refined(result, target, timestep)
-    if check and t.drop:
-        result = _checked(result, timestep, refined=refine)
+    if check and t.drop and (result.reached or result.output is not None or t.name == "mujoco"):
+        result = _checked(result, timestep, refined=refine)  # unreached and unwritten: nothing to drop
     return result
 
 
 def _looped(result, target):
-    """``result`` with the engine loop's answer (MuJoCo), the file rewritten where it reached the target."""
+    """``result`` with the engine loop's answer (MuJoCo), run in memory: ``tune`` writes the file after."""
     if result.engine != "mujoco":
         note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
         return replace(result, notes=[*result.notes, note])
-    source = result.output if result.output is not None else _in_memory_mjcf(result)
+    source = _in_memory_mjcf(result)
     answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
     params = result.parameters
-    if answer.status == "ok":
+    ok = answer.status == "ok"
+    if ok:
         params = {**params, "solref": answer.solref}
-        if result.output is not None:
-            _write_mujoco(result.contact, result.output, params)
-    return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer)
+    why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
+    return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
+                   unreachable=why)  # fmt: skip
 
 
 def _refined(result, target, timestep):

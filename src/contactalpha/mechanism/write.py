@@ -44,10 +44,23 @@ def _stamp(root, what):
 
 
 def check_output(model, output):
-    """The output path; ValueError when it is the model file itself (never overwritten)."""
+    """The output path; ValueError if it is the model itself (never overwritten), a folder, or nowhere."""
     out = Path(output)
     if out.exists() and Path(model).exists() and out.resolve() == Path(model).resolve():
         raise ValueError(f"output = {str(output)!r} is the model file itself; give another path (-o)")
+    if out.is_dir():
+        raise ValueError(f"output = {str(output)!r} is a folder; give the path of the file to write (-o)")
+    if not out.parent.is_dir():
+        raise ValueError(f"output = {str(output)!r}: its folder {str(out.parent)!r} does not exist")
+    return out
+
+
+def _write(out, text):
+    """``io.write_text_atomic``; an OSError names the user's path (not the temporary file's)."""
+    try:
+        write_text_atomic(out, text)
+    except OSError as err:
+        raise ValueError(f"output = {str(out)!r} cannot be written: {err.strerror or err}") from None
     return out
 
 
@@ -95,7 +108,7 @@ def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None, stamp
         elem.set(name, value if isinstance(value, str) else _fmt(value))
     _stamp(root, stamp)
     ET.indent(root)
-    write_text_atomic(out, ET.tostring(root, encoding="unicode") + "\n")
+    _write(out, ET.tostring(root, encoding="unicode") + "\n")
     return out
 
 
@@ -127,7 +140,7 @@ def write_drake(model_path, output, pair, per_geometry, *, stamp="tuned"):
     _absolute_uris(root, Path(model_path).parent, out.parent)
     _stamp(root, stamp)
     ET.indent(root)
-    write_text_atomic(out, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
+    _write(out, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
     return out
 
 
@@ -197,5 +210,5 @@ def write_pybullet(model_path, output, pair, params, notes, links=(None, None)):
         k=float(params["contactStiffness"]), c=float(params["contactDamping"]),
         link0=links[0], link1=links[1],
     )  # fmt: skip
-    write_text_atomic(out, text)
+    _write(out, text)
     return out

@@ -141,9 +141,10 @@ def contact_parameters(
         ``engine`` and a load.  For a batch (array inputs) and an e_N target, MuJoCo's and
         PyBullet's rows are solved together at formula speed (``stepping.batch_inverse``); Drake's,
         and eps targets, one scene at a time.  Without it the answer is the continuous law's.
-    verify : int, optional
+    verify : int or "default", optional
         With ``timestep``: run the installed engine at this many touchdown phases and report the
-        measured mean, minimum and maximum in ``stepped.verify``.
+        measured mean, minimum, maximum and the mean's sampling error in ``stepped.verify``
+        ("default": the phases double until that error is small, ``stepped.verify``).
 
     Returns
     -------

@@ -220,8 +220,9 @@ def stepped_lines(ans):
     if ans.verify:
         v = ans.verify
         lines.append(
-            f"  verified in {ans.engine} {v['version']} at {v['phases']} phases: mean {v['mean']:.6g}, "
-            f"{v['minimum']:.6g} to {v['maximum']:.6g} ({v['seconds']:.3g} s)"
+            f"  verified in {ans.engine} {v['version']} at {v['phases']} phases: mean {v['mean']:.6g} "
+            f"(sampling error {v['sampling_error']:.1e}: half the gap of the two interleaved halves' "
+            f"means), {v['minimum']:.6g} to {v['maximum']:.6g} ({v['seconds']:.3g} s)"
         )
     return lines
 
