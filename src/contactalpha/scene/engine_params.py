@@ -12,6 +12,7 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
+from . import stepped
 from .parameters import contact_parameters, scene_accel
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import as_plain_data, block_lines, stepped_lines
@@ -91,21 +92,40 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
         notes = [f"law {cp.law}: {cp.damping_name} = {cp.damping:.15g} at xi = {cp.xi:.15g} ({cp.source})"]
         step = a.timestep(a.settings)
         if step is not None:
-            notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
+            notes += _at_default_step(
+                cp, engine, target, restitution, mass, stiffness, approach_speed, radius
+            )
+            notes.append(f"{engine} steps at {step:g} s: the block is the continuous law's; --timestep gives "
+                         "the step's own, --refine refines it on the engine's drops")  # fmt: skip
         return cp.block, notes, None
     accel = scene_accel(mass, accel, force)
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
     params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:
         raise unreachable_on_drops(a, scene, target, ref, progress=progress)
-    return params, [
-        f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
-        f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
-        f"({ref.status}; spread over touchdown phases {got.spread:.3g}; {got.contact_steps} steps)",
-    ], None
+    return (
+        params,
+        [
+            f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
+            f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
+            f"({ref.status}; spread over touchdown phases {got.spread:.3g}; {got.contact_steps} steps)",
+        ],
+        None,
+    )
+
+
+def _at_default_step(cp, engine, target, restitution, mass, stiffness, approach_speed, radius):
+    """Lines of what ``cp``'s continuous block does at ``engine``'s default step (``stepped_lines``)."""
+    scene = (float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
+    try:
+        with warnings.catch_warnings():  # the lines carry it (``result.stepped_lines``)
+            warnings.simplefilter("ignore", EnergyGainWarning)
+            at = stepped.at_step(cp, engine, stepped.DEFAULT_STEP, *scene, target, restitution)
+    except ValueError as exc:
+        return [f"not checked at {engine}'s default step: {' '.join(str(exc).split())}"]
+    return stepped_lines(at.stepped)
 
 
 def format_block(engine, params, notes):
     """Aligned text lines of one engine's parameters (each with its unit) and notes."""
     return "\n".join(block_lines(engine, params) + [f"# {n}" for n in notes])
-
