@@ -274,7 +274,7 @@ def solve_damping(loop, target, start, *, phases=PHASES, tol=PHASE_TOL, solve_to
     ref = refine(e_n_of, target, -start[1], solve_tol, refine_tol=solve_tol)
     b = ref.damping if math.isfinite(ref.damping) else 0.0
     delivered = loop.converged_mean((k, -b), n, tol)
-    if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases: solve again there
+    if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases
         n = delivered.phases
         means = {}
         ref = refine(e_n_of, target, b, solve_tol, refine_tol=solve_tol)
