@@ -37,7 +37,7 @@ from contactalpha.adapters.base import refine
 from contactalpha.scene.stepped import phase_mean_error
 
 from .crossing import rebound_speed
-from .mujoco_model import _mujoco, geom_id, load_model, mujoco_drop, start_state, touchdown
+from .mujoco_model import geom_id, load_model, mujoco_drop, mujoco_module, start_state, touchdown
 
 # Threads of MuJoCo's rollout (the machine's two cores); each phase is its own rollout, so the
 # bits do not depend on the count.
@@ -80,7 +80,7 @@ def phase_grid(n):
 
 def _with_gap_sensor(model, pair):
     """The model (path or MJCF text) compiled with a geometry-distance sensor on the pair, last."""
-    mj = _mujoco()
+    mj = mujoco_module()
     text = str(model)
     spec = mj.MjSpec.from_string(text) if text.lstrip().startswith("<") else mj.MjSpec.from_file(text)
     spec.add_sensor(type=mj.mjtSensor.mjSENS_GEOMDIST, objtype=mj.mjtObj.mjOBJ_GEOM, objname=pair[0],
@@ -149,7 +149,7 @@ class MujocoLoop:
         whose gap has not come back within the rollout's steps is run by ``mujoco_drop`` (up to its
         second), so that it is counted as captured only when it is.  NaN: never touched.
         """
-        mj = _mujoco()
+        mj = mujoco_module()
         from mujoco import rollout
 
         self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)

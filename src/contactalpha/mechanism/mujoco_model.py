@@ -42,6 +42,11 @@ def _mujoco():
     return mujoco
 
 
+def mujoco_module():
+    """The ``mujoco`` module; ImportError with the install hint where it is missing."""
+    return _mujoco()
+
+
 def load_model(model):
     """An ``MjModel`` from a file path (MJCF or URDF), an MJCF string (starting with ``<``), or itself.
 
