@@ -29,7 +29,9 @@ off in the engine: the phase mean at the reduced model's parameters with it, min
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -292,8 +294,8 @@ class Part:
     """A part of the whole model the reduced model leaves out, and how to switch it off in MuJoCo."""
 
     name: str
-    present: object  # present(MjModel, pair rows) -> a description, or "" when the model has none
-    switch_off: object  # switch_off(MjModel, pair rows), in place
+    present: Callable[[Any, list], str]  # (MjModel, pair rows) -> a description, "" when absent
+    switch_off: Callable[[Any, list], None]  # (MjModel, pair rows), in place
 
 
 def _damping(m, rows):

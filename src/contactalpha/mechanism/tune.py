@@ -12,8 +12,10 @@ the touchdown state: the delivered e_N, and how much the effective mass moves ov
 import importlib.util
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -66,7 +68,7 @@ class Reader:
     name: str
     module: str
     suffixes: tuple
-    read: object
+    read: Callable[..., Any]
 
 
 READERS = (
@@ -144,7 +146,7 @@ class Tuning:
     drop: object = field(default=None, repr=False)
     discrete: object = None
     timestep: float | None = None
-    loop: object = None
+    loop: Any = None
     reached: bool = True
     unreachable: str = ""
 
@@ -333,8 +335,8 @@ class Tuner:
     name: str
     reader: str | None
     suffix: str
-    solve: object
-    write: object
+    solve: Callable[..., Any]
+    write: Callable[..., Any]
     drop: bool
 
 
