@@ -151,8 +151,10 @@ def main():
           f"{sum(r['status'] != 'ok' for r in rows)} unreachable at 2 ms")  # fmt: skip
     worst = max(r["map_at_phases_max_diff"] for r in checked)
     print(f"the map reproduces MuJoCo's e_N at every measured phase within {worst:.1e}")
-    print(f"cost per scene: answer median {np.median([r['answer_s'] for r in rows]):.3f} s, "
-          f"MuJoCo check at {phases} phases median {np.median([r['verify_s'] for r in checked]):.3f} s")
+    print(
+        f"cost per scene: answer median {np.median([r['answer_s'] for r in rows]):.3f} s, "
+        f"MuJoCo check at {phases} phases median {np.median([r['verify_s'] for r in checked]):.3f} s"
+    )
     if len(sys.argv) > 2:
         config = {"phases": phases, "timestep": H, "mean_tol": MEAN_TOL, "range_tol": RANGE_TOL}
         write_json_atomic(sys.argv[2], {"attrs": result_attrs(config, "study_stepping"), "rows": rows})

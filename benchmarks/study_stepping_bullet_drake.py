@@ -88,7 +88,11 @@ def pack(engine, mass, k_pair, radius=0.05):
             breaking=pybullet_map.breaking_threshold(radius),
         )
     return s.pack(
-        mass=mass, stiffness_ball=2 * k_pair, dissipation_ball=0.0, stiffness_ground=2 * k_pair, dissipation_ground=0.0
+        mass=mass,
+        stiffness_ball=2 * k_pair,
+        dissipation_ball=0.0,
+        stiffness_ground=2 * k_pair,
+        dissipation_ground=0.0,
     )
 
 
@@ -120,7 +124,9 @@ def run_engine(engine, p, h, scene, phases):
     samples = ADAPTER.run(model, scene, settings)
     seconds = time.perf_counter() - start
     zs, ws = samples.extra["z"], samples.extra["v"]
-    e = np.array([measure_steps(zs[i], ws[i], scene.accel, h, scene.approach_speed).e_n for i in range(phases)])
+    e = np.array(
+        [measure_steps(zs[i], ws[i], scene.accel, h, scene.approach_speed).e_n for i in range(phases)]
+    )
     return e, seconds
 
 
@@ -188,7 +194,9 @@ def study(engine, phases):
         row.update(engine=engine, mass=mass, approach_speed=v, force=force, target=target, contact_steps=steps,
                    a_h_over_v=scene.accel * h0 / v)  # fmt: skip
         if inv.status == "ok":
-            row["v_over_v_crit"] = critical_ratio(engine, inv.p, h0, v, scene.accel) if target <= 0.1 else math.nan
+            row["v_over_v_crit"] = (
+                critical_ratio(engine, inv.p, h0, v, scene.accel) if target <= 0.1 else math.nan
+            )
         else:
             remedies = {}
             if math.isfinite(inv.timestep_reachable):

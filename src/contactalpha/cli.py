@@ -363,7 +363,9 @@ def _print_engine(args, value, restitution):
     if args.refine:
         label = f"contactalpha: refining on {args.engine}'s drops"
     elif args.timestep is not None:
-        label = f"contactalpha: solving at {args.engine}'s step" + (" and verifying in the engine" if args.verify else "")
+        label = f"contactalpha: solving at {args.engine}'s step" + (
+            " and verifying in the engine" if args.verify else ""
+        )
     else:
         label = f"contactalpha: {args.engine}'s parameters"
     with Progress(label) as progress:

@@ -132,7 +132,7 @@ def test_drake_refuses_a_massless_or_negative_link(pydrake, tmp_path, capsys, ma
 def test_drake_takes_a_massless_link_with_a_welded_mass(pydrake, tmp_path):
     """The arm's mass on a link welded to it: one body of 1.5 kg, as MuJoCo fuses it (the arm's m_eff)."""
     text = ARM.read_text()
-    inertial = text[text.index("<inertial>"):text.index("</inertial>") + len("</inertial>")]
+    inertial = text[text.index("<inertial>") : text.index("</inertial>") + len("</inertial>")]
     weight = f'<link name="weight">{inertial}</link><joint name="w" type="fixed"><parent link="arm"/>' \
              '<child link="weight"/></joint></robot>'  # fmt: skip
     model = tmp_path / "arm.urdf"

@@ -222,7 +222,9 @@ def test_batch_integrates_its_impacts_only_when_read():
     from contactalpha.scene.result import Deferred
 
     e = np.array([0.3, 0.6, 0.9])
-    cp = ca.contact_parameters(e_N=e, mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81, engine="mujoco")
+    cp = ca.contact_parameters(
+        e_N=e, mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81, engine="mujoco"
+    )
     lazy = ("eps", "e_n", "end_state", "e_n_half_speed", "e_n_twice_speed")
     assert all(type(object.__getattribute__(cp, name)) is Deferred for name in lazy)
     assert cp.block["solref"].shape == (3, 2)  # the engine's block does not need them

@@ -93,9 +93,7 @@ def unit_scale(header):
     unit = match.group(1).strip()
     table = UNITS[COLUMN_QUANTITY[_column_key(header)]]
     if unit not in table:
-        raise ValueError(
-            f"column {header!r}: unit {unit!r} is not one of {', '.join(map(repr, table))}"
-        )
+        raise ValueError(f"column {header!r}: unit {unit!r} is not one of {', '.join(map(repr, table))}")
     return table[unit]
 
 

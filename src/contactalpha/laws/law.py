@@ -288,7 +288,9 @@ def _checked_load(mass, stiffness, approach_speed, accel):
 
 def _direct_or_log(direct, log_value):
     """``direct`` where it agrees with its logarithm (nothing under- or overflowed), else ``exp(log_value)``."""
-    direct, log_value = np.broadcast_arrays(np.asarray(direct, dtype=float), np.asarray(log_value, dtype=float))
+    direct, log_value = np.broadcast_arrays(
+        np.asarray(direct, dtype=float), np.asarray(log_value, dtype=float)
+    )
     with np.errstate(all="ignore"):
         agree = (direct > 0.0) & (direct < np.inf)
         agree &= np.abs(np.log(direct) - log_value) <= 1e-9 * np.maximum(1.0, np.abs(log_value))

@@ -98,14 +98,17 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
     params, ref, got = a.calibrate(scene, target, progress=progress)
     if ref.status not in REACHED:
         raise unreachable_on_drops(a, scene, target, ref, progress=progress)
-    return params, [
-        f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
-        f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
-        f"({ref.status}; spread over touchdown phases {got.spread:.3g}; {got.contact_steps} steps)",
-    ], None
+    return (
+        params,
+        [
+            f"law {a.law.name}: {a.law.damping} = {ref.start:.15g} (law), delivers {ref.e_n_start:.6g}",
+            f"refined on {engine}'s drops: {a.law.damping} = {ref.damping:.15g}, delivers {got.e_n:.6g} "
+            f"({ref.status}; spread over touchdown phases {got.spread:.3g}; {got.contact_steps} steps)",
+        ],
+        None,
+    )
 
 
 def format_block(engine, params, notes):
     """Aligned text lines of one engine's parameters (each with its unit) and notes."""
     return "\n".join(block_lines(engine, params) + [f"# {n}" for n in notes])
-

@@ -194,8 +194,10 @@ def gain_note(ans):
 def stepped_lines(ans):
     """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
     name = "e_N" if ans.restitution == "kinematic" else "eps"
-    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
-             f"(drops read at {stepper(ans.engine).read_at}):"]
+    lines = [
+        f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
+        f"(drops read at {stepper(ans.engine).read_at}):"
+    ]
     if ans.status == "ok":
         lines += [
             f"  {ans.engine} damping   {ans.damping:.15g}   (its own parameter; zeta {ans.law_damping:.15g})",

@@ -177,7 +177,14 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
             else:
                 br, r = _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals)
             forced = br != 0
-            m0, m1, m2, m3, m4, m5 = maps[br, 0], maps[br, 1], maps[br, 2], maps[br, 3], maps[br, 4], maps[br, 5]
+            m0, m1, m2, m3, m4, m5 = (
+                maps[br, 0],
+                maps[br, 1],
+                maps[br, 2],
+                maps[br, 3],
+                maps[br, 4],
+                maps[br, 5],
+            )
             y0, y1, y2 = m0 * z0 + m1 * w0 + m2, m0 * z1 + m1 * w1, m0 * z2 + m1 * w2
             u0, u1, u2 = m3 * z0 + m4 * w0 + m5, m3 * z1 + m4 * w1, m3 * z2 + m4 * w2
             if not math.isfinite(y0 + y1 + y2 + u0 + u1 + u2):
@@ -201,7 +208,9 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                     nb = roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
                     nb = roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
             if nb > 0:
-                r = min(r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb))
+                r = min(
+                    r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb)
+                )
             ws[j, W_ROOT] = r
             if r < hi:
                 hi = r
@@ -225,7 +234,10 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
         if status == STEP_LIMIT:
             mid = lo + 0.5 * (hi - lo)
             i = min(j, max_steps)
-            z, w = poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid), poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid)
+            z, w = (
+                poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid),
+                poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid),
+            )
             if n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
                 status = CAPTURED
         pieces += 1
@@ -277,7 +289,9 @@ def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, 
     for j in (P_EPS_MEAN, P_EPS_MIN, P_EPS_MAX, P_EPS_STD):
         acc[j] = math.nan
     nf = branches(code, p, h, accel, forms, maps)
-    s0, s1, err, ws = _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals)
+    s0, s1, err, ws = _sweep(
+        code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals
+    )
     acc[P_ERR] = err
     if acc[P_STATUS] != 0.0:
         for j in (P_MEAN, P_STD, P_MIN, P_MAX, P_ERR):

@@ -141,7 +141,11 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
                 x1 = x0 / MAX_FACTOR
             else:
                 y0 = math.log(f0 + target)
-                x1 = x0 + (yt - y0) * (x0 - xp) / (y0 - yp) if y0 != yp else x0 * (MAX_FACTOR if f0 > 0.0 else 1.0 / MAX_FACTOR)
+                x1 = (
+                    x0 + (yt - y0) * (x0 - xp) / (y0 - yp)
+                    if y0 != yp
+                    else x0 * (MAX_FACTOR if f0 > 0.0 else 1.0 / MAX_FACTOR)
+                )
                 x1 = min(max(x1, x0 / MAX_FACTOR), x0 * MAX_FACTOR)
                 xp, yp = x0, y0
             f1 = _mean(code, p, slots, x1, h, v, a, max_steps, work) - target

@@ -52,7 +52,7 @@ BRACKET_DOUBLINGS = 48
 # Step (or stiffness) search for an unreachable target: factor per trial, trials at most, and
 # bisections of the last bracket (the answer within 2^(0.25 / 2^3), 2.2 %, below the largest: advice,
 # and the finest trials cost the most).
-SHRINK = 2.0 ** -0.25
+SHRINK = 2.0**-0.25
 SHRINK_TRIALS = 80
 BISECTIONS = 3
 # CPU seconds the searches for an unreachable target's remedies take at most, all together.
@@ -321,6 +321,7 @@ def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic", sea
         return q
 
     give_up = _give_up(search, "stiffness", lambda x: contact_steps(s, scaled(x), h))
+
     def reaches(x):
         return _reaches(engine, scaled(x), h, v, a, target, restitution)
 

@@ -33,7 +33,10 @@ def step_map(code, z, w, p, h, accel):
 # Piecewise-affine maps (``affine_phase``): linear forms in the state pick a step's branch, and
 # the step is affine on each (branch 0 applies no force).  Codes of maps that are not piecewise
 # affine (Drake's Hunt-Crossley step) have no entry.
-AFFINE = {MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES), PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES)}
+AFFINE = {
+    MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES),
+    PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES),
+}
 MAX_FORMS = max(forms for forms, _ in AFFINE.values())
 MAX_BRANCHES = max(count for _, count in AFFINE.values())
 

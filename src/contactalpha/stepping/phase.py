@@ -90,7 +90,9 @@ def _gl(code, p, h, v_in, accel, max_steps, a, b, acc, xs, ws):
     half = 0.5 * (b - a)
     mid = 0.5 * (a + b)
     for i in range(xs.size):
-        row = run_drop(code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps)
+        row = run_drop(
+            code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps
+        )
         _fold(row, acc)
         e, s = row[D_EN], row[D_EPS]
         wgt = half * ws[i]

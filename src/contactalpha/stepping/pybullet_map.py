@@ -71,7 +71,15 @@ DAMPING_GROUND = 4  # the plane's contactDamping, N s/m
 BREAKING = 5  # the manifold's contact breaking threshold, m (``breaking_threshold``)
 SLOP = 6  # the solver's linear slop, m
 N_PARAMS = 7
-SLOT_NAMES = ("mass", "stiffness_ball", "damping_ball", "stiffness_ground", "damping_ground", "breaking", "slop")
+SLOT_NAMES = (
+    "mass",
+    "stiffness_ball",
+    "damping_ball",
+    "stiffness_ground",
+    "damping_ground",
+    "breaking",
+    "slop",
+)
 
 
 def breaking_threshold(radius, factor=BREAKING_FACTOR):
@@ -82,7 +90,15 @@ def breaking_threshold(radius, factor=BREAKING_FACTOR):
 def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, radius):
     """``p`` for a sphere of ``radius`` (m) on a plane, at PyBullet's default threshold and slop."""
     # Arrays give one row of slots per scene.
-    cols = (mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, breaking_threshold(radius), LINEAR_SLOP)
+    cols = (
+        mass,
+        stiffness_ball,
+        damping_ball,
+        stiffness_ground,
+        damping_ground,
+        breaking_threshold(radius),
+        LINEAR_SLOP,
+    )
     return np.stack(np.broadcast_arrays(*cols), axis=-1).astype(float)
 
 

@@ -19,7 +19,7 @@ from .registry import stepper
 
 # The ladder starts at this many steps per contact time and falls by RUNG per trial.
 START_STEPS = 2.0
-RUNG = 2.0 ** -0.25
+RUNG = 2.0**-0.25
 RUNGS = 80
 BISECTIONS = 8
 
