@@ -1,4 +1,4 @@
-"""The exact phase mean of the piecewise-affine maps, against the drop-by-drop quadrature and dense sampling."""
+"""The exact phase mean of the piecewise-affine maps, against drop-by-drop quadrature and dense sampling."""
 
 import math
 

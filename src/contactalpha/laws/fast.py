@@ -114,9 +114,9 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
     ``exact`` asks for root finding on the fast forward map (the closed form: the solver's
     tolerance) instead of a table (1e-7 in restitution); laws without one raise.
     """
-    from .maps import check_target
-
     from contactalpha.validation import check_flag
+
+    from .maps import check_target
 
     fast = _fast_of(law)
     if check_flag("exact", exact):

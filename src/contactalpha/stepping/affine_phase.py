@@ -84,7 +84,10 @@ def _branch_at(code, forms, nf, z, w, vals):
 
 @njit(cache=True)
 def _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals):
-    """The branch on ``(lo, first change)`` and the first of the roots ``buf[:nb]`` past which it differs (1 if none)."""
+    """The branch on ``(lo, first change)`` and the first root in ``buf[:nb]`` past which it differs.
+
+    The first change is 1 if none.
+    """
     sort_roots(buf, nb)
     t = 0.5 * (lo + (buf[0] if nb > 0 else hi))
     b0 = _branch_at(code, forms, nf, poly(z0, z1, z2, t), poly(w0, w1, w2, t), vals)
@@ -113,7 +116,10 @@ def _outcome(z, w, w1, n, forced, rest):
 
 @njit(cache=True)
 def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi, buf, nb):
-    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none (``u``: w after the step)."""
+    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none.
+
+    ``u``: w after the step.
+    """
     sort_roots(buf, nb)
     t = 0.5 * (lo + buf[0])
     o0 = _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest)
@@ -273,8 +279,8 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
 @njit(cache=True)
 def workspace(rows=64):
     """The arrays ``phase_row`` works in: ``(ws, forms, maps, zn, wn, buf, vals, acc)``; ``rows`` steps."""
-    return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3), np.empty(3),
-            np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
+    return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3),
+            np.empty(3), np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
 
 
 @njit(cache=True)

@@ -64,7 +64,10 @@ def _mean(code, p, slots, c, h, v, a, max_steps, work):
 
 @njit(cache=True)
 def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, count):
-    """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``: ``(root, f(root), means)``."""
+    """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``.
+
+    Returns ``(root, f(root), means)``.
+    """
     xpre, fpre, xcur, fcur = xa, fa, xb, fb
     xblk = fblk = spre = scur = 0.0
     for _ in range(BRENT_ITERATIONS):

@@ -34,8 +34,8 @@ that takes over when ``h sqrt(k/m)`` exceeds about 2 pi.  It is not this map.
 
 Parameters ``p`` (float64, the engine's own units), slots named below: each geometry's values, as
 ``AddContactMaterial`` takes them (the registry's inverse gives both geometries the same
-``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.  Importing this module does
-not need Drake.
+``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.
+Importing this module does not need Drake.
 """
 
 import math
@@ -122,7 +122,7 @@ def from_block(block, mass, radius):
 
 
 def block_damping(block):
-    """Drake's own damping, each geometry's ``hunt_crossley_dissipation`` (s/m), of a block; arrays go through."""
+    """Drake's own damping of a block: each geometry's ``hunt_crossley_dissipation`` (s/m), arrays too."""
     return np.asarray(block["hunt_crossley_dissipation"], dtype=float)
 
 

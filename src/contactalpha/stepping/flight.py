@@ -39,6 +39,9 @@ def rebound_speed(z, w, accel, h):
 
 @njit(cache=True)
 def euler_affine(out, h, wz, ww, w1):
-    """A step ``w' = wz z + ww w + w1``, then ``z' = z + h w'``, as ``z' = out[0:3] . (z, w, 1)``, ``w' = out[3:6] . (z, w, 1)``."""
+    """A step ``w' = wz z + ww w + w1``, then ``z' = z + h w'``, written into ``out``.
+
+    As ``z' = out[0:3] . (z, w, 1)``, ``w' = out[3:6] . (z, w, 1)``.
+    """
     out[3], out[4], out[5] = wz, ww, w1
     out[0], out[1], out[2] = 1.0 + h * wz, h * ww, h * w1

@@ -105,7 +105,7 @@ def _mean(engine, p, h, v, a, restitution):
 
 
 def _stats(engine, p, h, v, a, restitution):
-    """``PhaseStats`` drop by drop (eps, steps), once per answer; e_N's from the affine pieces where the map has them.
+    """``PhaseStats`` drop by drop (eps, steps), once per answer; e_N's from the affine pieces if any.
 
     The drop-by-drop quadrature can run out of intervals (it then keeps an estimate, off by up to
     5e-4 in e_N where the affine mean is exact); the answer's e_N statistics are the affine ones.

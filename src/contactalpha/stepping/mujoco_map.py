@@ -81,7 +81,7 @@ N_BRANCHES = 2
 
 @njit(cache=True)
 def branches_mujoco(p, h, accel, forms, maps):
-    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)``, ``maps[:N_BRANCHES]`` with each branch's step.
 
     The forms: ``z`` (the contact acts below 0) and ``aref - a0 = -(stiffness/d) z - (damping/d) w
     + accel`` (it pushes above 0).  A branch's step is ``z' = maps[b, 0:3] . (z, w, 1)``,

@@ -37,7 +37,7 @@ def poly(c0, c1, c2, t):
 
 @njit(cache=True)
 def roots_into(c0, c1, c2, lo, hi, buf, nb):
-    """Append the roots of ``c0 + c1 t + c2 t^2`` in ``(lo + ROOT_GAP, hi)`` to ``buf[nb:]``; the new count."""
+    """Append the roots of ``c0 + c1 t + c2 t^2`` in ``(lo + ROOT_GAP, hi)`` to ``buf[nb:]``; new count."""
     lo = lo + ROOT_GAP
     m = 0.5 * (lo + hi)
     r = 0.5 * (hi - lo)
@@ -112,7 +112,7 @@ def integrate_piece(zf, wf, accel, h, v_in, lo, hi, tol, acc):
     splits = 0
     limited = False
     while len(stack_a) > 0:
-        a, b, q0, q1 = stack_a.pop(), stack_b.pop(), stack_e.pop(), stack_f.pop()
+        a, b, q0, _ = stack_a.pop(), stack_b.pop(), stack_e.pop(), stack_f.pop()
         m = 0.5 * (a + b)
         l0, l1 = _gl(zf, wf, accel, h, v_in, a, m, acc)
         r0, r1 = _gl(zf, wf, accel, h, v_in, m, b, acc)

@@ -35,8 +35,8 @@ In the penetrating branch the impulse is ``lambda = -h (k z' + c w')`` with the 
 
 Parameters ``p`` (float64, the engine's own units), slots named below: the ball's and the plane's
 values apart, as PyBullet's ``changeDynamics`` takes them (the registry's inverse gives both
-bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).  A whole drop through this map is
-``stepping.drop.drop_pybullet``.  Importing this module does
+bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).
+A whole drop through this map is ``stepping.drop.drop_pybullet``.  Importing this module does
 not need PyBullet.
 """
 
@@ -117,7 +117,10 @@ def pair_values(p):
 
 @njit(cache=True)
 def _row_terms(p, h):
-    """The normal row's ``(erp, D)``: ``erp = h k / (h k + c)``, ``cfm = 1 / (h (h k + c))``, ``D = 1 / (1/m + cfm)``."""
+    """The normal row's ``(erp, D)``.
+
+    ``erp = h k / (h k + c)``, ``cfm = 1 / (h (h k + c))``, ``D = 1 / (1/m + cfm)``.
+    """
     k, c = pair_values(p)
     denom = h * k + c
     if denom < SIMD_EPSILON:
@@ -159,7 +162,7 @@ N_BRANCHES = 3
 
 @njit(cache=True)
 def branches_pybullet(p, h, accel, forms, maps):
-    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)``, ``maps[:N_BRANCHES]`` with each branch's step.
 
     The forms: a contact point (``z - slop - breaking < 0``), the speculative row (``z > 0``) and
     the sign of each row's target, ``-v* - z/h`` and ``-v* - erp z/h`` with ``v* = w - h accel``.

@@ -63,7 +63,10 @@ class Stepper:
 
     @property
     def affine(self):
-        """Whether the map is piecewise affine (``kernels.AFFINE``): exact phase means and batches at formula speed."""
+        """Whether the map is piecewise affine (``kernels.AFFINE``).
+
+        Then phase means are exact and batches run at formula speed.
+        """
         return self.code in kernels.AFFINE
 
     def pack(self, **values):
@@ -139,7 +142,8 @@ STEPPERS = (
         law_damping=drake_map.law_damping,
         block_damping=drake_map.block_damping,
         step_setting="time_step",
-        source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
+        source="drake multibody/plant: discrete_update_manager.cc "
+        "(AppendDiscreteContactPairsForPointContact), "
         "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
