@@ -90,6 +90,14 @@ def test_link_inertias_read_from_urdf_and_sdf(tmp_path):
     assert got["b"][0] == 2.0 and np.array_equal(got["b"][1], [[1, 0.5, 0], [0.5, 2, 0], [0, 0, 3]])
 
 
+def test_an_empty_sdf_mass_element_reads_as_sdformats_default(tmp_path):
+    """<mass/> with no text is SDFormat's 1 kg, as an absent one (it raised a TypeError from float(None))."""
+    sdf = tmp_path / "m.sdf"
+    sdf.write_text('<sdf version="1.9"><model name="m"><link name="a"><inertial><mass/></inertial></link>'
+                   "</model></sdf>")  # fmt: skip
+    assert link_inertias(sdf)["a"][0] == 1.0
+
+
 @pytest.mark.parametrize(
     "mass, inertia, moves, message",
     [

@@ -263,7 +263,8 @@ def read_drop(path, interval_tolerance=None):
         return _floats(body, keys[key], header[keys[key]], comma)
 
     if "t" in keys and "z" in keys:
-        return DropData("trajectory", *check_trajectory(column("t"), column("z")), name)
+        t, z = check_trajectory(column("t"), column("z"))
+        return DropData("trajectory", t, z, name)
     if "t" in keys:
         t = check_times(column("t"), header[keys["t"]], interval_tolerance)
         return DropData("times", t, t, name)

@@ -131,7 +131,8 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
 
 def fast_damping_unchecked(law, target, xi, restitution):
     """``fast_damping`` (not ``exact``) of a target and a load factor already checked: inner layers'."""
-    return _damping(law, _fast_of(law), *_flat_unchecked(law, target, xi), restitution)
+    tf, xf, A, shape = _flat_unchecked(law, target, xi)
+    return _damping(law, _fast_of(law), tf, xf, A, shape, restitution)
 
 
 def _damping(law, fast, tf, xf, A, shape, restitution):

@@ -12,6 +12,7 @@ damping ``p`` and ``xi`` only.
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -83,7 +84,7 @@ class ContactLaw:
     floor_reached: bool
     end_states: tuple
     force: Callable
-    fast: object
+    fast: Any  # ClosedForm, EngineTable, LawTable or None: duck-typed evaluators
     code: int
     backend: object = FAMILY
     restitutions: tuple = RESTITUTIONS

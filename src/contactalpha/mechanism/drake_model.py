@@ -169,7 +169,7 @@ def _check_links(plant, model_path):
     dk = _drake()
     joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
     moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
-    welded = {}
+    welded: dict = {}
     for j in joints:
         if j.num_velocities() == 0:
             welded.setdefault(j.parent_body().name(), []).append(j.child_body().name())

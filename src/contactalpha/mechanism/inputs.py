@@ -98,8 +98,9 @@ def link_inertias(path):
             out[link.get("name")] = (0.0 if urdf else 1.0, np.zeros((3, 3)) if urdf else np.eye(3))
             continue
         mass_elem = inertial.find("mass")
+        sdf_mass = mass_elem.text if mass_elem is not None else None
         mass = _numbers(mass_elem, ("value",), (0.0,))[0] if urdf else (
-            float(mass_elem.text) if mass_elem is not None else 1.0)  # fmt: skip
+            float(sdf_mass) if sdf_mass is not None else 1.0)  # fmt: skip
         defaults = (0.0,) * 6 if urdf else (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)  # SDFormat's defaults
         ixx, iyy, izz, ixy, ixz, iyz = _numbers(inertial.find("inertia"), INERTIA_KEYS, defaults)
         out[link.get("name")] = (mass, np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]))

@@ -20,6 +20,7 @@ what a batch without it gives.
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,6 +28,9 @@ from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 from contactalpha.stepping.registry import stepper
+
+if TYPE_CHECKING:
+    from .stepped import SteppedAnswer
 
 
 class NoSeparationWarning(UserWarning):
@@ -97,24 +101,24 @@ class ContactParameters:
     """
 
     law: str
-    xi: object
+    xi: float | np.ndarray
     damping_name: str
-    damping: object
-    physical_damping: object
+    damping: float | np.ndarray
+    physical_damping: float | np.ndarray
     physical_unit: str
-    eps: object
-    e_n: object
+    eps: float | np.ndarray
+    e_n: float | np.ndarray
     end_state: object
     ok: object
     reason: object
-    accel: object
-    delta_star: object
+    accel: float | np.ndarray
+    delta_star: float | np.ndarray
     source: object
     engines: dict
-    e_n_half_speed: object
-    e_n_twice_speed: object
+    e_n_half_speed: float | np.ndarray
+    e_n_twice_speed: float | np.ndarray
     engine: str | None = None
-    stepped: object = None
+    stepped: "SteppedAnswer | None" = None
 
     def __getattribute__(self, name):
         value = object.__getattribute__(self, name)

@@ -165,8 +165,14 @@ def over_phase_unchecked(s, p, h, v, a, tol=QUAD_TOL, grid=GRID, max_steps=None)
 def _stats(row):
     st = int(row[codes.P_STATUS])
     return PhaseStats(
-        *(float(row[i]) for i in (codes.P_MEAN, codes.P_MIN, codes.P_MAX, codes.P_STD)),
-        *(float(row[i]) for i in (codes.P_EPS_MEAN, codes.P_EPS_MIN, codes.P_EPS_MAX, codes.P_EPS_STD)),
+        float(row[codes.P_MEAN]),
+        float(row[codes.P_MIN]),
+        float(row[codes.P_MAX]),
+        float(row[codes.P_STD]),
+        float(row[codes.P_EPS_MEAN]),
+        float(row[codes.P_EPS_MIN]),
+        float(row[codes.P_EPS_MAX]),
+        float(row[codes.P_EPS_STD]),
         int(row[codes.P_STEPS_MIN]),
         int(row[codes.P_STEPS_MAX]),
         float(row[codes.P_ERR]),

@@ -62,7 +62,7 @@ def _illinois(f, target):
         )  # fmt: skip
 
     exact = ghi == 0.0
-    st = (
+    state = (
         0,
         lo,
         glo,
@@ -72,7 +72,7 @@ def _illinois(f, target):
         ~bracketed | exact,
         jnp.where(exact, hi, jnp.nan),
     )
-    out = jax.lax.while_loop(lambda s: (s[0] < MAX_ITER) & ~jnp.all(s[6]), step, st)
+    out = jax.lax.while_loop(lambda s: (s[0] < MAX_ITER) & ~jnp.all(s[6]), step, state)
     p = jnp.where(target >= 1.0, 0.0, out[7])
     return p, bracketed & jnp.isfinite(p)
 
