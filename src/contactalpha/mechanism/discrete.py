@@ -66,7 +66,9 @@ def step_answer(engine, p, contact, target, timestep, diag_ratio=math.nan):
 
 def drake_p(block, contact):
     """Drake's map parameters: each geometry's stiffness and dissipation of ``block``, mass m_eff."""
-    return stepper("drake").from_block(block, contact.effective_mass, None)
+    from_block = stepper("drake").from_block
+    assert from_block is not None  # every registered stepper has one
+    return from_block(block, contact.effective_mass, None)
 
 
 def pybullet_p(block, contact, breaking=COMPOUND_BREAKING):

@@ -277,14 +277,30 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
 
 
 @njit(cache=True)
-def workspace(rows=64):
+def workspace(rows: int = 64) -> tuple[np.ndarray, ...]:
     """The arrays ``phase_row`` works in: ``(ws, forms, maps, zn, wn, buf, vals, acc)``; ``rows`` steps."""
     return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3),
             np.empty(3), np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
 
 
 @njit(cache=True)
-def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc):
+def phase_row(
+    code: int,
+    p: np.ndarray,
+    h: float,
+    v_in: float,
+    accel: float,
+    max_steps: int,
+    tol: float,
+    ws: np.ndarray,
+    forms: np.ndarray,
+    maps: np.ndarray,
+    zn: np.ndarray,
+    wn: np.ndarray,
+    buf: np.ndarray,
+    vals: np.ndarray,
+    acc: np.ndarray,
+) -> np.ndarray:
     """``acc`` filled with the ``codes.P_*`` row of e_N over a uniform touchdown phase; returns ``ws``.
 
     The arrays come from ``workspace`` (a caller evaluating many means reuses them).
@@ -309,7 +325,9 @@ def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, 
 
 
 @njit(cache=True)
-def phase_mean_affine(code, p, h, v_in, accel, max_steps, tol):
+def phase_mean_affine(
+    code: int, p: np.ndarray, h: float, v_in: float, accel: float, max_steps: int, tol: float
+) -> np.ndarray:
     """The row of ``codes.P_*`` slots of e_N over a uniform touchdown phase (module docstring)."""
     ws, forms, maps, zn, wn, buf, vals, acc = workspace()
     phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc)

@@ -7,6 +7,7 @@ its module with ``step_<engine>``, one code here and one branch in ``step_map``;
 (``registry.py``) carries the code with the engine's capabilities.
 """
 
+import numpy as np
 from numba import njit
 
 from . import mujoco_map, pybullet_map
@@ -21,7 +22,7 @@ DRAKE = 2
 
 
 @njit(cache=True)
-def step_map(code, z, w, p, h, accel):
+def step_map(code: int, z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One step of the engine with kernel code ``code`` (the table above): ``(z, w)`` after it."""
     if code == PYBULLET:
         return step_pybullet(z, w, p, h, accel)
@@ -42,7 +43,7 @@ MAX_BRANCHES = max(count for _, count in AFFINE.values())
 
 
 @njit(cache=True)
-def surface(code, p):
+def surface(code: int, p: np.ndarray) -> float:
     """Height in the map's ``z`` of the surface a user reads a drop at.
 
     PyBullet's geometric surface lies ``slop`` above its solver's (``pybullet_map``); the other
@@ -54,7 +55,7 @@ def surface(code, p):
 
 
 @njit(cache=True)
-def branches(code, p, h, accel, forms, maps):
+def branches(code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
     """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count.
 
     They are written in the height above ``surface`` (``zeta = z - surface``), where a drop is read.
@@ -74,7 +75,7 @@ def branches(code, p, h, accel, forms, maps):
 
 
 @njit(cache=True)
-def branch_of(code, vals):
+def branch_of(code: int, vals: np.ndarray) -> int:
     """The branch picked by the forms' values ``vals`` at a state."""
     if code == PYBULLET:
         return branch_pybullet(vals)

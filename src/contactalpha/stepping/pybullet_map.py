@@ -82,12 +82,19 @@ SLOT_NAMES = (
 )
 
 
-def breaking_threshold(radius, factor=BREAKING_FACTOR):
+def breaking_threshold(radius: float | np.ndarray, factor: float = BREAKING_FACTOR) -> float | np.ndarray:
     """The contact breaking threshold (m) of a sphere-plane manifold: ``factor * sqrt(3) * radius``."""
     return factor * math.sqrt(3.0) * radius
 
 
-def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, radius):
+def make_params(
+    mass: float | np.ndarray,
+    stiffness_ball: float | np.ndarray,
+    damping_ball: float | np.ndarray,
+    stiffness_ground: float | np.ndarray,
+    damping_ground: float | np.ndarray,
+    radius: float | np.ndarray,
+) -> np.ndarray:
     """``p`` for a sphere of ``radius`` (m) on a plane, at PyBullet's default threshold and slop."""
     # Arrays give one row of slots per scene.
     cols = (
@@ -102,14 +109,14 @@ def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_gr
     return np.stack(np.broadcast_arrays(*cols), axis=-1).astype(float)
 
 
-def contact_time(p):
+def contact_time(p: np.ndarray) -> float | np.ndarray:
     """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
     return np.pi * np.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
-def pair_values(p):
+def pair_values(p: np.ndarray) -> tuple[float, float]:
     """The pair's ``(k, c)`` from the two bodies' (``btManifoldResult``'s combining rules)."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
     return k, p[DAMPING_BALL] + p[DAMPING_GROUND]
@@ -130,7 +137,7 @@ def _row_terms(p, h):
 
 
 @njit(cache=True)
-def impulse_pybullet(z, w, p, h, accel):
+def impulse_pybullet(z: float, w: float, p: np.ndarray, h: float, accel: float) -> float:
     """The normal impulse ``lambda`` (N s, >= 0) of one step from ``(z, w)``; 0 without a contact point."""
     if not (z - p[SLOP] < p[BREAKING]):
         return 0.0
@@ -144,7 +151,7 @@ def impulse_pybullet(z, w, p, h, accel):
 
 
 @njit(cache=True)
-def step_pybullet(z, w, p, h, accel):
+def step_pybullet(z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One PyBullet step of the height ``z`` (m, above the contact surface) and velocity ``w`` (m/s, up).
 
     ``accel`` (m/s^2, > 0) is the load's acceleration into the contact, ``h`` the step (s).
@@ -161,7 +168,7 @@ N_BRANCHES = 3
 
 
 @njit(cache=True)
-def branches_pybullet(p, h, accel, forms, maps):
+def branches_pybullet(p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
     """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)``, ``maps[:N_BRANCHES]`` with each branch's step.
 
     The forms: a contact point (``z - slop - breaking < 0``), the speculative row (``z > 0``) and
@@ -184,7 +191,7 @@ def branches_pybullet(p, h, accel, forms, maps):
 
 
 @njit(cache=True)
-def branch_pybullet(vals):
+def branch_pybullet(vals: np.ndarray) -> int:
     """The branch from the forms' values at a state (``branches_pybullet``)."""
     if not vals[0] < 0.0:
         return 0
@@ -193,7 +200,7 @@ def branch_pybullet(vals):
     return 2 if vals[3] > 0.0 else 0
 
 
-def from_block(block, mass, radius):
+def from_block(block: dict, mass: float | np.ndarray, radius: float | np.ndarray | None) -> np.ndarray:
     """``p`` from PyBullet's block of ``contact_parameters`` (each body's contactStiffness, contactDamping).
 
     The contact breaking threshold needs the sphere's ``radius`` (m); ValueError without one.
@@ -204,12 +211,12 @@ def from_block(block, mass, radius):
     return make_params(mass, k, c, k, c, radius)
 
 
-def block_damping(block):
+def block_damping(block: dict) -> np.ndarray:
     """PyBullet's own damping, each body's ``contactDamping`` (N s/m), of a block; arrays go through."""
     return np.asarray(block["contactDamping"], dtype=float)
 
 
-def law_damping(p, approach_speed):
+def law_damping(p: np.ndarray, approach_speed: float | np.ndarray) -> float | np.ndarray:
     """The spring-dashpot's damping ratio zeta = c / (2 sqrt(k m)) of the pair in ``p`` (any speed)."""
     del approach_speed
     k, c = pair_values.py_func(p)  # numpy arithmetic: p may hold one column per scene

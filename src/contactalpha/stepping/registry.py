@@ -62,14 +62,14 @@ class Stepper:
     read_at: str = "the contact surface"
 
     @property
-    def affine(self):
+    def affine(self) -> bool:
         """Whether the map is piecewise affine (``kernels.AFFINE``).
 
         Then phase means are exact and batches run at formula speed.
         """
         return self.code in kernels.AFFINE
 
-    def pack(self, **values):
+    def pack(self, **values: float) -> np.ndarray:
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
         unknown = sorted(set(values) - set(self.slots))
         if unknown:
@@ -80,7 +80,7 @@ class Stepper:
             raise ValueError(f"{self.name}: parameter(s) {missing} are required; the slots are {self.slots}")
         return np.array([float(merged[s]) for s in self.slots])
 
-    def unpack(self, p):
+    def unpack(self, p: np.ndarray) -> dict[str, float]:
         """Slot name -> value of ``p``."""
         return {s: float(v) for s, v in zip(self.slots, p, strict=True)}
 
@@ -151,7 +151,7 @@ STEPPERS = (
 STEPPER_NAMES = tuple(s.name for s in STEPPERS)
 
 
-def stepper(name):
+def stepper(name: str) -> Stepper:
     """The registered stepper called ``name``; ValueError naming the valid choices otherwise."""
     for s in STEPPERS:
         if s.name == name:
