@@ -18,8 +18,10 @@ Importing this module does not need Drake.
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
@@ -126,7 +128,14 @@ def _set(plant, context, name, value, size):
     getattr(plant, "SetPositions" if name == "qpos" else "SetVelocities")(context, arr)
 
 
-def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
+def read_drake(
+    model_path: str | Path,
+    pair: tuple[str, str],
+    qpos: ArrayLike | None = None,
+    qvel: ArrayLike | None = None,
+    speed: float | None = None,
+    forces: dict | None = None,
+) -> MechanismContact:
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
     p = _Plant(model_path)
     plant, ctx = p.plant, p.context
@@ -190,9 +199,10 @@ def _check_links(plant, model_path):
 
 
 def drake_drop(
-    model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None, time_step=0.0,
-    approximation="lagged", phase=0.0,
-):  # fmt: skip
+    model_path: str | Path, pair: tuple[str, str], qpos: ArrayLike, qvel: ArrayLike, *, report: float = 1e-5,
+    duration: float = 1.0, accuracy: float = ACCURACY, forces: dict | None = None, time_step: float = 0.0,
+    approximation: str = "lagged", phase: float = 0.0,
+) -> MechanismDrop:  # fmt: skip
     """``MechanismDrop`` of the plant with point contact from touchdown.
 
     The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.
