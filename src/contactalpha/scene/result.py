@@ -20,7 +20,7 @@ what a batch without it gives.
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -28,9 +28,6 @@ from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 from contactalpha.stepping.registry import stepper
-
-if TYPE_CHECKING:
-    from .stepped import SteppedAnswer
 
 
 class NoSeparationWarning(UserWarning):
@@ -118,7 +115,7 @@ class ContactParameters:
     e_n_half_speed: float | np.ndarray
     e_n_twice_speed: float | np.ndarray
     engine: str | None = None
-    stepped: "SteppedAnswer | None" = None
+    stepped: Any = None  # scene.stepped.SteppedAnswer or None (stepped imports this module)
 
     def __getattribute__(self, name):
         value = object.__getattribute__(self, name)
