@@ -22,13 +22,14 @@ moves on an arc.  ``tune(check=True)`` drops the tuned model in the engine and s
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from contactalpha.stepping import drake_map, pybullet_map
-from contactalpha.stepping.delivered import over_phase
-from contactalpha.stepping.inverse import damping_for
+from contactalpha.stepping.delivered import PhaseStats, over_phase
+from contactalpha.stepping.inverse import StepInverse, damping_for
 from contactalpha.stepping.registry import stepper
 
 from .contact import MechanismContact
@@ -49,11 +50,11 @@ class DiscreteAnswer:
     ``diag_ratio`` (MuJoCo: diagA m_eff, the map's mechanism slot; NaN for the others).
     """
 
-    continuous: object
-    inverse: object
+    continuous: PhaseStats
+    inverse: StepInverse
     timestep: float
     engine: str = "mujoco"
-    p: object = None
+    p: np.ndarray | None = None
     diag_ratio: float = math.nan
 
 
@@ -103,7 +104,7 @@ class EngineStep:
     what the map covers.
     """
 
-    parameters: object
+    parameters: Callable[[dict, MechanismContact], np.ndarray]
     default_step: float | None
     damping: str
     note: str

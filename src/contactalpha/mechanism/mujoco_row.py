@@ -83,7 +83,7 @@ class MuJoCoTuning:
     xi: float
     stiffness: float
     seen: tuple
-    discrete: object = None
+    discrete: DiscreteAnswer | None = None
 
 
 def law_scene(contact: MechanismContact, stiffness: float) -> DropScene:

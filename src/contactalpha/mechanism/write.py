@@ -221,7 +221,7 @@ def write_pybullet(
     pair: tuple[str, str],
     params: dict,
     notes: Sequence[str],
-    links: tuple[str | None, str | None] = (None, None),
+    links: Sequence[str | None] = (None, None),
 ) -> Path:
     """Write a Python script applying ``params`` (per-body ``contactStiffness``, ``contactDamping``).
 
