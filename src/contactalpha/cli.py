@@ -19,8 +19,6 @@ from pathlib import Path
 from contactalpha.calibration import command as calibrate_command
 from contactalpha.defaults import (
     ATOL,
-    ENGINE_LAWS,
-    ENGINE_NAMES,
     EPS_TOL,
     EXIT_UNREACHABLE,
     RTOL,
@@ -103,8 +101,7 @@ def stiffness_help():
     parts = []
     for unit in dict.fromkeys(STIFFNESS_UNITS.values()):
         laws = ", ".join(law for law, u in STIFFNESS_UNITS.items() if u == unit)
-        engines = ", ".join(e for e, law in ENGINE_LAWS.items() if STIFFNESS_UNITS[law] == unit)
-        parts.append(f"{unit} for {laws} (engines {engines or 'none'})")
+        parts.append(f"{unit} for {laws}")
     return (
         "the contact law's physical stiffness k: " + "; ".join(parts) + "; never per unit mass (MuJoCo's "
         "block divides by --mass); default law hunt_crossley"
@@ -227,8 +224,9 @@ def build_parser():
     f.add_argument("--json", action="store_true", help="print the parameters as JSON")
     f.add_argument(
         "--engine",
-        choices=ENGINE_NAMES,
-        help="solve for this engine's law and print its block, in its own names and units",
+        help="solve for this registered engine's law and print its block, in its own names and units "
+        "(the engines pages list them; an unknown name is refused with "
+        "the registry's list)",
     )
     f.add_argument(
         "--refine", action="store_true", help="with --engine: refine on the engine's own drops (needs it)"

@@ -76,3 +76,35 @@ def test_mujoco_loads_pybullet_datas_panda(mujoco, pybullet):
         mujoco.MjModel.from_xml_path(path)
     m = load_model(path)
     assert m.nbody == 10 and m.nq == 9
+
+
+CUBE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n"
+
+
+def test_cli_package_path_resolves_for_mujoco(mujoco, tmp_path, monkeypatch):
+    import subprocess
+    import sys
+
+    monkeypatch.delenv(uris.ENVIRONMENT, raising=False)
+    (tmp_path / "pkg" / "meshes").mkdir(parents=True)
+    (tmp_path / "pkg" / "meshes" / "c.obj").write_text(CUBE)
+    (tmp_path / "robot").mkdir()
+    urdf = tmp_path / "robot" / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" '
+        'ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry><mesh filename="package://mypkg/meshes/c.obj"/>'
+        "</geometry></collision></link></robot>"
+    )
+
+    def run(*extra):
+        args = [sys.executable, "-m", "contactalpha", "tune", str(urdf), "--pair", "x", "y", "--e-n", "0.5",
+                "--speed", "1", "--engine", "mujoco", *extra]  # fmt: skip
+        return subprocess.run(args, capture_output=True, text=True, timeout=120)
+
+    missing = run()
+    assert missing.returncode == 2
+    assert "no file for package 'mypkg'; give its folder with --package-path mypkg=DIR" in missing.stderr
+    found = run("--package-path", f"mypkg={tmp_path / 'pkg'}")
+    assert (
+        found.returncode == 2 and "geometry 'x' is not in the model" in found.stderr
+    )  # loaded: the mesh read

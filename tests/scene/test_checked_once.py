@@ -46,7 +46,10 @@ def counted(monkeypatch):
     def counting(fn, fixed):
         @functools.wraps(fn)
         def wrapper(*args, **kwargs):
-            if depth[0] == 0:
+            # The stepping layer's public entry points check their own inputs: the front door's
+            # statement at an engine's step calls them (``params --engine`` prints it).
+            caller = sys._getframe(1).f_globals.get("__name__", "")
+            if depth[0] == 0 and not caller.startswith("contactalpha.stepping"):
                 counts[fixed or (args[0] if args and isinstance(args[0], str) else fn.__name__)] += 1
             depth[0] += 1
             try:

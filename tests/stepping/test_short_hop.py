@@ -194,7 +194,7 @@ def test_the_batch_inverse_solves_for_what_a_user_reads():
     block = cp.engines["mujoco"]
     phases = (np.arange(PHASES) + 0.5) / PHASES
     for i in range(2):
-        p = stepper("mujoco").pack(stiffness=-block["solref"][0][i], damping=-block["solref"][1][i],
-                                   impedance=block["solimp"][0][i])  # fmt: skip
+        p = stepper("mujoco").pack(stiffness=-block["solref"][i][0], damping=-block["solref"][i][1],
+                                   impedance=block["solimp"][i][0])  # fmt: skip
         e = [_user_reading(*trajectory(MUJOCO, p, H, f, v[i], a[i], 600), a[i], v[i])[0] for f in phases]
         assert abs(np.mean(e) - target[i]) < 5e-4  # the midpoint sample's error at the jumps

@@ -48,6 +48,9 @@ def add_parser(make, number):
     t.add_argument("--no-engine-loop", action="store_true",
                    help="MuJoCo: write the reduced model's answer without solving on the engine's own "
                    "drops of the whole model (the default solves there)")  # fmt: skip
+    t.add_argument("--package-path", action="append", metavar="NAME=DIR",
+                   help="the folder of package NAME for package:// URIs (repeat; else ROS_PACKAGE_PATH, "
+                   "else beside the file)")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
     t.add_argument("--force-write", action="store_true",
@@ -74,7 +77,10 @@ def run(args, parser):
     from .tune import default_output, tune
 
     output = args.output or default_output(args.model, args.engine)
-    with warnings.catch_warnings(record=True) as caught:
+    from . import uris
+
+    packages = uris.parse_package_paths(args.package_path)
+    with warnings.catch_warnings(record=True) as caught, uris.using(packages):
         warnings.simplefilter("always")
         try:
             result = tune(

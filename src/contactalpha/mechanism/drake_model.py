@@ -14,6 +14,13 @@ Signed distance in Drake covers pairs of spheres, boxes, capsules, cylinders and
 a half space with anything but a sphere: model a floor as a large box.  ``drake_drop`` runs the
 continuous plant with point contact from the touchdown state and measures the rebound.
 
+**The base.** A URDF's root link is fixed to the world where MuJoCo and PyBullet load it (the
+package's PyBullet drops load with ``useFixedBase``); Drake's parser leaves it floating, so the same
+file was a fixed arm in two engines and a falling robot in the third.  Here a URDF's root links
+(bodies no joint moves) are welded to the world at the origin by default (``base="fixed"``,
+``BASES``); ``base="floating"`` keeps Drake's free body.  An SDF says its own base (a joint to
+``world``, or none: floating), and is read as it says.
+
 Importing this module does not need Drake.
 """
 
@@ -31,6 +38,8 @@ from .inputs import check_link, link_inertias
 INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
 ACCURACY = 1e-9
+# How a URDF's root links hang: welded to the world (as MuJoCo and PyBullet load a URDF), or free.
+BASES = ("fixed", "floating")
 
 
 def _drake():
@@ -44,7 +53,9 @@ def _drake():
 class _Plant:
     """A parsed model: diagram, plant, scene graph, root and plant contexts."""
 
-    def __init__(self, model_path, point_contact=False, time_step=0.0, approximation=None):
+    def __init__(self, model_path, point_contact=False, time_step=0.0, approximation=None, base="fixed"):
+        if base not in BASES:
+            raise ValueError(f"base = {base!r} is outside the valid choices {BASES}")
         dk = _drake()
         builder = dk.DiagramBuilder()
         self.plant, self.scene_graph = dk.AddMultibodyPlantSceneGraph(builder, float(time_step))
@@ -55,11 +66,14 @@ class _Plant:
                 getattr(dk.DiscreteContactApproximation, "k" + approximation.capitalize())
             )
         try:
-            dk.Parser(self.plant).AddModels(str(model_path))
+            instances = dk.Parser(self.plant).AddModels(str(model_path))
         except RuntimeError as err:
             raise ValueError(
                 f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}"
             ) from None
+        self.welded = ()
+        if base == "fixed" and str(model_path).lower().endswith(".urdf"):
+            self.welded = _weld_roots(self.plant, instances)
         self.plant.Finalize()
         self.diagram = builder.Build()
         self.root = self.diagram.CreateDefaultContext()
@@ -128,6 +142,16 @@ def _set(plant, context, name, value, size):
     getattr(plant, "SetPositions" if name == "qpos" else "SetVelocities")(context, arr)
 
 
+def _weld_roots(plant, instances):
+    """Weld the root bodies of ``instances`` (no joint moves them) to the world; their names."""
+    moved = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices()}
+    roots = [plant.get_body(b) for inst in instances for b in plant.GetBodyIndices(inst)
+             if b not in moved and b != plant.world_body().index()]  # fmt: skip
+    for body in roots:
+        plant.WeldFrames(plant.world_frame(), body.body_frame())
+    return tuple(body.name() for body in roots)
+
+
 def read_drake(
     model_path: str | Path,
     pair: tuple[str, str],
@@ -135,9 +159,10 @@ def read_drake(
     qvel: ArrayLike | None = None,
     speed: float | None = None,
     forces: dict | None = None,
+    base: str = "fixed",
 ) -> MechanismContact:
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
-    p = _Plant(model_path)
+    p = _Plant(model_path, base=base)
     plant, ctx = p.plant, p.context
     _check_links(plant, model_path)
     if qpos is not None:
@@ -166,7 +191,16 @@ def read_drake(
         jacobian=J, effective_mass=m_eff, accel=float(sum(parts)), gravity_accel=parts[0],
         forces_accel=parts[1], velocity_accel=parts[2], approach_speed=v,
         qpos=np.array(plant.GetPositions(ctx)), qvel=np.array(qv), forces=dict(forces or {}),
+        engine_row={"base": _base_text(p, base)},
     )  # fmt: skip
+
+
+def _base_text(p, base):
+    if p.welded:
+        return (f"fixed: the URDF's root link {', '.join(p.welded)} welded to the world (as MuJoCo and "
+                "PyBullet load a URDF; weld it in your diagram too: plant.WeldFrames(plant.world_frame(), "
+                f"plant.GetFrameByName({p.welded[0]!r})))")  # fmt: skip
+    return "as the file says" if base == "fixed" else "floating (Drake's free root body)"
 
 
 def _check_links(plant, model_path):
@@ -201,7 +235,7 @@ def _check_links(plant, model_path):
 def drake_drop(
     model_path: str | Path, pair: tuple[str, str], qpos: ArrayLike, qvel: ArrayLike, *, report: float = 1e-5,
     duration: float = 1.0, accuracy: float = ACCURACY, forces: dict | None = None, time_step: float = 0.0,
-    approximation: str = "lagged", phase: float = 0.0,
+    approximation: str = "lagged", phase: float = 0.0, base: str = "fixed",
 ) -> MechanismDrop:  # fmt: skip
     """``MechanismDrop`` of the plant with point contact from touchdown.
 
@@ -217,7 +251,7 @@ def drake_drop(
         raise ValueError(
             f"approximation = {approximation!r} is outside the valid choices {DRAKE_APPROXIMATIONS}"
         )
-    p = _Plant(model_path, point_contact=True, time_step=time_step, approximation=approximation)
+    p = _Plant(model_path, point_contact=True, time_step=time_step, approximation=approximation, base=base)
     g1, g2 = (p.geometry(name) for name in pair)
     if qpos is not None:
         _set(p.plant, p.context, "qpos", qpos, p.plant.num_positions())

@@ -29,7 +29,9 @@ off in the engine: the phase mean at the reduced model's parameters with it, min
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -37,7 +39,7 @@ from contactalpha.adapters.base import refine
 from contactalpha.scene.stepped import phase_mean_error
 
 from .crossing import rebound_speed
-from .mujoco_model import _mujoco, geom_id, load_model, mujoco_drop, start_state, touchdown
+from .mujoco_model import geom_id, load_model, mujoco_drop, mujoco_module, start_state, touchdown
 
 # Threads of MuJoCo's rollout (the machine's two cores); each phase is its own rollout, so the
 # bits do not depend on the count.
@@ -80,7 +82,7 @@ def phase_grid(n):
 
 def _with_gap_sensor(model, pair):
     """The model (path or MJCF text) compiled with a geometry-distance sensor on the pair, last."""
-    mj = _mujoco()
+    mj = mujoco_module()
     text = str(model)
     spec = mj.MjSpec.from_string(text) if text.lstrip().startswith("<") else mj.MjSpec.from_file(text)
     spec.add_sensor(type=mj.mjtSensor.mjSENS_GEOMDIST, objtype=mj.mjtObj.mjOBJ_GEOM, objname=pair[0],
@@ -149,7 +151,7 @@ class MujocoLoop:
         whose gap has not come back within the rollout's steps is run by ``mujoco_drop`` (up to its
         second), so that it is counted as captured only when it is.  NaN: never touched.
         """
-        mj = _mujoco()
+        mj = mujoco_module()
         from mujoco import rollout
 
         self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
@@ -274,7 +276,7 @@ def solve_damping(loop, target, start, *, phases=PHASES, tol=PHASE_TOL, solve_to
     ref = refine(e_n_of, target, -start[1], solve_tol, refine_tol=solve_tol)
     b = ref.damping if math.isfinite(ref.damping) else 0.0
     delivered = loop.converged_mean((k, -b), n, tol)
-    if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases: solve again there
+    if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases
         n = delivered.phases
         means = {}
         ref = refine(e_n_of, target, b, solve_tol, refine_tol=solve_tol)
@@ -292,8 +294,8 @@ class Part:
     """A part of the whole model the reduced model leaves out, and how to switch it off in MuJoCo."""
 
     name: str
-    present: object  # present(MjModel, pair rows) -> a description, or "" when the model has none
-    switch_off: object  # switch_off(MjModel, pair rows), in place
+    present: Callable[[Any, list], str]  # (MjModel, pair rows) -> a description, "" when absent
+    switch_off: Callable[[Any, list], None]  # (MjModel, pair rows), in place
 
 
 def _damping(m, rows):

@@ -42,6 +42,11 @@ def _mujoco():
     return mujoco
 
 
+def mujoco_module():
+    """The ``mujoco`` module; ImportError with the install hint where it is missing."""
+    return _mujoco()
+
+
 def load_model(model):
     """An ``MjModel`` from a file path (MJCF or URDF), an MJCF string (starting with ``<``), or itself.
 
@@ -220,13 +225,13 @@ def unmodelled_settings(model):
     opt, out = model.opt, []
     if opt.enableflags & mj.mjtEnableBit.mjENBL_OVERRIDE:
         raise ValueError(
-            "the model enables override (<flag override=\"enable\"/>): its o_solref, o_solimp and "
+            'the model enables override (<flag override="enable"/>): its o_solref, o_solimp and '
             "o_margin replace every contact's, a tuned pair's too; disable it to tune"
         )
     for bit in (mj.mjtDisableBit.mjDSBL_CONTACT, mj.mjtDisableBit.mjDSBL_CONSTRAINT):
         if opt.disableflags & bit:
             name = bit.name.removeprefix("mjDSBL_").lower()
-            raise ValueError(f"the model disables {name} (<flag {name}=\"disable\"/>): no pair touches")
+            raise ValueError(f'the model disables {name} (<flag {name}="disable"/>): no pair touches')
     integrator = mj.mjtIntegrator(opt.integrator).name.removeprefix("mjINT_").lower()
     if integrator not in MODELLED_INTEGRATORS:
         out.append(f"integrator {integrator}: the answer is for {'/'.join(MODELLED_INTEGRATORS)}; "

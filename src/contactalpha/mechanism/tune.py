@@ -12,8 +12,10 @@ the touchdown state: the delivered e_N, and how much the effective mass moves ov
 import importlib.util
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -66,7 +68,7 @@ class Reader:
     name: str
     module: str
     suffixes: tuple
-    read: object
+    read: Callable[..., Any]
 
 
 READERS = (
@@ -75,7 +77,7 @@ READERS = (
 )
 
 
-def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, forces=None):
+def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, forces=None, base=None):
     """``MechanismContact`` of ``pair`` in ``model`` read by ``reader`` (default: the first that reads it).
 
     Parameters
@@ -86,6 +88,8 @@ def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, 
     qpos : joint positions (the engine's coordinates; default the model's own).
     qvel, speed : the approach: joint velocities, or the closing speed of the contact point, m/s.
     forces : {body: (fx, fy, fz)} constant forces at bodies' centres of mass, N, world axes.
+    base : Drake: "fixed" (default: a URDF's root link welded to the world, as MuJoCo and PyBullet
+        load it) or "floating" (``drake_model.BASES``).
     """
     path = Path(model)
     if not path.is_file():
@@ -107,7 +111,13 @@ def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, 
     ready = [r for r in fits if importlib.util.find_spec(r.module) is not None]
     if not ready:
         raise ImportError(f"reading {path.suffix} models needs {' or '.join(r.module for r in fits)}")
-    return ready[0].read(path, pair, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
+    extra = {}
+    if base is not None:
+        if ready[0].name != "drake":
+            raise ValueError(f"base = {base!r}: MuJoCo fixes a URDF's root link (an MJCF says its own base "
+                             "with a <freejoint>); base chooses Drake's")  # fmt: skip
+        extra["base"] = base
+    return ready[0].read(path, pair, qpos=qpos, qvel=qvel, speed=speed, forces=forces, **extra)
 
 
 @dataclass(frozen=True)
@@ -136,7 +146,7 @@ class Tuning:
     drop: object = field(default=None, repr=False)
     discrete: object = None
     timestep: float | None = None
-    loop: object = None
+    loop: Any = None
     reached: bool = True
     unreachable: str = ""
 
@@ -325,8 +335,8 @@ class Tuner:
     name: str
     reader: str | None
     suffix: str
-    solve: object
-    write: object
+    solve: Callable[..., Any]
+    write: Callable[..., Any]
     drop: bool
 
 
@@ -447,8 +457,10 @@ def tune(
         result = replace(result, output=t.write(contact, output, result.parameters, result.notes))
     if refine:
         if t.name != "mujoco" or result.output is None:
-            raise ValueError("refine works with engine 'mujoco' and an output file"
-                             + ("" if result.reached else f" (nothing written: {result.unreachable})"))
+            raise ValueError(
+                "refine works with engine 'mujoco' and an output file"
+                + ("" if result.reached else f" (nothing written: {result.unreachable})")
+            )
         result = _refined(result, target, timestep)
     if check and t.drop and (result.reached or result.output is not None or t.name == "mujoco"):
         result = _checked(result, timestep, refined=refine)  # unreached and unwritten: nothing to drop

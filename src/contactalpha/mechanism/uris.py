@@ -78,7 +78,7 @@ def needs_resolving(path):
     return "package://" in Path(path).read_text(encoding="utf-8", errors="replace")
 
 
-_ACTIVE = contextvars.ContextVar("package_paths", default=None)
+_ACTIVE: contextvars.ContextVar[dict | None] = contextvars.ContextVar("package_paths", default=None)
 
 
 @contextlib.contextmanager

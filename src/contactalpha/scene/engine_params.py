@@ -12,6 +12,7 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
 from contactalpha.validation import check_flag
 
+from . import stepped
 from .parameters import contact_parameters, scene_accel
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import as_plain_data, block_lines, stepped_lines
@@ -92,7 +93,11 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
         notes = [f"law {cp.law}: {cp.damping_name} = {cp.damping:.15g} at xi = {cp.xi:.15g} ({cp.source})"]
         step = a.timestep(a.settings)
         if step is not None:
-            notes.append(f"{engine} steps at {step:g} s: run with refine for its own e_N")
+            notes += _at_default_step(
+                cp, engine, target, restitution, mass, stiffness, approach_speed, radius
+            )
+            notes.append(f"{engine} steps at {step:g} s: the block is the continuous law's; --timestep gives "
+                         "the step's own, --refine refines it on the engine's drops")  # fmt: skip
         return cp.block, notes, None
     accel = scene_accel(mass, accel, force)
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
@@ -108,6 +113,18 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
         ],
         None,
     )
+
+
+def _at_default_step(cp, engine, target, restitution, mass, stiffness, approach_speed, radius):
+    """Lines of what ``cp``'s continuous block does at ``engine``'s default step (``stepped_lines``)."""
+    scene = (float(mass), float(stiffness), float(approach_speed), float(cp.accel), radius)
+    try:
+        with warnings.catch_warnings():  # the lines carry it (``result.stepped_lines``)
+            warnings.simplefilter("ignore", EnergyGainWarning)
+            at = stepped.at_step(cp, engine, stepped.DEFAULT_STEP, *scene, target, restitution)
+    except ValueError as exc:
+        return [f"not checked at {engine}'s default step: {' '.join(str(exc).split())}"]
+    return stepped_lines(at.stepped)
 
 
 def format_block(engine, params, notes):
