@@ -75,7 +75,6 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
                                     accel=accel, force=force, radius=radius, engine=engine, timestep=timestep,
                                     verify=verify, **{key: target})  # fmt: skip
         ans = cp.stepped
-        assert ans is not None  # timestep given: the answer at the step is there
         if ans.status != "ok":
             name = "e_N" if ans.restitution == "kinematic" else "eps"
             raise UnreachableTarget(
