@@ -74,7 +74,9 @@ def main(argv=None):
     def per_scene(**kw):
         start = time.perf_counter()
         for m, k, v, e in todo:
-            contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine="mujoco", **kw)
+            contact_parameters(
+                mass=m, stiffness=k, approach_speed=v, accel=9.81, e_N=e, engine="mujoco", **kw
+            )
         return (time.perf_counter() - start) / n
 
     base = per_scene()

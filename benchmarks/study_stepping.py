@@ -1,8 +1,9 @@
 """Issue 33's done-when for MuJoCo: the phase mean at the engine's step, measured in MuJoCo itself.
 
 Run: PYTHONPATH=src nice -n 10 python benchmarks/study_stepping.py [PHASES] [OUT.json]
-For 14 scenes (mass 0.02-20 kg, speed 0.05-3 m/s, push up to 100 N, each speed above accel h / 2, targets 0.1-0.95, one scene at
-1.15 times its critical speed, one whose step is too coarse) and MuJoCo's Euler and implicitfast
+For 14 scenes (mass 0.02-20 kg, speed 0.05-3 m/s, push up to 100 N, each speed above accel h / 2,
+targets 0.1-0.95, one scene at 1.15 times its critical speed, one whose step is too coarse) and
+MuJoCo's Euler and implicitfast
 at 2 ms: ``contact_parameters(..., engine="mujoco", timestep=0.002)`` gives solref for the mean
 e_N over a uniform touchdown phase and the predicted range; MuJoCo then drops the ball at PHASES
 (default 128) evenly spaced phases.  Done when the measured mean is within 1e-3 of the target in
@@ -108,7 +109,8 @@ def check(m, w2, v, f, target, h, integrator, phases):
     dense = at_phases("mujoco", p, h, (np.arange(2**16) + 0.5) / 2**16, v, cp.accel)["e_n"].mean()
     row |= {"solref": list(cp.block["solref"]), "predicted": [ans.mean, ans.minimum, ans.maximum],
             "measured": [float(e.mean()), float(e.min()), float(e.max())], "verify_s": run_s,
-            "steps": [ans.steps_min, ans.steps_max], "map_at_phases_max_diff": float(np.max(np.abs(e - e_map))),
+            "steps": [ans.steps_min, ans.steps_max],
+            "map_at_phases_max_diff": float(np.max(np.abs(e - e_map))),
             "map_mean_65536_phases": float(dense),
             "map_at_phases": [float(e_map.mean()), float(e_map.min()), float(e_map.max())]}  # fmt: skip
     row["a_h_over_v"] = cp.accel * h / v
@@ -122,7 +124,8 @@ def show(i, r):
         return f"{i:2d} {r['integrator']:12s} target {r['target']:.3f}  {r['status']}"
     p, q = r["predicted"], r["measured"]
     return (f"{i:2d} {r['integrator']:12s} h {r['timestep']:.3g} target {r['target']:.4f} continuous "
-            f"{r['continuous_mean']:.4f} | predicted {p[0]:.4f} [{p[1]:.4f}, {p[2]:.4f}] | measured {q[0]:.4f} "
+            f"{r['continuous_mean']:.4f} | predicted {p[0]:.4f} [{p[1]:.4f}, {p[2]:.4f}] | measured "
+            f"{q[0]:.4f} "
             f"[{q[1]:.4f}, {q[2]:.4f}] | steps {r['steps'][0]}-{r['steps'][1]} | mean "
             f"{'ok' if r['mean_ok'] else 'MISS'} range {'ok' if r['range_ok'] else 'MISS'} | map at the same "
             f"phases {r['map_at_phases'][0]:.4f}, off by {r['map_at_phases_max_diff']:.1e}; map at 65536 "
@@ -151,8 +154,10 @@ def main():
           f"{sum(r['status'] != 'ok' for r in rows)} unreachable at 2 ms")  # fmt: skip
     worst = max(r["map_at_phases_max_diff"] for r in checked)
     print(f"the map reproduces MuJoCo's e_N at every measured phase within {worst:.1e}")
-    print(f"cost per scene: answer median {np.median([r['answer_s'] for r in rows]):.3f} s, "
-          f"MuJoCo check at {phases} phases median {np.median([r['verify_s'] for r in checked]):.3f} s")
+    print(
+        f"cost per scene: answer median {np.median([r['answer_s'] for r in rows]):.3f} s, "
+        f"MuJoCo check at {phases} phases median {np.median([r['verify_s'] for r in checked]):.3f} s"
+    )
     if len(sys.argv) > 2:
         config = {"phases": phases, "timestep": H, "mean_tol": MEAN_TOL, "range_tol": RANGE_TOL}
         write_json_atomic(sys.argv[2], {"attrs": result_attrs(config, "study_stepping"), "rows": rows})

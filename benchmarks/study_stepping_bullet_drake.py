@@ -1,4 +1,6 @@
-"""Study of issue 33 for PyBullet (1/240 s) and Drake's discrete plant (1 ms): the inverse at the step, in the engines.
+"""Study of issue 33 for PyBullet (1/240 s) and Drake's discrete plant (1 ms): the inverse at the step.
+
+The inverse runs at the engine's step and is checked in the engines themselves.
 
 Run: PYTHONPATH=src nice -n 10 python benchmarks/study_stepping_bullet_drake.py [PHASES] [OUT.json]
 
@@ -29,7 +31,6 @@ function that jumps: it differs from the exact phase mean by up to about jump/PH
 column ``sampled - exact`` gives that part, computed by the map at the same phases.
 """
 
-import json
 import math
 import sys
 import time
@@ -88,7 +89,11 @@ def pack(engine, mass, k_pair, radius=0.05):
             breaking=pybullet_map.breaking_threshold(radius),
         )
     return s.pack(
-        mass=mass, stiffness_ball=2 * k_pair, dissipation_ball=0.0, stiffness_ground=2 * k_pair, dissipation_ground=0.0
+        mass=mass,
+        stiffness_ball=2 * k_pair,
+        dissipation_ball=0.0,
+        stiffness_ground=2 * k_pair,
+        dissipation_ground=0.0,
     )
 
 
@@ -120,7 +125,9 @@ def run_engine(engine, p, h, scene, phases):
     samples = ADAPTER.run(model, scene, settings)
     seconds = time.perf_counter() - start
     zs, ws = samples.extra["z"], samples.extra["v"]
-    e = np.array([measure_steps(zs[i], ws[i], scene.accel, h, scene.approach_speed).e_n for i in range(phases)])
+    e = np.array(
+        [measure_steps(zs[i], ws[i], scene.accel, h, scene.approach_speed).e_n for i in range(phases)]
+    )
     return e, seconds
 
 
@@ -185,10 +192,12 @@ def study(engine, phases):
         scene = DropScene(mass, stiffness_for(mass, steps, h0), v, G, force)
         p = pack(engine, mass, scene.stiffness)
         row, inv = check(engine, p, h0, scene, target, phases)
-        row.update(engine=engine, mass=mass, approach_speed=v, force=force, target=target, contact_steps=steps,
-                   a_h_over_v=scene.accel * h0 / v)  # fmt: skip
+        row.update(engine=engine, mass=mass, approach_speed=v, force=force, target=target,
+                   contact_steps=steps, a_h_over_v=scene.accel * h0 / v)  # fmt: skip
         if inv.status == "ok":
-            row["v_over_v_crit"] = critical_ratio(engine, inv.p, h0, v, scene.accel) if target <= 0.1 else math.nan
+            row["v_over_v_crit"] = (
+                critical_ratio(engine, inv.p, h0, v, scene.accel) if target <= 0.1 else math.nan
+            )
         else:
             remedies = {}
             if math.isfinite(inv.timestep_reachable):
@@ -213,9 +222,11 @@ def report(r):
             f"e*={r['target']:<4g} ah/v={r['a_h_over_v']:.3f}")  # fmt: skip
     if r["status"] == "ok":
         print(
-            f"{head} ok  measured {r['measured_mean']:.4f}  mean-target {r['mean_minus_target']:+.1e} (sampled-exact {r['sampled_minus_exact']:+.1e})"
+            f"{head} ok  measured {r['measured_mean']:.4f}  mean-target {r['mean_minus_target']:+.1e}"
+            f" (sampled-exact {r['sampled_minus_exact']:+.1e})"
             f"  min {r['min_minus_predicted']:+.1e} max {r['max_minus_predicted']:+.1e}"
-            f"  |engine-map| {r['engine_minus_map']:.1e}  v/vc {r['v_over_v_crit']:.3f}  verify {r['verify_s']:.2f} s"
+            f"  |engine-map| {r['engine_minus_map']:.1e}  v/vc {r['v_over_v_crit']:.3f}"
+            f"  verify {r['verify_s']:.2f} s"
         )
         return
     print(f"{head} {r['status']} nearest {r['nearest']:.4f}  h* {r['timestep_reachable']:.3g}")
@@ -224,7 +235,8 @@ def report(r):
             print(f"    at the proposed {name}: {rem['status']}")
             continue
         print(
-            f"    at the proposed {name} ({rem['timestep']:.3g} s): mean-target {rem['mean_minus_target']:+.1e}"
+            f"    at the proposed {name} ({rem['timestep']:.3g} s):"
+            f" mean-target {rem['mean_minus_target']:+.1e}"
             f"  min {rem['min_minus_predicted']:+.1e} max {rem['max_minus_predicted']:+.1e}"
             f"  |engine-map| {rem['engine_minus_map']:.1e}  v/vc {rem.get('v_over_v_crit', math.nan):.3f}"
             f"  verify {rem['verify_s']:.2f} s"

@@ -70,5 +70,7 @@ def drop(i):
 
 
 for i in rng.choice(N, size=3, replace=False):
-    print(f"scene {i:4d}       m = {mass[i]:.3f} kg, k = {stiffness[i]:.4g} N/m, v = {speed[i]:.3f} m/s, "
-          f"push {push[i]:.2f} N: target e_N = {e_n[i]:.6f}, MuJoCo delivers e_N = {drop(i):.6f}")
+    print(
+        f"scene {i:4d}       m = {mass[i]:.3f} kg, k = {stiffness[i]:.4g} N/m, v = {speed[i]:.3f} m/s, "
+        f"push {push[i]:.2f} N: target e_N = {e_n[i]:.6f}, MuJoCo delivers e_N = {drop(i):.6f}"
+    )

@@ -37,6 +37,7 @@ def _parser_module(name):
         return sys.modules[name]
     path = Path(__file__).parent.joinpath(*name.split(".")[1:]).with_suffix(".py")
     spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None  # a .py file in the package always has both
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
     spec.loader.exec_module(module)
@@ -361,7 +362,9 @@ def _print_engine(args, value, restitution):
     if args.refine:
         label = f"contactalpha: refining on {args.engine}'s drops"
     elif args.timestep is not None:
-        label = f"contactalpha: solving at {args.engine}'s step" + (" and verifying in the engine" if args.verify else "")
+        label = f"contactalpha: solving at {args.engine}'s step" + (
+            " and verifying in the engine" if args.verify else ""
+        )
     else:
         label = f"contactalpha: {args.engine}'s parameters"
     with Progress(label) as progress:

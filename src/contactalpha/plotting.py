@@ -43,7 +43,7 @@ COLUMN_WIDTH = 3.5
 
 def use_style():
     """Apply ``STYLE`` to matplotlib's global settings."""
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(STYLE)  # type: ignore[arg-type]  # stubs type the keys as a Literal of names
 
 
 def new_figure(ncols=1, nrows=1, *, width=FULL_WIDTH, aspect=0.42, **kwargs):

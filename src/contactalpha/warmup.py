@@ -17,6 +17,7 @@ checked here: the tests do that.
 
 import dataclasses
 import time
+from typing import Any
 
 import numpy as np
 
@@ -82,11 +83,12 @@ def _laws():
     from contactalpha.laws import LAWS
     from contactalpha.scene.parameters import contact_parameters
 
-    scene = {"mass": 0.5, "stiffness": 1.0e6, "approach_speed": 0.5, "accel": 9.81}
+    scene: dict[str, Any] = {"mass": 0.5, "stiffness": 1.0e6, "approach_speed": 0.5, "accel": 9.81}
     batch = {name: _points(2, value) for name, value in scene.items()}
     for law in LAWS:
         for key in ("eps", "e_N"):
-            contact_parameters(**{key: EPS}, **scene, law=law.name)
+            one: dict[str, Any] = {key: EPS}
+            contact_parameters(**one, **scene, law=law.name)
             contact_parameters(**{key: _points(2, EPS)}, **batch, law=law.name)
             if law.fast is not None and law.fast.exact_inverse is not None:
                 restitution = "kinematic" if key == "e_N" else "energetic"

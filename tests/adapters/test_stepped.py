@@ -119,7 +119,8 @@ def test_calibrate_has_one_fallback_rule(top, target):
 @pytest.mark.parametrize(
     ("steps", "spread", "says", "never"),
     [
-        (8, 0.002, r"spans 8 steps \(coarse below 20\) and .* by up to 0\.002 \(over the tolerance 0\.001\)", None),
+        (8, 0.002, r"spans 8 steps \(coarse below 20\) and .* by up to 0\.002 "
+         r"\(over the tolerance 0\.001\)", None),
         (8, 0.0005, r"spans 8 steps \(coarse below 20\); .* by up to 0\.0005 \(within the tolerance 0\.001\)",
          "over the tolerance"),
         (35, 0.002, r"by up to 0\.002 \(over the tolerance 0\.001\), though the contact spans 35 steps "

@@ -98,8 +98,8 @@ def test_each_law_prints_only_the_engines_that_run_it(name, values, engines):
 def test_engine_numbers_are_the_fitted_constants_in_engine_units():
     d = 0.3
     cal = ca.calibrate(
-        _times("hc_damping", {"damping": d, "stiffness": 1e8}), kind="times", mass=M, hypotheses=["hc_damping"],
-        intervals=False,
+        _times("hc_damping", {"damping": d, "stiffness": 1e8}), kind="times", mass=M,
+        hypotheses=["hc_damping"], intervals=False,
     )  # fmt: skip
     eng = cal.engines["hc_damping"]
     fitted = cal.best.values["damping"]

@@ -10,11 +10,14 @@ import pytest
 from contactalpha.mechanism.tune import read_contact
 
 URDF = """<robot name="arm">
-  <link name="base"><inertial><mass value="5"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision name="floor"><origin xyz="0.5 0 -0.55"/><geometry><box size="2 2 0.1"/></geometry></collision></link>
+  <link name="base"><inertial><mass value="5"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision name="floor"><origin xyz="0.5 0 -0.55"/><geometry><box size="2 2 0.1"/></geometry>
+    </collision></link>
   <link name="arm"><inertial><origin xyz="0.25 0 0"/><mass value="1.5"/>
     <inertia ixx="0.001" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision name="tip"><origin xyz="0.5 0 0"/><geometry><sphere radius="0.03"/></geometry></collision></link>
+    <collision name="tip"><origin xyz="0.5 0 0"/><geometry><sphere radius="0.03"/></geometry>
+    </collision></link>
   <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
     <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="100" velocity="10"/></joint>
 </robot>

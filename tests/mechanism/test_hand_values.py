@@ -101,7 +101,13 @@ def test_urdf_tuned_for_mujoco_is_the_compiled_mjcf_with_the_pair(mujoco, tmp_pa
     case = CASES[2]
     out = tmp_path / "leg_tuned.xml"
     got = tune(
-        case.path(".urdf"), case.pair, 0.6, engine="mujoco", qvel=case.qvel_mujoco, stiffness=1e6, output=out,
+        case.path(".urdf"),
+        case.pair,
+        0.6,
+        engine="mujoco",
+        qvel=case.qvel_mujoco,
+        stiffness=1e6,
+        output=out,
         discrete=False,  # the file's form; at MuJoCo's 2 ms this stiffness is out of reach
     )
     text = out.read_text()

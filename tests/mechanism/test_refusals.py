@@ -90,6 +90,14 @@ def test_link_inertias_read_from_urdf_and_sdf(tmp_path):
     assert got["b"][0] == 2.0 and np.array_equal(got["b"][1], [[1, 0.5, 0], [0.5, 2, 0], [0, 0, 3]])
 
 
+def test_an_empty_sdf_mass_element_reads_as_sdformats_default(tmp_path):
+    """<mass/> with no text is SDFormat's 1 kg, as an absent one (it raised a TypeError from float(None))."""
+    sdf = tmp_path / "m.sdf"
+    sdf.write_text('<sdf version="1.9"><model name="m"><link name="a"><inertial><mass/></inertial></link>'
+                   "</model></sdf>")  # fmt: skip
+    assert link_inertias(sdf)["a"][0] == 1.0
+
+
 @pytest.mark.parametrize(
     "mass, inertia, moves, message",
     [
@@ -132,7 +140,7 @@ def test_drake_refuses_a_massless_or_negative_link(pydrake, tmp_path, capsys, ma
 def test_drake_takes_a_massless_link_with_a_welded_mass(pydrake, tmp_path):
     """The arm's mass on a link welded to it: one body of 1.5 kg, as MuJoCo fuses it (the arm's m_eff)."""
     text = ARM.read_text()
-    inertial = text[text.index("<inertial>"):text.index("</inertial>") + len("</inertial>")]
+    inertial = text[text.index("<inertial>") : text.index("</inertial>") + len("</inertial>")]
     weight = f'<link name="weight">{inertial}</link><joint name="w" type="fixed"><parent link="arm"/>' \
              '<child link="weight"/></joint></robot>'  # fmt: skip
     model = tmp_path / "arm.urdf"

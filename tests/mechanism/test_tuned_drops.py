@@ -123,8 +123,16 @@ def test_pybullet_script_sets_both_bodies(pybullet, mujoco, tmp_path):
 
     case = CASES[2]
     out = tmp_path / "leg_tuned.py"
-    got = tune(case.path(".urdf"), case.pair, 0.6, engine="pybullet", qvel=case.qvel_mujoco, stiffness=1e5,
-               output=out, discrete=False)  # fmt: skip  (the script's form; out of reach at 1/240 s)
+    got = tune(
+        case.path(".urdf"),
+        case.pair,
+        0.6,
+        engine="pybullet",
+        qvel=case.qvel_mujoco,
+        stiffness=1e5,
+        output=out,
+        discrete=False,
+    )  # fmt: skip  (the script's form; out of reach at 1/240 s)
     assert got.parameters["pair_stiffness"] == 1e5
     script = runpy.run_path(str(out))
     client = pybullet.connect(pybullet.DIRECT)

@@ -69,5 +69,7 @@ def test_a_scene_whose_length_scale_is_beyond_the_doubles_refuses_the_batch():
     mass = np.array([1.0, 1e-300, 1.0])
     stiffness = np.array([1e8, 1e300, 1e8])
     speed = np.array([1.0, 1e-300, 1.0])
-    with pytest.raises(ValueError, match=r"mass = 1e-300 kg, stiffness = 1e\+300 .*beyond the range of double"):
+    with pytest.raises(
+        ValueError, match=r"mass = 1e-300 kg, stiffness = 1e\+300 .*beyond the range of double"
+    ):
         contact_parameters(mass=mass, stiffness=stiffness, approach_speed=speed, accel=9.81, e_N=0.5)

@@ -222,14 +222,16 @@ def test_batch_integrates_its_impacts_only_when_read():
     from contactalpha.scene.result import Deferred
 
     e = np.array([0.3, 0.6, 0.9])
-    cp = ca.contact_parameters(e_N=e, mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81, engine="mujoco")
+    cp = ca.contact_parameters(
+        e_N=e, mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81, engine="mujoco"
+    )
     lazy = ("eps", "e_n", "end_state", "e_n_half_speed", "e_n_twice_speed")
     assert all(type(object.__getattribute__(cp, name)) is Deferred for name in lazy)
     assert cp.block["solref"].shape == (3, 2)  # the engine's block does not need them
     assert all(type(object.__getattribute__(cp, name)) is Deferred for name in lazy)
     for i, target in enumerate(e):
-        one = ca.contact_parameters(e_N=float(target), mass=0.5, stiffness=1e4, approach_speed=1.0, accel=9.81,
-                                    engine="mujoco")  # fmt: skip
+        one = ca.contact_parameters(e_N=float(target), mass=0.5, stiffness=1e4, approach_speed=1.0,
+                                    accel=9.81, engine="mujoco")  # fmt: skip
         assert cp.e_n[i] == pytest.approx(one.e_n, abs=1e-8)
         assert cp.eps[i] == pytest.approx(one.eps, abs=1e-8)
         assert cp.end_state[i] == one.end_state

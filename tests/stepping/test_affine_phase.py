@@ -1,4 +1,4 @@
-"""The exact phase mean of the piecewise-affine maps, against the drop-by-drop quadrature and dense sampling."""
+"""The exact phase mean of the piecewise-affine maps, against drop-by-drop quadrature and dense sampling."""
 
 import math
 
@@ -25,7 +25,9 @@ from contactalpha.stepping.registry import STEPPERS, stepper
 def _mujoco_scene(rng):
     k = 10 ** rng.uniform(2.0, 5.0)
     zeta = rng.uniform(0.0, 1.2)
-    p = stepper("mujoco").pack(stiffness=k, damping=2.0 * zeta * math.sqrt(k), impedance=rng.uniform(0.8, 0.99))
+    p = stepper("mujoco").pack(
+        stiffness=k, damping=2.0 * zeta * math.sqrt(k), impedance=rng.uniform(0.8, 0.99)
+    )
     return p, 0.002
 
 

@@ -36,14 +36,15 @@ def _rows(engine, n, seed, guess_noise=0.1):
         params = s.pack(stiffness=1.0, damping=1.0, impedance=0.95) * np.ones((n, 1))
         params[:, 0], params[:, 1] = k / m, c / m
     else:
-        params = np.array([s.pack(mass=mi, stiffness_ball=2 * ki, damping_ball=ci / 2, stiffness_ground=2 * ki,
-                                  damping_ground=ci / 2, breaking=1.7e-3) for mi, ki, ci in zip(m, k, c)])  # fmt: skip
+        params = np.array([s.pack(mass=mi, stiffness_ball=2 * ki, damping_ball=ci / 2,
+                                  stiffness_ground=2 * ki, damping_ground=ci / 2, breaking=1.7e-3)
+                           for mi, ki, ci in zip(m, k, c, strict=True)])  # fmt: skip
     v = rng.uniform(0.2, 2.5, n)
     a = 9.81 * (1.0 + rng.uniform(0.0, 5.0, n) * (rng.uniform(size=n) < 0.5))
     e = rng.uniform(0.1, 0.9, n)
     guess = params[:, s.damping_slots[0]].copy()
-    args = (s.code, params, np.array(s.damping_slots), h, v, a, e, guess, BRACKET_START / s.contact_time(params.T),
-            step_limit(s, params.T, h))  # fmt: skip
+    args = (s.code, params, np.array(s.damping_slots), h, v, a, e, guess,
+            BRACKET_START / s.contact_time(params.T), step_limit(s, params.T, h))  # fmt: skip
     return s, args
 
 
@@ -101,7 +102,7 @@ def test_out_of_reach_rows_say_so_with_the_nearest_mean():
 
 
 def test_the_same_bits_at_any_thread_count_and_chunking():
-    """Rows never depend on each other: one thread, two threads, and the batch in two halves agree bit for bit."""
+    """Rows never depend on each other: one thread, two threads, the batch in two halves agree bit for bit."""
     _, args = _rows("mujoco", 40, 13)
     before = numba.get_num_threads()
     try:

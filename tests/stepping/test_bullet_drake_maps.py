@@ -129,7 +129,7 @@ def test_maps_approach_the_continuous_law_at_first_order(law, damping, A):
             e, _ = scaled_drop(drop_drake, p, h, A)
         errors.append(abs(e - e_ref))
     assert errors[-1] < 2e-4  # measured 7.6e-5 (KV, the science's 0.348) and 1.3e-4 (HC)
-    for coarse, fine in zip(errors, errors[1:]):
+    for coarse, fine in zip(errors, errors[1:], strict=False):
         assert 0.08 < fine / coarse < 0.12  # first order: a tenth of the step, a tenth of the error
 
 
@@ -159,7 +159,7 @@ def piecewise_reference(s, p, v, a):
     grid = np.linspace(1e-300, np.nextafter(1.0, 0.0), 2049)
     counts = [row(x)[2] for x in grid]
     cuts = [(grid[0], grid[0])]
-    for lo, hi, n_lo, n_hi in zip(grid, grid[1:], counts, counts[1:]):
+    for lo, hi, n_lo, n_hi in zip(grid, grid[1:], counts, counts[1:], strict=False):
         if n_lo != n_hi:
             for _ in range(200):
                 m = 0.5 * (lo + hi)
@@ -170,7 +170,7 @@ def piecewise_reference(s, p, v, a):
     cuts.append((grid[-1], grid[-1]))
     return sum(
         quad(lambda x: row(x)[0], a0[1], b0[0], epsabs=1e-15, epsrel=1e-13, limit=400)[0]
-        for a0, b0 in zip(cuts, cuts[1:])
+        for a0, b0 in zip(cuts, cuts[1:], strict=False)
     )
 
 
@@ -179,8 +179,9 @@ def piecewise_reference(s, p, v, a):
     [
         # fast enough that the contact point appears inside the last free step at some phases:
         # e_N jumps there (by 0.31) without a change of the steps that start below the surface
-        ("pybullet", {"mass": 2.0, "stiffness_ball": 4e5, "damping_ball": 0.0, "stiffness_ground": pm.UNSET_STIFFNESS,
-                      "damping_ground": pm.UNSET_DAMPING, "breaking": pm.breaking_threshold(0.05)}, 2.5),
+        ("pybullet", {"mass": 2.0, "stiffness_ball": 4e5, "damping_ball": 0.0,
+                      "stiffness_ground": pm.UNSET_STIFFNESS, "damping_ground": pm.UNSET_DAMPING,
+                      "breaking": pm.breaking_threshold(0.05)}, 2.5),
         # Drake counts contact at z = 0: touchdown exactly at a step's start is the limit from phase 1
         ("drake", {"mass": 0.5, "stiffness_ball": 2e4, "dissipation_ball": 0.2, "stiffness_ground": 2e4,
                    "dissipation_ground": 0.2}, 0.5),

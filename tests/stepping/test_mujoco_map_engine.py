@@ -126,7 +126,9 @@ def test_a_batch_at_the_step_is_what_mujoco_delivers():
     k = m * (math.pi / (rng.uniform(15.0, 40.0, n) * H)) ** 2
     v = rng.uniform(0.5, 2.0, n)
     e = rng.uniform(0.3, 0.9, n)
-    cp = contact_parameters(mass=m, stiffness=k, approach_speed=v, accel=G, e_N=e, engine="mujoco", timestep=H)
+    cp = contact_parameters(
+        mass=m, stiffness=k, approach_speed=v, accel=G, e_N=e, engine="mujoco", timestep=H
+    )
     rows = [i for i in range(n) if cp.stepped.status[i] == "ok"][:3]
     assert len(rows) == 3
     phases = np.arange(128) / 128

@@ -52,7 +52,10 @@ def test_the_mean_is_scipys_quadrature_between_the_jumps(case):
     def f(x):
         return at_phases("mujoco", p, h, [x], v, a)["e_n"][0]
 
-    exact = sum(quad(f, lo, hi, epsabs=1e-14, epsrel=1e-13, limit=400)[0] for lo, hi in zip(cuts, cuts[1:]))
+    exact = sum(
+        quad(f, lo, hi, epsabs=1e-14, epsrel=1e-13, limit=400)[0]
+        for lo, hi in zip(cuts, cuts[1:], strict=False)
+    )
     assert st.mean == pytest.approx(exact, abs=1e-10)
     assert st.status == "ok" and st.quad_error < 1e-9
 

@@ -11,7 +11,7 @@ from contactalpha.studies.stepping import compute
 def test_phase_curves_scatter_around_their_mean_less_at_finer_steps():
     curves = compute.phase_curves(phases=256)
     spreads = []
-    for h, (phi, e, st) in curves.items():
+    for _phi, e, st in curves.values():
         assert e.mean() == pytest.approx(st.mean, abs=2e-3)
         assert st.minimum <= e.min() and e.max() <= st.maximum
         spreads.append(np.ptp(e))

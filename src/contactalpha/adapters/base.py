@@ -15,10 +15,15 @@ An adapter that derives from ``Adapter`` writes only what is its engine's own (`
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 from contactalpha.adapters.contract import law_damping
 from contactalpha.adapters.measure import measure_with_rest_check
+
+if TYPE_CHECKING:
+    from contactalpha.laws.law import ContactLaw
 
 # Secant iterations of ``refine`` at most, and its tolerance on the mean delivered e_N.
 REFINE_ITER = 12
@@ -115,6 +120,15 @@ class Adapter:
     A subclass sets ``name``, ``law``, ``module``, ``settings`` and writes ``version``,
     ``parameters``, ``build_drop``, ``run``, ``static_penetration`` and ``timestep``.
     """
+
+    # What a subclass sets (declared only: no class attribute here).
+    name: str
+    law: "ContactLaw"
+    module: str
+    settings: Any  # the engine's own settings dataclass
+    parameters: Callable[..., dict]
+    build_drop: Callable[..., Any]
+    run: Callable[..., Any]
 
     def law_damping(self, scene, target, restitution="kinematic", settings=None):
         """``(DampingSolution, xi)``: the law's exact damping for ``target`` (``contract.law_damping``)."""

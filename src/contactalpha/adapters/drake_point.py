@@ -78,8 +78,12 @@ class DrakeAdapter(SteppingAdapter):
     module = "pydrake"
     settings = DrakeSettings()
     # Units of ``parameters``.
-    units = {"point_contact_stiffness": "N/m", "hunt_crossley_dissipation": "s/m", "pair_stiffness": "N/m",
-             "pair_dissipation": "s/m"}
+    units = {
+        "point_contact_stiffness": "N/m",
+        "hunt_crossley_dissipation": "s/m",
+        "pair_stiffness": "N/m",
+        "pair_dissipation": "s/m",
+    }
 
     def version(self):
         """Drake's version string."""

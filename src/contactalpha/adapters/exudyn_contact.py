@@ -180,8 +180,14 @@ class ExudynAdapter(Adapter):
     module = "exudyn"
     settings = ExudynSettings()
     # Units of ``parameters``.
-    units = {"contactStiffness": "N/m^1.5", "contactStiffnessExponent": "1", "impactModel": "",
-             "restitutionCoefficient": "1", "contactDamping": "N s/m", "minimumImpactVelocity": "m/s"}
+    units = {
+        "contactStiffness": "N/m^1.5",
+        "contactStiffnessExponent": "1",
+        "impactModel": "",
+        "restitutionCoefficient": "1",
+        "contactDamping": "N s/m",
+        "minimumImpactVelocity": "m/s",
+    }
 
     def __init__(self, solver="dopri5"):
         if solver not in SOLVERS:

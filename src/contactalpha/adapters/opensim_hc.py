@@ -348,7 +348,7 @@ def bounce(
         the deformation at ``scene.t_end``), ``seconds``.
     """
     a = scene.accel
-    rows = {name: [] for name in BOUNCE_FIELDS}
+    rows: dict[str, list[float]] = {name: [] for name in BOUNCE_FIELDS}
     t, d, dd, v_in = 0.0, 0.0, scene.approach_speed, scene.approach_speed
     rest_time, seconds = np.nan, 0.0
     while t < scene.t_end:

@@ -151,7 +151,8 @@ class PyBulletAdapter(SteppingAdapter):
         start = time.perf_counter()
         try:
             for i, (z0, v0) in enumerate(model.states):
-                # Heights above the geometric surface, where a user reads the drop (the map: ``kernels.surface``).
+                # Heights above the geometric surface, where a user reads the drop
+                # (the map: ``kernels.surface``).
                 pb.resetBasePositionAndOrientation(
                     b, [0.0, 0.0, scene.radius + z0], [0, 0, 0, 1], physicsClientId=c
                 )

@@ -33,14 +33,14 @@ def _events(sign_v):
     def hit_v(t, y, *args):
         return y[1]
 
-    hit_v.terminal = True
-    hit_v.direction = sign_v
+    hit_v.terminal = True  # type: ignore[attr-defined]  # solve_ivp reads an event's attributes
+    hit_v.direction = sign_v  # type: ignore[attr-defined]
 
     def hit_x(t, y, *args):
         return y[0]
 
-    hit_x.terminal = True
-    hit_x.direction = -1
+    hit_x.terminal = True  # type: ignore[attr-defined]
+    hit_x.direction = -1  # type: ignore[attr-defined]
     return hit_v, hit_x
 
 

@@ -44,7 +44,7 @@ class Calibration:
     notes : what was done to the data before the fit (a cap on the observations).
     """
 
-    data: object
+    data: data_mod.DropData
     setup: Setup
     radius: object
     fits: dict

@@ -93,9 +93,7 @@ def unit_scale(header):
     unit = match.group(1).strip()
     table = UNITS[COLUMN_QUANTITY[_column_key(header)]]
     if unit not in table:
-        raise ValueError(
-            f"column {header!r}: unit {unit!r} is not one of {', '.join(map(repr, table))}"
-        )
+        raise ValueError(f"column {header!r}: unit {unit!r} is not one of {', '.join(map(repr, table))}")
     return table[unit]
 
 
@@ -179,7 +177,8 @@ def check_times(t, header="t", tolerance=None):
             f"row {i + 1}, column {header!r}: the interval {dt[i - 1]:.6g} s before this impact is longer "
             f"than the one before it ({dt[i - 2]:.6g} s) by more than {tolerance:g} s"
             f"{' (derived from the recording)' if derived else ''}; a ball's bounces only shorten (a missed "
-            "or extra impact? If the timing is that noisy, set interval_tolerance, --interval-tolerance, in s)"
+            "or extra impact? If the timing is that noisy, set interval_tolerance, --interval-tolerance, "
+            "in s)"
         )
     return t
 
@@ -264,7 +263,8 @@ def read_drop(path, interval_tolerance=None):
         return _floats(body, keys[key], header[keys[key]], comma)
 
     if "t" in keys and "z" in keys:
-        return DropData("trajectory", *check_trajectory(column("t"), column("z")), name)
+        t, z = check_trajectory(column("t"), column("z"))
+        return DropData("trajectory", t, z, name)
     if "t" in keys:
         t = check_times(column("t"), header[keys["t"]], interval_tolerance)
         return DropData("times", t, t, name)
@@ -309,7 +309,10 @@ def capped(data):
         keep = np.unique(np.linspace(0, data.count - 1, most).round().astype(int))
         note = f"{data.count} trajectory samples thinned evenly to {keep.size} (MAX_OBSERVATIONS)"
         return DropData(data.kind, data.t[keep], data.values[keep], data.source), note
-    note = f"fitting the first {most} of {data.count} {data.kind} (MAX_OBSERVATIONS): the rest are the slowest bounces"
+    note = (
+        f"fitting the first {most} of {data.count} {data.kind} (MAX_OBSERVATIONS): "
+        "the rest are the slowest bounces"
+    )
     t = data.t[:most] if data.t.size else data.t
     return DropData(data.kind, t, data.values[:most], data.source), note
 

@@ -110,7 +110,7 @@ class LawFit:
     aic: float
     bic: float
     residuals: np.ndarray
-    sequence: object
+    sequence: seq_mod.Sequence
     status: str = "ok"
     level: float = LEVEL
     evaluations: int = 0
@@ -263,6 +263,7 @@ def fit_hypothesis(law, data, setup, *, stiffness_guess=None, level=LEVEL, inter
         sol = _solve(problem, x0)
         if best is None or sol.cost < best.cost:
             best = sol
+    assert best is not None  # FITTED_STARTS >= 1 and there is always a start
     x = best.x
     r = problem.residuals(x) * problem.scale
     n, p = r.size, x.size

@@ -239,7 +239,7 @@ ALL = "all"
 
 
 def hypothesis_names(laws=None):
-    """Names to fit: ``DEFAULT_HYPOTHESES`` for None, every registered one for ``"all"``, else checked names."""
+    """Names to fit: ``DEFAULT_HYPOTHESES`` for None, every registered one for ``"all"``, else checked."""
     if laws is None:
         return list(DEFAULT_HYPOTHESES)
     if laws == ALL or (not isinstance(laws, str) and list(laws) == [ALL]):

@@ -72,9 +72,9 @@ def study(scene, replicates=100, seed=0, jitter=JITTER, impacts=IMPACTS):
     """Coverage and bias of ``replicates`` fits of ``scene``; a dict of plain numbers."""
     rng = np.random.default_rng(seed)
     truth = {"eps": scene.eps, "stiffness": np.log10(scene.stiffness)}
-    est = {k: [] for k in truth}
-    lo = {k: [] for k in truth}
-    hi = {k: [] for k in truth}
+    est: dict[str, list[float]] = {k: [] for k in truth}
+    lo: dict[str, list[float]] = {k: [] for k in truth}
+    hi: dict[str, list[float]] = {k: [] for k in truth}
     times = exact_times(scene, impacts)
     for _ in range(replicates):
         f = replicate(scene, rng, jitter, impacts, times)
@@ -126,7 +126,7 @@ def selection_study(scene, replicates=50, seed=0, jitter=JITTER, impacts=IMPACTS
     )
     setup = Setup(scene.mass, GRAVITY)
     right = {"hc_eps": 0, "constant_e": 0}
-    gaps = {"hc_eps": [], "constant_e": []}
+    gaps: dict[str, list[float]] = {"hc_eps": [], "constant_e": []}
     for _ in range(replicates):
         for made, t in (("hc_eps", truth_hc), ("constant_e", null.touchdowns)):
             data = from_arrays("times", values=t + rng.normal(0.0, jitter, t.size))

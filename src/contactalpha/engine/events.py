@@ -159,7 +159,7 @@ def locate(y, k, A, alpha, rtol, atol, max_steps, K, y_new, ytmp):
         return OK, 0, 0
     h = span
     hmin = MIN_REL_STEP * abs(span)
-    rejected = np.bool_(False)
+    rejected: np.bool_ = np.bool_(False)
     steps = 0
     nfev = 1
     rhs(y, A, alpha, k, K[0])

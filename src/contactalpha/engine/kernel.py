@@ -153,7 +153,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step):
     steps = 0
     nfev = 1
     h = FIRST_STEP
-    rejected = np.bool_(False)
+    rejected: np.bool_ = np.bool_(False)
     rhs(y, A, alpha, np.int64(MODE_TIME), K[0])
     while state == FAILED:
         if steps >= max_steps:
@@ -174,7 +174,7 @@ def impact_kernel(alpha, A, rtol, atol, max_steps, record, max_step):
         # Which event, if any, did this step cross?  An event is only placed
         # from a step whose start already moves towards it; otherwise the
         # step is shortened so that the crossing becomes monotone.
-        k = -1
+        k: int | np.int64 = -1
         if compressing:
             if y_new[2] <= 0.0:
                 k = 2

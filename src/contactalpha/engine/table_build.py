@@ -43,8 +43,8 @@ from .table import (
     XI_MAX,
     XI_SCALE,
     AlphaTable,
-    checksum,
     alpha_tabulated,
+    checksum,
     eta_of_xi,
     kinematic_q,
 )

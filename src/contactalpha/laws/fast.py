@@ -114,9 +114,9 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
     ``exact`` asks for root finding on the fast forward map (the closed form: the solver's
     tolerance) instead of a table (1e-7 in restitution); laws without one raise.
     """
-    from .maps import check_target
-
     from contactalpha.validation import check_flag
+
+    from .maps import check_target
 
     fast = _fast_of(law)
     if check_flag("exact", exact):
@@ -131,7 +131,8 @@ def fast_damping(law, target, xi, restitution="energetic", exact=False):
 
 def fast_damping_unchecked(law, target, xi, restitution):
     """``fast_damping`` (not ``exact``) of a target and a load factor already checked: inner layers'."""
-    return _damping(law, _fast_of(law), *_flat_unchecked(law, target, xi), restitution)
+    tf, xf, A, shape = _flat_unchecked(law, target, xi)
+    return _damping(law, _fast_of(law), tf, xf, A, shape, restitution)
 
 
 def _damping(law, fast, tf, xf, A, shape, restitution):

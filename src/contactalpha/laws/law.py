@@ -12,6 +12,7 @@ damping ``p`` and ``xi`` only.
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -83,7 +84,7 @@ class ContactLaw:
     floor_reached: bool
     end_states: tuple
     force: Callable
-    fast: object
+    fast: Any  # ClosedForm, EngineTable, LawTable or None: duck-typed evaluators
     code: int
     backend: object = FAMILY
     restitutions: tuple = RESTITUTIONS
@@ -184,8 +185,11 @@ class ContactLaw:
         return _plain(d)
 
     def load(self, mass, stiffness, approach_speed, accel):
-        """Scaled load ``A = a delta_s / v^2`` of a scene (from logarithms where the product would
-        under- or overflow; capped at ``A_ROUNDS_TO_ONE``, where xi is 1.0 for every law)."""
+        """Scaled load ``A = a delta_s / v^2`` of a scene.
+
+        From logarithms where the product would under- or overflow; capped at ``A_ROUNDS_TO_ONE``,
+        where xi is 1.0 for every law.
+        """
         return self.load_unchecked(*_checked_load(mass, stiffness, approach_speed, accel))
 
     def load_unchecked(self, mass, stiffness, approach_speed, accel):
@@ -213,8 +217,8 @@ class ContactLaw:
         if np.any(np.asarray(xi) >= 1.0):
             raise ValueError(
                 f"accel = {accel!r} m/s^2 at approach_speed = {approach_speed!r} m/s (mass = {mass!r}, "
-                f"stiffness = {stiffness!r}) gives law {self.name!r} a load factor that rounds to 1.0, outside "
-                "[0, 1): the load is too large for the approach speed"
+                f"stiffness = {stiffness!r}) gives law {self.name!r} a load factor that rounds to 1.0, "
+                "outside [0, 1): the load is too large for the approach speed"
             )
         return xi
 
@@ -287,8 +291,10 @@ def _checked_load(mass, stiffness, approach_speed, accel):
 
 
 def _direct_or_log(direct, log_value):
-    """``direct`` where it agrees with its logarithm (nothing under- or overflowed), else ``exp(log_value)``."""
-    direct, log_value = np.broadcast_arrays(np.asarray(direct, dtype=float), np.asarray(log_value, dtype=float))
+    """``direct`` where it agrees with its logarithm (nothing under- or overflowed), else its exp."""
+    direct, log_value = np.broadcast_arrays(
+        np.asarray(direct, dtype=float), np.asarray(log_value, dtype=float)
+    )
     with np.errstate(all="ignore"):
         agree = (direct > 0.0) & (direct < np.inf)
         agree &= np.abs(np.log(direct) - log_value) <= 1e-9 * np.maximum(1.0, np.abs(log_value))

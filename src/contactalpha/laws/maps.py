@@ -143,8 +143,11 @@ DELIVERED_PER_RTOL = 1e4
 
 
 def _check_delivered(law, p, status, rows, target, kinematic, A, xi, tol, settings):
-    """Where the delivered restitution misses ``target`` by more than ``tol``: the closed form's root
-    (piecewise-linear laws) if the integrator confirms it, else NaN with status NOT_CONVERGED (in place)."""
+    """Where the delivered restitution misses ``target`` by more than ``tol``, redo the row (in place).
+
+    The closed form's root (piecewise-linear laws) if the integrator confirms it, else NaN with status
+    NOT_CONVERGED.
+    """
     col = 1 if kinematic else 0
     bad = np.flatnonzero((status == OK) & ~(np.abs(rows[:, col] - target) <= tol))
     exact = getattr(law.fast, "exact_inverse", None)

@@ -23,6 +23,7 @@ import json
 import zipfile
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -236,7 +237,7 @@ class LawTable:
     cuts: tuple = ("separation",)
     settings: LawTableSettings = LawTableSettings()
     impedance: float = 0.0
-    forward: object = None
+    forward: Any = None  # a forward evaluator (``fast.ClosedForm``-like) or None
     name: str = "law table"
 
     @property

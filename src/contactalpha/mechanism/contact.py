@@ -16,9 +16,11 @@ load pressing the geometries together (m/s^2, >= 0 for a load that presses).
 """
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 # A gap (m) above which a configuration is not at first touch: the values are then at that
 # configuration, and ``tune`` says so.
@@ -70,11 +72,11 @@ class MechanismContact:
     engine_row: dict = field(default_factory=dict)
 
     @property
-    def at_touch(self):
+    def at_touch(self) -> bool:
         """True when the configuration is at first touch (``|gap| <= TOUCH_TOLERANCE``)."""
         return abs(self.gap) <= TOUCH_TOLERANCE
 
-    def summary(self):
+    def summary(self) -> list[str]:
         """Text lines of the contact's values."""
         lines = [
             f"model            {self.model} ({self.engine})",
@@ -103,7 +105,9 @@ def _show(value):
     return f"{value:.12g}" if isinstance(value, float) else str(value)
 
 
-def approach(jacobian, mass_matrix, qvel, speed):
+def approach(
+    jacobian: ArrayLike, mass_matrix: np.ndarray, qvel: ArrayLike | None, speed: float | None
+) -> tuple[float, float, np.ndarray]:
     """``(m_eff, approach speed, qvel)`` of the gap row ``J`` with mass matrix ``M``.
 
     Parameters
@@ -129,6 +133,7 @@ def approach(jacobian, mass_matrix, qvel, speed):
     if (qvel is None) == (speed is None):
         raise ValueError("give the approach as exactly one of speed (m/s) and qvel (joint velocities)")
     if qvel is None:
+        assert speed is not None  # exactly one of the two is given (checked above)
         speed = float(speed)
         if not (math.isfinite(speed) and speed > 0.0):
             raise ValueError(f"speed = {speed!r} is outside the valid range (0, inf) m/s")
@@ -142,7 +147,7 @@ def approach(jacobian, mass_matrix, qvel, speed):
     return m_eff, speed, qvel
 
 
-def pressing_accel(jacobian, mass_matrix, tau):
+def pressing_accel(jacobian: ArrayLike, mass_matrix: np.ndarray, tau: ArrayLike) -> float:
     """Free acceleration pressing the gap closed, ``-J M^-1 tau``, m/s^2, of a generalized force."""
     return -float(
         np.asarray(jacobian, dtype=float) @ np.linalg.solve(mass_matrix, np.asarray(tau, dtype=float))
@@ -168,7 +173,9 @@ class MechanismDrop:
     timestep: float
 
     @classmethod
-    def of(cls, e_n, exit_speed, contact_time, inv_masses, timestep):
+    def of(
+        cls, e_n: float, exit_speed: float, contact_time: float, inv_masses: Iterable[float], timestep: float
+    ) -> "MechanismDrop":
         """The drop from its e_N, exit speed, contact time and ``J M^-1 J^T`` at each step in contact."""
         inv = [float(x) for x in inv_masses]
         rng = (min(inv), max(inv)) if inv else (math.nan, math.nan)
@@ -176,7 +183,7 @@ class MechanismDrop:
         return cls(float(e_n), float(exit_speed), float(contact_time), touch, rng, len(inv), float(timestep))
 
     @property
-    def mass_change(self):
+    def mass_change(self) -> float:
         """Largest relative change of the effective mass over the contact (vs touchdown)."""
         lo, hi = self.inv_mass_range
         return max(abs(self.inv_mass_touch / lo - 1.0), abs(self.inv_mass_touch / hi - 1.0))

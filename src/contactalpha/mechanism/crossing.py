@@ -3,9 +3,10 @@
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def rebound_speed(t, gap):
+def rebound_speed(t: ArrayLike, gap: ArrayLike) -> tuple[float, float]:
     """``(speed, time)`` at the gap's first upward crossing of 0 after it went negative.
 
     The speed is the derivative at the crossing of the parabola through the three samples around

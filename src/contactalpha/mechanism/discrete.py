@@ -22,12 +22,17 @@ moves on an arc.  ``tune(check=True)`` drops the tuned model in the engine and s
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+
 from contactalpha.stepping import drake_map, pybullet_map
-from contactalpha.stepping.delivered import over_phase
-from contactalpha.stepping.inverse import damping_for
+from contactalpha.stepping.delivered import PhaseStats, over_phase
+from contactalpha.stepping.inverse import StepInverse, damping_for
 from contactalpha.stepping.registry import stepper
+
+from .contact import MechanismContact
 
 # PyBullet's contact breaking threshold (m) for a pair of URDF links: compound shapes report a
 # contact point only once their children's bounding boxes overlap (measured in PyBullet 3.2.7:
@@ -45,15 +50,22 @@ class DiscreteAnswer:
     ``diag_ratio`` (MuJoCo: diagA m_eff, the map's mechanism slot; NaN for the others).
     """
 
-    continuous: object
-    inverse: object
+    continuous: PhaseStats
+    inverse: StepInverse
     timestep: float
     engine: str = "mujoco"
-    p: object = None
+    p: np.ndarray | None = None
     diag_ratio: float = math.nan
 
 
-def step_answer(engine, p, contact, target, timestep, diag_ratio=math.nan):
+def step_answer(
+    engine: str,
+    p: np.ndarray,
+    contact: MechanismContact,
+    target: float,
+    timestep: float,
+    diag_ratio: float = math.nan,
+) -> DiscreteAnswer:
     """``DiscreteAnswer`` of ``engine``'s map with parameters ``p`` at the contact's speed and load.
 
     The caller has checked that the contact presses (``contact.accel > 0``).
@@ -64,12 +76,14 @@ def step_answer(engine, p, contact, target, timestep, diag_ratio=math.nan):
     return DiscreteAnswer(stats, inverse, float(timestep), engine, p, diag_ratio)
 
 
-def drake_p(block, contact):
+def drake_p(block: dict, contact: MechanismContact) -> np.ndarray:
     """Drake's map parameters: each geometry's stiffness and dissipation of ``block``, mass m_eff."""
-    return stepper("drake").from_block(block, contact.effective_mass, None)
+    from_block = stepper("drake").from_block
+    assert from_block is not None  # every registered stepper has one
+    return from_block(block, contact.effective_mass, None)
 
 
-def pybullet_p(block, contact, breaking=COMPOUND_BREAKING):
+def pybullet_p(block: dict, contact: MechanismContact, breaking: float = COMPOUND_BREAKING) -> np.ndarray:
     """PyBullet's map parameters: each body's values of ``block``, mass m_eff, threshold ``breaking``."""
     k, c = float(block["contactStiffness"]), float(block["contactDamping"])
     p = pybullet_map.make_params(contact.effective_mass, k, c, k, c, 0.0)
@@ -90,7 +104,7 @@ class EngineStep:
     what the map covers.
     """
 
-    parameters: object
+    parameters: Callable[[dict, MechanismContact], np.ndarray]
     default_step: float | None
     damping: str
     note: str

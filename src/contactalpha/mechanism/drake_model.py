@@ -25,8 +25,10 @@ Importing this module does not need Drake.
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
@@ -150,7 +152,15 @@ def _weld_roots(plant, instances):
     return tuple(body.name() for body in roots)
 
 
-def read_drake(model_path, pair, qpos=None, qvel=None, speed=None, forces=None, base="fixed"):
+def read_drake(
+    model_path: str | Path,
+    pair: tuple[str, str],
+    qpos: ArrayLike | None = None,
+    qvel: ArrayLike | None = None,
+    speed: float | None = None,
+    forces: dict | None = None,
+    base: str = "fixed",
+) -> MechanismContact:
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
     p = _Plant(model_path, base=base)
     plant, ctx = p.plant, p.context
@@ -202,7 +212,7 @@ def _check_links(plant, model_path):
     dk = _drake()
     joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
     moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
-    welded = {}
+    welded: dict = {}
     for j in joints:
         if j.num_velocities() == 0:
             welded.setdefault(j.parent_body().name(), []).append(j.child_body().name())
@@ -223,9 +233,10 @@ def _check_links(plant, model_path):
 
 
 def drake_drop(
-    model_path, pair, qpos, qvel, *, report=1e-5, duration=1.0, accuracy=ACCURACY, forces=None, time_step=0.0,
-    approximation="lagged", phase=0.0, base="fixed",
-):  # fmt: skip
+    model_path: str | Path, pair: tuple[str, str], qpos: ArrayLike, qvel: ArrayLike, *, report: float = 1e-5,
+    duration: float = 1.0, accuracy: float = ACCURACY, forces: dict | None = None, time_step: float = 0.0,
+    approximation: str = "lagged", phase: float = 0.0, base: str = "fixed",
+) -> MechanismDrop:  # fmt: skip
     """``MechanismDrop`` of the plant with point contact from touchdown.
 
     The pair's stiffness and dissipation are the model file's ``drake:proximity_properties``.

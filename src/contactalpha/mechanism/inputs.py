@@ -18,8 +18,10 @@
 import math
 import os
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from contactalpha.validation import check_scalar
 
@@ -31,7 +33,7 @@ INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 INERTIA_RTOL = 1e-12
 
 
-def check_model_size(path):
+def check_model_size(path: str | Path) -> None:
     """ValueError naming the size when the model file is above ``MAX_MODEL_BYTES``."""
     size = os.path.getsize(path)
     if size > MAX_MODEL_BYTES:
@@ -41,7 +43,7 @@ def check_model_size(path):
         )
 
 
-def check_coordinates(name, values):
+def check_coordinates(name: str, values: ArrayLike | None) -> np.ndarray | None:
     """``values`` as a float array, or ValueError naming the first that is not a finite number."""
     if values is None:
         return None
@@ -55,14 +57,16 @@ def check_coordinates(name, values):
     return arr
 
 
-def check_timestep(timestep):
+def check_timestep(timestep: float | None) -> float | None:
     """The step in s (None stays None); ValueError unless a finite number above 0."""
     if timestep is None:
         return None
     return check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
 
 
-def check_step_resolves(timestep, effective_mass, stiffness, name="timestep"):
+def check_step_resolves(
+    timestep: float | None, effective_mass: float, stiffness: float, name: str = "timestep"
+) -> None:
     """ValueError when ``timestep`` is not shorter than the undamped contact time ``pi sqrt(m/k)``."""
     if timestep is None:
         return
@@ -84,7 +88,7 @@ def _numbers(elem, keys, defaults):
     return out
 
 
-def link_inertias(path):
+def link_inertias(path: str | Path) -> dict[str | None, tuple[float, np.ndarray]]:
     """``{link: (mass, 3x3 inertia)}`` as written in a URDF or SDF file (the SDF's defaults where absent)."""
     try:
         root = ET.parse(path).getroot()
@@ -98,15 +102,16 @@ def link_inertias(path):
             out[link.get("name")] = (0.0 if urdf else 1.0, np.zeros((3, 3)) if urdf else np.eye(3))
             continue
         mass_elem = inertial.find("mass")
+        sdf_mass = mass_elem.text if mass_elem is not None else None
         mass = _numbers(mass_elem, ("value",), (0.0,))[0] if urdf else (
-            float(mass_elem.text) if mass_elem is not None else 1.0)  # fmt: skip
+            float(sdf_mass) if sdf_mass is not None else 1.0)  # fmt: skip
         defaults = (0.0,) * 6 if urdf else (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)  # SDFormat's defaults
         ixx, iyy, izz, ixy, ixz, iyz = _numbers(inertial.find("inertia"), INERTIA_KEYS, defaults)
         out[link.get("name")] = (mass, np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]))
     return out
 
 
-def check_link(name, mass, inertia, moves):
+def check_link(name: str | None, mass: float, inertia: np.ndarray, moves: bool) -> None:
     """ValueError naming link ``name`` when its mass or inertia is not physical (see the module doc)."""
     if not math.isfinite(mass) or mass < 0.0 or (moves and mass == 0.0):
         need = "above 0 for a link that moves with its own joint" if moves else "at least 0"

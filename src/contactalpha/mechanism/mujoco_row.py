@@ -45,7 +45,8 @@ from contactalpha.laws import get_law
 from contactalpha.scene.parameters import contact_parameters
 from contactalpha.stepping.registry import stepper
 
-from .discrete import step_answer
+from .contact import MechanismContact
+from .discrete import DiscreteAnswer, step_answer
 
 # The law MuJoCo's soft contact applies (``adapters.mujoco_soft``).
 MUJOCO_LAW = "mujoco_soft"
@@ -54,7 +55,7 @@ MUJOCO_LAW = "mujoco_soft"
 DISCRETE_TOL = 1e-3
 
 
-def effective_impedance(impedance, inv_mass, diag_approx):
+def effective_impedance(impedance: float, inv_mass: float, diag_approx: float) -> float:
     """``d_e = A / (A + R)`` with ``R = (1 - d)/d diagA`` and ``A = J M^-1 J^T`` (``inv_mass``)."""
     d = float(impedance)
     if not 0.0 < d < 1.0:
@@ -82,10 +83,10 @@ class MuJoCoTuning:
     xi: float
     stiffness: float
     seen: tuple
-    discrete: object = None
+    discrete: DiscreteAnswer | None = None
 
 
-def law_scene(contact, stiffness):
+def law_scene(contact: MechanismContact, stiffness: float) -> DropScene:
     """The contact as the drop scene of the engine laws: ``m_eff``, k, approach speed, load."""
     accel = contact.accel
     if accel < 0.0:
@@ -98,7 +99,9 @@ def law_scene(contact, stiffness):
     return DropScene(contact.effective_mass, stiffness, contact.approach_speed, gravity=accel)
 
 
-def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
+def mujoco_tuning(
+    contact: MechanismContact, target: float, stiffness: float, impedance: float = IMPEDANCE
+) -> MuJoCoTuning:
     """Corrected and free-body MuJoCo parameters for Newton's e_N ``target`` (see the module doc).
 
     The law's damping ratio comes from the front door (``contact_parameters`` with MuJoCo's law
@@ -137,14 +140,14 @@ def mujoco_tuning(contact, target, stiffness, impedance=IMPEDANCE):
     )  # fmt: skip
 
 
-def solref_for(tuning, zeta):
+def solref_for(tuning: MuJoCoTuning, zeta: float) -> tuple[float, float]:
     """The corrected solref of ``tuning``'s stiffness and contact with the law's damping ratio ``zeta``."""
     k_s = tuning.seen[0]
     scale = tuning.impedance / tuning.effective_impedance
     return (-k_s * scale, -2.0 * float(zeta) * k_s**0.5 * scale)
 
 
-def current_stiffness(contact):
+def current_stiffness(contact: MechanismContact) -> float:
     """The contact stiffness (N/m) the model's own solref and solimp give through its row.
 
     ``k = m_eff d_e d K`` with ``d = solimp[1]`` (the impedance reached beyond solimp's width) and
@@ -158,7 +161,9 @@ def current_stiffness(contact):
     return contact.effective_mass * d_e * d * K
 
 
-def discrete_answer(contact, tuning, target, timestep):
+def discrete_answer(
+    contact: MechanismContact, tuning: MuJoCoTuning, target: float, timestep: float
+) -> DiscreteAnswer | None:
     """``discrete.DiscreteAnswer``: the phase-mean inverse of MuJoCo's step map for the contact, or None.
 
     The map is a body on a plane with the row's ``diag_ratio = diagA m_eff``; the stiffness and

@@ -19,8 +19,11 @@ Importing this module does not need PyBullet.
 import math
 import runpy
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .contact import MechanismDrop
 from .crossing import rebound_speed
@@ -38,7 +41,7 @@ def _pybullet():
     return pybullet
 
 
-def collision_links(urdf, pair):
+def collision_links(urdf: str | Path, pair: tuple[str, str]) -> tuple[str | None, ...]:
     """The URDF link names that carry the ``<collision name=...>`` geometries of ``pair``."""
     root = ET.parse(urdf).getroot()
     links = []
@@ -51,7 +54,7 @@ def collision_links(urdf, pair):
     return tuple(links)
 
 
-def link_indices(body, names, client):
+def link_indices(body: int, names: Sequence[str | None], client: int) -> tuple[int, ...]:
     """PyBullet's link index of each link name of ``body`` (-1 for the base)."""
     pb = _pybullet()
     index = {pb.getBodyInfo(body, physicsClientId=client)[0].decode(): -1}
@@ -63,7 +66,7 @@ def link_indices(body, names, client):
     return tuple(index[n] for n in names)
 
 
-def movable_joints(body, client):
+def movable_joints(body: int, client: int) -> tuple[list[int], list[str]]:
     """``(indices, names)`` of ``body``'s joints with one degree of freedom, in PyBullet's order."""
     pb = _pybullet()
     idx, names = [], []
@@ -134,9 +137,11 @@ def _free_qacc(pb, body, q, v, client, pushes):
 
 
 def pybullet_drop(
-    urdf, pair, qpos, qvel, *, timestep, script=None, stiffness=None, damping=None, phase=0.0, duration=1.0,
-    link_damping=False, friction=0.0, speed=None, joint_names=None, forces=None,
-):  # fmt: skip
+    urdf: str | Path, pair: tuple[str, str], qpos: ArrayLike, qvel: ArrayLike, *, timestep: float,
+    script: str | Path | None = None, stiffness: float | None = None, damping: float | None = None,
+    phase: float = 0.0, duration: float = 1.0, link_damping: bool = False, friction: float | None = 0.0,
+    speed: float | None = None, joint_names: Sequence[str] | None = None, forces: dict | None = None,
+) -> MechanismDrop:  # fmt: skip
     """Drop the URDF's mechanism in PyBullet from the touchdown state; ``MechanismDrop``.
 
     Parameters
@@ -175,6 +180,7 @@ def pybullet_drop(
             runpy.run_path(str(script))["apply_to"](body, client)
         for link in links:
             if script is None:
+                assert stiffness is not None and damping is not None  # checked above
                 pb.changeDynamics(body, link, contactStiffness=float(stiffness),
                                   contactDamping=float(damping), physicsClientId=client)  # fmt: skip
             if friction is not None:

@@ -18,6 +18,7 @@ folder, so the written file loads from where it is.
 
 import os
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from pathlib import Path
 
 from contactalpha.io import write_text_atomic
@@ -43,7 +44,7 @@ def _stamp(root, what):
     root.insert(0, ET.Comment(f" {history_line(what)} "))
 
 
-def check_output(model, output):
+def check_output(model: str | Path, output: str | Path) -> Path:
     """The output path; ValueError if it is the model itself (never overwritten), a folder, or nowhere."""
     out = Path(output)
     if out.exists() and Path(model).exists() and out.resolve() == Path(model).resolve():
@@ -87,7 +88,15 @@ def _fmt(values):
     return " ".join(repr(float(v)) for v in values)
 
 
-def write_mjcf(model_path, output, pair, attributes, *, compiled_xml=None, stamp="tuned"):
+def write_mjcf(
+    model_path: str | Path,
+    output: str | Path,
+    pair: tuple[str, str],
+    attributes: dict[str, tuple | str],
+    *,
+    compiled_xml: str | None = None,
+    stamp: str = "tuned",
+) -> Path:
     """Write the MJCF with a ``<pair>`` of ``pair`` carrying ``attributes`` (name -> tuple or str).
 
     ``compiled_xml``: the MJCF text to start from instead of the file (a URDF's compiled model).
@@ -119,7 +128,14 @@ def _collision(root, name):
     return found[0]
 
 
-def write_drake(model_path, output, pair, per_geometry, *, stamp="tuned"):
+def write_drake(
+    model_path: str | Path,
+    output: str | Path,
+    pair: tuple[str, str],
+    per_geometry: dict[str, float | str],
+    *,
+    stamp: str = "tuned",
+) -> Path:
     """Write the SDF/URDF with ``<drake:proximity_properties>`` (``per_geometry``: tag -> value) on both."""
     out = check_output(model_path, output)
     root = _parse(model_path)
@@ -199,7 +215,14 @@ def apply_to(body, client=0, other=None):
 '''
 
 
-def write_pybullet(model_path, output, pair, params, notes, links=(None, None)):
+def write_pybullet(
+    model_path: str | Path,
+    output: str | Path,
+    pair: tuple[str, str],
+    params: dict,
+    notes: Sequence[str],
+    links: Sequence[str | None] = (None, None),
+) -> Path:
     """Write a Python script applying ``params`` (per-body ``contactStiffness``, ``contactDamping``).
 
     ``links``: the URDF link names of the two geometries (the script's ``apply_to`` finds them).

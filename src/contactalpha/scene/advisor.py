@@ -104,7 +104,10 @@ def is_adequate(delivered, state, requested, exact_state, tol):
 
 
 def cheapest(
-    names: Sequence[str], adequate: Sequence[bool], costs: Mapping[str, float], errors: Sequence[float]
+    names: Sequence[str],
+    adequate: Sequence[bool] | np.ndarray,
+    costs: Mapping[str, float],
+    errors: Sequence[float] | np.ndarray,
 ) -> str | None:
     """The recommended model among the adequate ones: cheapest, and most accurate within ``COST_TIE``.
 

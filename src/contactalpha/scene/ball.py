@@ -340,8 +340,8 @@ def simulate(
     if int(flight_samples) < 2:
         raise ValueError(f"flight_samples = {flight_samples!r} is outside the valid range [2, inf)")
     a = scene.accel
-    series = {"t": [], "delta": [], "ddelta": [], "phase": [], "collision": []}
-    rows = {name: [] for name in COLLISION_FIELDS}
+    series: dict[str, list[np.ndarray]] = {"t": [], "delta": [], "ddelta": [], "phase": [], "collision": []}
+    rows: dict[str, list] = {name: [] for name in COLLISION_FIELDS}
     t, speed = 0.0, float(scene.approach_speed)
     end_state, end_time, status = BOUNCING, scene.t_end, "ok"
     i = 0

@@ -290,7 +290,7 @@ def law_predict_bounces(scene, model, law, max_contacts=1000):
         raise ValueError(f"model {model!r} is not a model of law {law.name!r}; valid: {valid}")
     restitution = found.restitutions[0]
     m, k, a = scene.mass, scene.stiffness, scene.accel
-    rows = {key: [] for key in ("v", "xi", "p", "state", "v_out", "contact", "flight")}
+    rows: dict[str, list] = {key: [] for key in ("v", "xi", "p", "state", "v_out", "contact", "flight")}
     speed, t = float(scene.approach_speed), 0.0
     while len(rows["v"]) < max_contacts:
         xi = float(law.load_factor(law.load(m, k, speed, a)))
@@ -307,7 +307,9 @@ def law_predict_bounces(scene, model, law, max_contacts=1000):
         rows["v_out"].append(speed)
         rows["flight"].append(2.0 * speed / a)
         t += 2.0 * speed / a
-    out = {key: np.array(val) for key, val in rows.items() if key != "state"}
+    out: dict[str, np.ndarray | tuple | float] = {
+        key: np.array(val) for key, val in rows.items() if key != "state"
+    }
     out["states"] = tuple(rows["state"])
     out["time_to_rest"] = t
     return out

@@ -179,8 +179,8 @@ def contact_parameters(
         return _at_step(*scene, law, engine, timestep, verify)
     chosen = _law_of(law, engine)
     if batch:
-        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
-        return _only(_batched(*scene, chosen), engine)
+        batch_scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return _only(_batched(*batch_scene, chosen), engine)
     value, restitution = _target(eps, e_N)
     for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
         if given is None:

@@ -20,6 +20,7 @@ what a batch without it gives.
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -97,24 +98,24 @@ class ContactParameters:
     """
 
     law: str
-    xi: object
+    xi: float | np.ndarray
     damping_name: str
-    damping: object
-    physical_damping: object
+    damping: float | np.ndarray
+    physical_damping: float | np.ndarray
     physical_unit: str
-    eps: object
-    e_n: object
+    eps: float | np.ndarray
+    e_n: float | np.ndarray
     end_state: object
     ok: object
     reason: object
-    accel: object
-    delta_star: object
+    accel: float | np.ndarray
+    delta_star: float | np.ndarray
     source: object
     engines: dict
-    e_n_half_speed: object
-    e_n_twice_speed: object
+    e_n_half_speed: float | np.ndarray
+    e_n_twice_speed: float | np.ndarray
     engine: str | None = None
-    stepped: object = None
+    stepped: Any = None  # scene.stepped.SteppedAnswer or None (stepped imports this module)
 
     def __getattribute__(self, name):
         value = object.__getattribute__(self, name)
@@ -194,8 +195,10 @@ def gain_note(ans):
 def stepped_lines(ans):
     """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
     name = "e_N" if ans.restitution == "kinematic" else "eps"
-    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
-             f"(drops read at {stepper(ans.engine).read_at}):"]
+    lines = [
+        f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
+        f"(drops read at {stepper(ans.engine).read_at}):"
+    ]
     if ans.status == "ok":
         lines += [
             f"  {ans.engine} damping   {ans.damping:.15g}   (its own parameter; zeta {ans.law_damping:.15g})",

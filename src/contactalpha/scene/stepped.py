@@ -76,21 +76,21 @@ class SteppedAnswer:
     engine: str
     timestep: float
     restitution: str
-    target: float
-    damping: float
-    law_damping: float
-    mean: float
-    minimum: float
-    maximum: float
-    std: float
-    steps_min: int
-    steps_max: int
-    status: str
-    nearest: float
-    timestep_reachable: float
-    continuous_mean: float
-    continuous_minimum: float
-    continuous_maximum: float
+    target: float | np.ndarray
+    damping: float | np.ndarray
+    law_damping: float | np.ndarray
+    mean: float | np.ndarray
+    minimum: float | np.ndarray
+    maximum: float | np.ndarray
+    std: float | np.ndarray
+    steps_min: int | np.ndarray
+    steps_max: int | np.ndarray
+    status: str | np.ndarray
+    nearest: float | np.ndarray
+    timestep_reachable: float | np.ndarray
+    continuous_mean: float | np.ndarray
+    continuous_minimum: float | np.ndarray
+    continuous_maximum: float | np.ndarray
     verify: dict | None = None
     source: object = "exact"
     mean_error: object = math.nan

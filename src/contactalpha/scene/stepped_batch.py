@@ -14,6 +14,7 @@ every number of the engine's block and ``ok = False`` with the reason.
 import math
 import warnings
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -139,7 +140,7 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
                 f"; the nearest mean {name} met is {nearest[i]:.4g} "
                 "(one scene's call names the largest step that reaches the target)"
             )
-    out = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
+    out: dict[str, Any] = {name: cols[:, c].reshape(shape) for c, name in enumerate(_COLUMNS)}
     few = _few_steps(engine, h, ok, cols[:, _COLUMNS.index("steps_min")])
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=e.reshape(shape),

@@ -84,7 +84,10 @@ def _branch_at(code, forms, nf, z, w, vals):
 
 @njit(cache=True)
 def _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals):
-    """The branch on ``(lo, first change)`` and the first of the roots ``buf[:nb]`` past which it differs (1 if none)."""
+    """The branch on ``(lo, first change)`` and the first root in ``buf[:nb]`` past which it differs.
+
+    The first change is 1 if none.
+    """
     sort_roots(buf, nb)
     t = 0.5 * (lo + (buf[0] if nb > 0 else hi))
     b0 = _branch_at(code, forms, nf, poly(z0, z1, z2, t), poly(w0, w1, w2, t), vals)
@@ -113,7 +116,10 @@ def _outcome(z, w, w1, n, forced, rest):
 
 @njit(cache=True)
 def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi, buf, nb):
-    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none (``u``: w after the step)."""
+    """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none.
+
+    ``u``: w after the step.
+    """
     sort_roots(buf, nb)
     t = 0.5 * (lo + buf[0])
     o0 = _outcome(poly(z0, z1, z2, t), poly(w0, w1, w2, t), poly(u0, u1, u2, t), n, forced, rest)
@@ -177,7 +183,14 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
             else:
                 br, r = _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals)
             forced = br != 0
-            m0, m1, m2, m3, m4, m5 = maps[br, 0], maps[br, 1], maps[br, 2], maps[br, 3], maps[br, 4], maps[br, 5]
+            m0, m1, m2, m3, m4, m5 = (
+                maps[br, 0],
+                maps[br, 1],
+                maps[br, 2],
+                maps[br, 3],
+                maps[br, 4],
+                maps[br, 5],
+            )
             y0, y1, y2 = m0 * z0 + m1 * w0 + m2, m0 * z1 + m1 * w1, m0 * z2 + m1 * w2
             u0, u1, u2 = m3 * z0 + m4 * w0 + m5, m3 * z1 + m4 * w1, m3 * z2 + m4 * w2
             if not math.isfinite(y0 + y1 + y2 + u0 + u1 + u2):
@@ -201,7 +214,9 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                     nb = roots_into(u0 - w0 - rest, u1 - w1, u2 - w2, lo, top, buf, nb)
                     nb = roots_into(u0 - w0 + rest, u1 - w1, u2 - w2, lo, top, buf, nb)
             if nb > 0:
-                r = min(r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb))
+                r = min(
+                    r, _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, top, buf, nb)
+                )
             ws[j, W_ROOT] = r
             if r < hi:
                 hi = r
@@ -225,7 +240,10 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
         if status == STEP_LIMIT:
             mid = lo + 0.5 * (hi - lo)
             i = min(j, max_steps)
-            z, w = poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid), poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid)
+            z, w = (
+                poly(ws[i, W_Z], ws[i, W_Z + 1], ws[i, W_Z + 2], mid),
+                poly(ws[i, W_W], ws[i, W_W + 1], ws[i, W_W + 2], mid),
+            )
             if n > 0 and z < 0.0 and abs(w) <= CREEP_FRACTION * v_in:
                 status = CAPTURED
         pieces += 1
@@ -259,14 +277,30 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
 
 
 @njit(cache=True)
-def workspace(rows=64):
+def workspace(rows: int = 64) -> tuple[np.ndarray, ...]:
     """The arrays ``phase_row`` works in: ``(ws, forms, maps, zn, wn, buf, vals, acc)``; ``rows`` steps."""
-    return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3), np.empty(3),
-            np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
+    return (np.empty((rows, W_COLS)), np.empty((MAX_FORMS, 3)), np.empty((MAX_BRANCHES, 6)), np.empty(3),
+            np.empty(3), np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
 
 
 @njit(cache=True)
-def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc):
+def phase_row(
+    code: int,
+    p: np.ndarray,
+    h: float,
+    v_in: float,
+    accel: float,
+    max_steps: int,
+    tol: float,
+    ws: np.ndarray,
+    forms: np.ndarray,
+    maps: np.ndarray,
+    zn: np.ndarray,
+    wn: np.ndarray,
+    buf: np.ndarray,
+    vals: np.ndarray,
+    acc: np.ndarray,
+) -> np.ndarray:
     """``acc`` filled with the ``codes.P_*`` row of e_N over a uniform touchdown phase; returns ``ws``.
 
     The arrays come from ``workspace`` (a caller evaluating many means reuses them).
@@ -277,7 +311,9 @@ def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, 
     for j in (P_EPS_MEAN, P_EPS_MIN, P_EPS_MAX, P_EPS_STD):
         acc[j] = math.nan
     nf = branches(code, p, h, accel, forms, maps)
-    s0, s1, err, ws = _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals)
+    s0, s1, err, ws = _sweep(
+        code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals
+    )
     acc[P_ERR] = err
     if acc[P_STATUS] != 0.0:
         for j in (P_MEAN, P_STD, P_MIN, P_MAX, P_ERR):
@@ -289,7 +325,9 @@ def phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, 
 
 
 @njit(cache=True)
-def phase_mean_affine(code, p, h, v_in, accel, max_steps, tol):
+def phase_mean_affine(
+    code: int, p: np.ndarray, h: float, v_in: float, accel: float, max_steps: int, tol: float
+) -> np.ndarray:
     """The row of ``codes.P_*`` slots of e_N over a uniform touchdown phase (module docstring)."""
     ws, forms, maps, zn, wn, buf, vals, acc = workspace()
     phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc)

@@ -29,6 +29,7 @@ from .affine_phase import QUAD_TOL, phase_row, workspace
 from .codes import P_MAX, P_MEAN, P_MIN, P_STD, P_STEPS_MAX, P_STEPS_MIN
 from .delivered import step_limit
 from .inverse import BRACKET_DOUBLINGS, BRACKET_START, MEAN_TOL
+from .registry import Stepper
 
 # Columns of a solved row.
 (B_DAMPING, B_MEAN, B_MIN, B_MAX, B_STD, B_STEPS_MIN, B_STEPS_MAX, B_STATUS, B_NEAREST, B_GUESS_MEAN,
@@ -64,7 +65,10 @@ def _mean(code, p, slots, c, h, v, a, max_steps, work):
 
 @njit(cache=True)
 def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, count):
-    """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``: ``(root, f(root), means)``."""
+    """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``.
+
+    Returns ``(root, f(root), means)``.
+    """
     xpre, fpre, xcur, fcur = xa, fa, xb, fb
     xblk = fblk = spre = scur = 0.0
     for _ in range(BRENT_ITERATIONS):
@@ -105,7 +109,19 @@ def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, cou
 
 
 @njit(cache=True)
-def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, out):
+def solve_row(
+    code: int,
+    p: np.ndarray,
+    slots: np.ndarray,
+    h: float,
+    v: float,
+    a: float,
+    target: float,
+    guess: float,
+    ladder_start: float,
+    max_steps: int,
+    out: np.ndarray,
+) -> None:
     """One row (module docstring): fills ``out``'s ``B_*`` columns; ``p``'s damping slots are overwritten."""
     work = workspace(min(max_steps + 2, WORK_ROWS))
     acc = work[-1]
@@ -141,7 +157,11 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
                 x1 = x0 / MAX_FACTOR
             else:
                 y0 = math.log(f0 + target)
-                x1 = x0 + (yt - y0) * (x0 - xp) / (y0 - yp) if y0 != yp else x0 * (MAX_FACTOR if f0 > 0.0 else 1.0 / MAX_FACTOR)
+                x1 = (
+                    x0 + (yt - y0) * (x0 - xp) / (y0 - yp)
+                    if y0 != yp
+                    else x0 * (MAX_FACTOR if f0 > 0.0 else 1.0 / MAX_FACTOR)
+                )
                 x1 = min(max(x1, x0 / MAX_FACTOR), x0 * MAX_FACTOR)
                 xp, yp = x0, y0
             f1 = _mean(code, p, slots, x1, h, v, a, max_steps, work) - target
@@ -197,7 +217,18 @@ def solve_row(code, p, slots, h, v, a, target, guess, ladder_start, max_steps, o
 
 
 @njit(cache=True, parallel=True)
-def solve_rows(code, params, slots, h, v, a, target, guess, ladder_start, max_steps):
+def solve_rows(
+    code: int,
+    params: np.ndarray,
+    slots: np.ndarray,
+    h: float,
+    v: np.ndarray,
+    a: np.ndarray,
+    target: np.ndarray,
+    guess: np.ndarray,
+    ladder_start: np.ndarray,
+    max_steps: np.ndarray,
+) -> np.ndarray:
     """``solve_row`` for every row of ``params`` (one scene each): an ``(n, N_COLS)`` array."""
     n = params.shape[0]
     out = np.empty((n, N_COLS))
@@ -207,7 +238,9 @@ def solve_rows(code, params, slots, h, v, a, target, guess, ladder_start, max_st
     return out
 
 
-def solve_batch(s, params, h, v, a, target):
+def solve_batch(
+    s: Stepper, params: np.ndarray, h: float, v: np.ndarray, a: np.ndarray, target: np.ndarray
+) -> np.ndarray:
     """``solve_rows`` for stepper ``s`` (piecewise affine): rows of ``params`` from their own damping.
 
     Each row starts from the damping its ``params`` hold (the continuous law's); the ladder starts
@@ -215,5 +248,6 @@ def solve_batch(s, params, h, v, a, target):
     """
     params = np.ascontiguousarray(params, dtype=float)
     guess = params[:, s.damping_slots[0]].copy()
+    limit = np.asarray(step_limit(s, params.T, h))
     return solve_rows(s.code, params, np.array(s.damping_slots), h, v, a, target, guess,
-                      BRACKET_START / s.contact_time(params.T), step_limit(s, params.T, h))  # fmt: skip
+                      BRACKET_START / s.contact_time(params.T), limit)  # fmt: skip

@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from contactalpha.validation import (  # check_restitution: for .inverse and .stepsize
     check_count,
@@ -21,7 +22,7 @@ from contactalpha.validation import (  # check_restitution: for .inverse and .st
 from . import codes
 from .drop import run_drops
 from .phase import GL_W, GL_X, GRID, MAX_INTERVALS, QUAD_TOL, phase_mean
-from .registry import stepper
+from .registry import Stepper, stepper
 
 # A drop runs at most this many contact times (a slowly ringing capture comes to rest within it).
 REST_CONTACT_TIMES = 400
@@ -63,14 +64,16 @@ class PhaseStats:
     evaluations: int
     status: str
 
-    def of(self, restitution):
+    def of(self, restitution: str) -> tuple[float, float, float]:
         """``(mean, minimum, maximum)`` of e_N ("kinematic") or eps ("energetic")."""
         if restitution == "kinematic":
             return self.mean, self.minimum, self.maximum
         return self.eps_mean, self.eps_min, self.eps_max
 
 
-def check_scene(p, timestep, approach_speed, accel):
+def check_scene(
+    p: ArrayLike, timestep: float, approach_speed: float, accel: float
+) -> tuple[np.ndarray, float, float, float]:
     """Checked ``(p, h, v_in, accel)``: p finite float64, the others finite and > 0, ``v_in >= accel h / 2``.
 
     A drop starts on its flight parabola up to a step before touchdown; slower than ``accel h / 2``
@@ -91,12 +94,12 @@ def check_scene(p, timestep, approach_speed, accel):
     return p, h, v, a
 
 
-def contact_steps(s, p, h):
+def contact_steps(s: Stepper, p: np.ndarray, h: float) -> float | np.ndarray:
     """Steps per contact time of stepper ``s`` (its ``contact_time`` over the step ``h``)."""
     return s.contact_time(p) / h
 
 
-def too_many_steps(s, p, h):
+def too_many_steps(s: Stepper, p: np.ndarray, h: float) -> str:
     """Why a scene with more than ``MAX_CONTACT_STEPS`` steps per contact is refused ("" if it is not)."""
     n = contact_steps(s, p, h)
     if n <= MAX_CONTACT_STEPS:
@@ -109,14 +112,14 @@ def too_many_steps(s, p, h):
     )
 
 
-def check_contact_steps(s, p, h):
+def check_contact_steps(s: Stepper, p: np.ndarray, h: float) -> None:
     """ValueError (``too_many_steps``) for a scene of more than ``MAX_CONTACT_STEPS`` steps per contact."""
     why = too_many_steps(s, p, h)
     if why:
         raise ValueError(why)
 
 
-def step_limit(s, p, h):
+def step_limit(s: Stepper, p: np.ndarray, h: float) -> int | np.ndarray:
     """Steps a drop of stepper ``s`` may take: ``REST_CONTACT_TIMES`` contact times, at least 1000.
 
     ``p`` may hold one column per scene (slots first): an int array then.
@@ -125,7 +128,17 @@ def step_limit(s, p, h):
     return int(n) if np.ndim(n) == 0 else n.astype(np.int64)
 
 
-def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid=GRID, max_steps=None):
+def over_phase(
+    engine: str,
+    p: ArrayLike,
+    timestep: float,
+    approach_speed: float,
+    accel: float,
+    *,
+    tol: float = QUAD_TOL,
+    grid: int = GRID,
+    max_steps: int | None = None,
+) -> PhaseStats:
     """``PhaseStats`` of a drop through ``engine``'s step map over a uniform touchdown phase.
 
     Parameters
@@ -152,21 +165,38 @@ def over_phase(engine, p, timestep, approach_speed, accel, *, tol=QUAD_TOL, grid
     check_contact_steps(s, p, h)
     check_positive("tol", tol)
     grid = check_count("grid", grid, 4, 1_000_000)
-    max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    max_steps = (
+        int(step_limit(s, p, h)) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    )
     return over_phase_unchecked(s, p, h, v, a, float(tol), grid, max_steps)
 
 
-def over_phase_unchecked(s, p, h, v, a, tol=QUAD_TOL, grid=GRID, max_steps=None):
+def over_phase_unchecked(
+    s: Stepper,
+    p: np.ndarray,
+    h: float,
+    v: float,
+    a: float,
+    tol: float = QUAD_TOL,
+    grid: int = GRID,
+    max_steps: int | None = None,
+) -> PhaseStats:
     """``over_phase`` for stepper ``s`` on values ``check_scene`` has passed (the root finders' core)."""
-    max_steps = step_limit(s, p, h) if max_steps is None else max_steps
+    max_steps = int(step_limit(s, p, h)) if max_steps is None else max_steps
     return _stats(phase_mean(s.code, p, h, v, a, max_steps, tol, grid, MAX_INTERVALS, GL_X, GL_W))
 
 
 def _stats(row):
     st = int(row[codes.P_STATUS])
     return PhaseStats(
-        *(float(row[i]) for i in (codes.P_MEAN, codes.P_MIN, codes.P_MAX, codes.P_STD)),
-        *(float(row[i]) for i in (codes.P_EPS_MEAN, codes.P_EPS_MIN, codes.P_EPS_MAX, codes.P_EPS_STD)),
+        float(row[codes.P_MEAN]),
+        float(row[codes.P_MIN]),
+        float(row[codes.P_MAX]),
+        float(row[codes.P_STD]),
+        float(row[codes.P_EPS_MEAN]),
+        float(row[codes.P_EPS_MIN]),
+        float(row[codes.P_EPS_MAX]),
+        float(row[codes.P_EPS_STD]),
         int(row[codes.P_STEPS_MIN]),
         int(row[codes.P_STEPS_MAX]),
         float(row[codes.P_ERR]),
@@ -176,12 +206,23 @@ def _stats(row):
     )
 
 
-def at_phases(engine, p, timestep, phases, approach_speed, accel, *, max_steps=None):
+def at_phases(
+    engine: str,
+    p: ArrayLike,
+    timestep: float,
+    phases: ArrayLike,
+    approach_speed: float,
+    accel: float,
+    *,
+    max_steps: int | None = None,
+) -> dict[str, np.ndarray]:
     """Single drops at ``phases`` (each in [0, 1)): dict of arrays ``e_n``, ``eps``, ``steps``, ``status``."""
     s = stepper(engine)
     p, h, v, a = check_scene(p, timestep, approach_speed, accel)
     phases = np.atleast_1d(check_range("phases", phases, 0.0, 1.0, hi_open=True)).astype(float).ravel()
-    max_steps = step_limit(s, p, h) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    max_steps = (
+        int(step_limit(s, p, h)) if max_steps is None else check_count("max_steps", max_steps, 1, 10**9)
+    )
     rows = run_drops(s.code, p, h, phases, v, a, max_steps)
     return {
         "e_n": rows[:, codes.D_EN],

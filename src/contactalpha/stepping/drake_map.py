@@ -34,8 +34,8 @@ that takes over when ``h sqrt(k/m)`` exceeds about 2 pi.  It is not this map.
 
 Parameters ``p`` (float64, the engine's own units), slots named below: each geometry's values, as
 ``AddContactMaterial`` takes them (the registry's inverse gives both geometries the same
-``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.  Importing this module does
-not need Drake.
+``hunt_crossley_dissipation``).  A whole drop through this map is ``stepping.drop.drop_drake``.
+Importing this module does not need Drake.
 """
 
 import math
@@ -58,7 +58,13 @@ N_PARAMS = 5
 SLOT_NAMES = ("mass", "stiffness_ball", "dissipation_ball", "stiffness_ground", "dissipation_ground")
 
 
-def make_params(mass, stiffness_ball, dissipation_ball, stiffness_ground, dissipation_ground):
+def make_params(
+    mass: float,
+    stiffness_ball: float,
+    dissipation_ball: float,
+    stiffness_ground: float,
+    dissipation_ground: float,
+) -> np.ndarray:
     """``p`` for a sphere of ``mass`` (kg) on a half space, with each geometry's values."""
     p = np.empty(N_PARAMS)
     p[MASS] = mass
@@ -67,14 +73,14 @@ def make_params(mass, stiffness_ball, dissipation_ball, stiffness_ground, dissip
     return p
 
 
-def contact_time(p):
+def contact_time(p: np.ndarray) -> float:
     """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
     k = p[STIFFNESS_BALL] * p[STIFFNESS_GROUND] / (p[STIFFNESS_BALL] + p[STIFFNESS_GROUND])
     return math.pi * math.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
-def pair_values(p):
+def pair_values(p: np.ndarray) -> tuple[float, float]:
     """The pair's ``(k, d)`` from the geometries' (``CombinePointContactParameters``; 0/0 gives 0)."""
     k1, k2 = p[STIFFNESS_BALL], p[STIFFNESS_GROUND]
     s = k1 + k2
@@ -84,7 +90,7 @@ def pair_values(p):
 
 
 @njit(cache=True)
-def next_velocity_drake(z, w, p, h, accel):
+def next_velocity_drake(z: float, w: float, p: np.ndarray, h: float, accel: float) -> float:
     """The step's end velocity ``w'`` (m/s, up) from ``(z, w)``; ``w - h accel`` without contact."""
     w_star = w - h * accel
     if not (z <= 0.0):
@@ -105,7 +111,7 @@ def next_velocity_drake(z, w, p, h, accel):
 
 
 @njit(cache=True)
-def step_drake(z, w, p, h, accel):
+def step_drake(z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One discrete-plant step of the height ``z`` (m, above the surface) and velocity ``w`` (m/s, up).
 
     ``accel`` (m/s^2, > 0) is the load's acceleration into the contact, ``h`` the step (s).
@@ -114,18 +120,18 @@ def step_drake(z, w, p, h, accel):
     return z + h * w_next, w_next
 
 
-def from_block(block, mass, radius):
+def from_block(block: dict, mass: float, radius: float | None) -> np.ndarray:
     """``p`` from Drake's block of ``contact_parameters`` (each geometry's stiffness and dissipation)."""
     del radius  # point contact: the map needs no geometry
     k, d = float(block["point_contact_stiffness"]), float(block_damping(block))
     return make_params(mass, k, d, k, d)
 
 
-def block_damping(block):
-    """Drake's own damping, each geometry's ``hunt_crossley_dissipation`` (s/m), of a block; arrays go through."""
+def block_damping(block: dict) -> np.ndarray:
+    """Drake's own damping of a block: each geometry's ``hunt_crossley_dissipation`` (s/m), arrays too."""
     return np.asarray(block["hunt_crossley_dissipation"], dtype=float)
 
 
-def law_damping(p, approach_speed):
+def law_damping(p: np.ndarray, approach_speed: float) -> float:
     """Hunt-Crossley's alpha = d v_minus of the pair's dissipation d in ``p``."""
     return pair_values(p)[1] * approach_speed

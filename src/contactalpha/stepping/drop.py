@@ -41,7 +41,9 @@ CREEP_FRACTION = 1e-3
 
 
 @njit(cache=True)
-def run_drop(code, p, h, phase, v_in, accel, max_steps):
+def run_drop(
+    code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
+) -> np.ndarray:
     """One drop through the engine's step map; the row of ``codes.D_*`` slots.
 
     Parameters
@@ -109,7 +111,9 @@ def run_drop(code, p, h, phase, v_in, accel, max_steps):
 
 
 @njit(cache=True)
-def run_drops(code, p, h, phases, v_in, accel, max_steps):
+def run_drops(
+    code: int, p: np.ndarray, h: float, phases: np.ndarray, v_in: float, accel: float, max_steps: int
+) -> np.ndarray:
     """``run_drop`` at every phase: one row of ``codes.D_*`` slots per phase."""
     rows = np.empty((phases.size, N_DROP))
     for i in range(phases.size):
@@ -118,7 +122,9 @@ def run_drops(code, p, h, phases, v_in, accel, max_steps):
 
 
 @njit(cache=True)
-def trajectory(code, p, h, phase, v_in, accel, n_steps):
+def trajectory(
+    code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, n_steps: int
+) -> tuple[np.ndarray, np.ndarray]:
     """The stored states ``(z, w)`` (the map's z) of ``n_steps`` steps from ``run_drop``'s start (row 0)."""
     zs = np.empty(n_steps + 1)
     ws = np.empty(n_steps + 1)
@@ -130,21 +136,27 @@ def trajectory(code, p, h, phase, v_in, accel, n_steps):
 
 
 @njit(cache=True)
-def drop_mujoco(p, h, phase, v_in, accel, max_steps):
+def drop_mujoco(
+    p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
+) -> tuple[float, int, int]:
     """A whole MuJoCo drop (``mujoco_map``): ``(e_N, n_contact_steps, status)``."""
     row = run_drop(MUJOCO, p, h, phase, v_in, accel, max_steps)
     return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
 
 
 @njit(cache=True)
-def drop_pybullet(p, h, phase, v_in, accel, max_steps):
+def drop_pybullet(
+    p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
+) -> tuple[float, int, int]:
     """A whole PyBullet drop (``pybullet_map``): ``(e_N, n_contact_steps, status)``."""
     row = run_drop(PYBULLET, p, h, phase, v_in, accel, max_steps)
     return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
 
 
 @njit(cache=True)
-def drop_drake(p, h, phase, v_in, accel, max_steps):
+def drop_drake(
+    p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
+) -> tuple[float, int, int]:
     """A whole drop in Drake's discrete plant (``drake_map``): ``(e_N, n_contact_steps, status)``."""
     row = run_drop(DRAKE, p, h, phase, v_in, accel, max_steps)
     return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])

@@ -14,6 +14,7 @@ the positions then lie exactly on a parabola whose velocity at a stored state is
 
 import math
 
+import numpy as np
 from numba import njit
 
 # A body in contact whose velocity and its change over a step are both below this fraction of
@@ -22,7 +23,7 @@ REST_FRACTION = 1e-10
 
 
 @njit(cache=True)
-def touchdown_state(v_in, accel, h, phase):
+def touchdown_state(v_in: float, accel: float, h: float, phase: float) -> tuple[float, float]:
     """Stored ``(z, w)`` a fraction ``phase`` of a step before the parabola meets z = 0 at ``-v_in``."""
     tc = phase * h
     w = -v_in + accel * tc  # the parabola's velocity at the start
@@ -31,14 +32,17 @@ def touchdown_state(v_in, accel, h, phase):
 
 
 @njit(cache=True)
-def rebound_speed(z, w, accel, h):
+def rebound_speed(z: float, w: float, accel: float, h: float) -> float:
     """Speed at z = 0 of the free-flight parabola through the stored state ``(z, w)``."""
     s = w - 0.5 * accel * h
     return math.sqrt(max(s * s + 2.0 * accel * z, 0.0))
 
 
 @njit(cache=True)
-def euler_affine(out, h, wz, ww, w1):
-    """A step ``w' = wz z + ww w + w1``, then ``z' = z + h w'``, as ``z' = out[0:3] . (z, w, 1)``, ``w' = out[3:6] . (z, w, 1)``."""
+def euler_affine(out: np.ndarray, h: float, wz: float, ww: float, w1: float) -> None:
+    """A step ``w' = wz z + ww w + w1``, then ``z' = z + h w'``, written into ``out``.
+
+    As ``z' = out[0:3] . (z, w, 1)``, ``w' = out[3:6] . (z, w, 1)``.
+    """
     out[3], out[4], out[5] = wz, ww, w1
     out[0], out[1], out[2] = 1.0 + h * wz, h * ww, h * w1

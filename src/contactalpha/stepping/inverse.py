@@ -17,9 +17,11 @@ time (saying so in ``StepInverse.search``), never try a step finer than
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
 from contactalpha.progress import Progress
@@ -52,7 +54,7 @@ BRACKET_DOUBLINGS = 48
 # Step (or stiffness) search for an unreachable target: factor per trial, trials at most, and
 # bisections of the last bracket (the answer within 2^(0.25 / 2^3), 2.2 %, below the largest: advice,
 # and the finest trials cost the most).
-SHRINK = 2.0 ** -0.25
+SHRINK = 2.0**-0.25
 SHRINK_TRIALS = 80
 BISECTIONS = 3
 # CPU seconds the searches for an unreachable target's remedies take at most, all together.
@@ -98,14 +100,14 @@ def _mean(engine, p, h, v, a, restitution):
     """
     s = stepper(engine)
     if restitution == "kinematic" and s.affine:
-        m = float(phase_mean_affine(s.code, p, h, v, a, step_limit(s, p, h), AFFINE_TOL)[P_MEAN])
+        m = float(phase_mean_affine(s.code, p, h, v, a, int(step_limit(s, p, h)), AFFINE_TOL)[P_MEAN])
         if math.isfinite(m):
             return m
     return over_phase_unchecked(s, p, h, v, a).of(restitution)[0]
 
 
 def _stats(engine, p, h, v, a, restitution):
-    """``PhaseStats`` drop by drop (eps, steps), once per answer; e_N's from the affine pieces where the map has them.
+    """``PhaseStats`` drop by drop (eps, steps), once per answer; e_N's from the affine pieces if any.
 
     The drop-by-drop quadrature can run out of intervals (it then keeps an estimate, off by up to
     5e-4 in e_N where the affine mean is exact); the answer's e_N statistics are the affine ones.
@@ -113,7 +115,7 @@ def _stats(engine, p, h, v, a, restitution):
     s = stepper(engine)
     st = over_phase_unchecked(s, p, h, v, a)
     if restitution == "kinematic" and s.affine:
-        row = phase_mean_affine(s.code, p, h, v, a, step_limit(s, p, h), AFFINE_TOL)
+        row = phase_mean_affine(s.code, p, h, v, a, int(step_limit(s, p, h)), AFFINE_TOL)
         if math.isfinite(row[P_MEAN]):
             st = replace(st, mean=float(row[P_MEAN]), minimum=float(row[P_MIN]), maximum=float(row[P_MAX]),
                          std=float(row[P_STD]))  # fmt: skip
@@ -121,8 +123,16 @@ def _stats(engine, p, h, v, a, restitution):
 
 
 def damping_for(
-    engine, p, timestep, approach_speed, accel, target, restitution="kinematic", *, remedies=True
-):
+    engine: str,
+    p: ArrayLike,
+    timestep: float,
+    approach_speed: float,
+    accel: float,
+    target: float,
+    restitution: str = "kinematic",
+    *,
+    remedies: bool = True,
+) -> StepInverse:
     """``StepInverse``: the damping slot of ``p`` whose phase-mean restitution is ``target``.
 
     Parameters
@@ -215,7 +225,7 @@ class Search:
         self.rate = 0.0  # CPU s per step per contact of the costliest trial so far
         self._last = None
 
-    def give_up(self, what, x, steps):
+    def give_up(self, what: str, x: float, steps: float) -> bool:
         """True to stop before trying ``what`` = ``x`` (``steps`` per contact); else tells the progress."""
         if self.note:
             return True
@@ -229,7 +239,7 @@ class Search:
         self.progress(f"trying {what} {x:.4g}")
         return False
 
-    def stop(self, note):
+    def stop(self, note: str) -> bool:
         """Stop the search here, saying why."""
         self.note = self.note or note
         return True
@@ -242,7 +252,14 @@ class Search:
         return False
 
 
-def largest_passing(reaches, x0, shrink=SHRINK, trials=SHRINK_TRIALS, bisections=BISECTIONS, give_up=None):
+def largest_passing(
+    reaches: Callable[[float], bool],
+    x0: float,
+    shrink: float = SHRINK,
+    trials: int = SHRINK_TRIALS,
+    bisections: int = BISECTIONS,
+    give_up: Callable[[float], bool] | None = None,
+) -> float:
     """The largest x < x0 with ``reaches(x)``: a geometric scan by ``shrink``, then bisection; NaN if none.
 
     ``reaches`` need not be monotone: the answer passes, and the scan's rung above it fails.
@@ -294,7 +311,16 @@ def _give_up(search, what, steps):
     return give_up
 
 
-def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic", search=None):
+def reachable_timestep(
+    engine: str,
+    p: np.ndarray,
+    h: float,
+    v: float,
+    a: float,
+    target: float,
+    restitution: str = "kinematic",
+    search: Search | None = None,
+) -> float:
     """The largest step below ``h`` at which some damping delivers the target phase mean (NaN if none).
 
     ``search`` (a ``Search``) bounds it: its CPU budget, and no step past ``MAX_CONTACT_STEPS``.
@@ -304,7 +330,16 @@ def reachable_timestep(engine, p, h, v, a, target, restitution="kinematic", sear
     return largest_passing(lambda x: _reaches(engine, p, x, v, a, target, restitution), h, give_up=give_up)
 
 
-def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic", search=None):
+def reachable_stiffness(
+    engine: str,
+    p: np.ndarray,
+    h: float,
+    v: float,
+    a: float,
+    target: float,
+    restitution: str = "kinematic",
+    search: Search | None = None,
+) -> float | None:
     """The largest stiffness below ``p``'s at which some damping delivers the target at step ``h``.
 
     The stiffness slots keep their ratios; the value returned is the first slot's.  ``search`` as
@@ -321,6 +356,7 @@ def reachable_stiffness(engine, p, h, v, a, target, restitution="kinematic", sea
         return q
 
     give_up = _give_up(search, "stiffness", lambda x: contact_steps(s, scaled(x), h))
+
     def reaches(x):
         return _reaches(engine, scaled(x), h, v, a, target, restitution)
 

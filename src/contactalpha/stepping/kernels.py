@@ -7,6 +7,7 @@ its module with ``step_<engine>``, one code here and one branch in ``step_map``;
 (``registry.py``) carries the code with the engine's capabilities.
 """
 
+import numpy as np
 from numba import njit
 
 from . import mujoco_map, pybullet_map
@@ -21,7 +22,7 @@ DRAKE = 2
 
 
 @njit(cache=True)
-def step_map(code, z, w, p, h, accel):
+def step_map(code: int, z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One step of the engine with kernel code ``code`` (the table above): ``(z, w)`` after it."""
     if code == PYBULLET:
         return step_pybullet(z, w, p, h, accel)
@@ -33,13 +34,16 @@ def step_map(code, z, w, p, h, accel):
 # Piecewise-affine maps (``affine_phase``): linear forms in the state pick a step's branch, and
 # the step is affine on each (branch 0 applies no force).  Codes of maps that are not piecewise
 # affine (Drake's Hunt-Crossley step) have no entry.
-AFFINE = {MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES), PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES)}
+AFFINE = {
+    MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES),
+    PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES),
+}
 MAX_FORMS = max(forms for forms, _ in AFFINE.values())
 MAX_BRANCHES = max(count for _, count in AFFINE.values())
 
 
 @njit(cache=True)
-def surface(code, p):
+def surface(code: int, p: np.ndarray) -> float:
     """Height in the map's ``z`` of the surface a user reads a drop at.
 
     PyBullet's geometric surface lies ``slop`` above its solver's (``pybullet_map``); the other
@@ -51,7 +55,7 @@ def surface(code, p):
 
 
 @njit(cache=True)
-def branches(code, p, h, accel, forms, maps):
+def branches(code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
     """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count.
 
     They are written in the height above ``surface`` (``zeta = z - surface``), where a drop is read.
@@ -71,7 +75,7 @@ def branches(code, p, h, accel, forms, maps):
 
 
 @njit(cache=True)
-def branch_of(code, vals):
+def branch_of(code: int, vals: np.ndarray) -> int:
     """The branch picked by the forms' values ``vals`` at a state."""
     if code == PYBULLET:
         return branch_pybullet(vals)

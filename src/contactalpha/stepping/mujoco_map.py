@@ -60,7 +60,7 @@ def _soft_row(p):
 
 
 @njit(cache=True)
-def step_mujoco(z, w, p, h, accel):
+def step_mujoco(z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One MuJoCo step (Euler or implicitfast) of height ``z`` and velocity ``w`` (module docstring)."""
     a0 = -accel
     qacc = a0
@@ -80,8 +80,8 @@ N_BRANCHES = 2
 
 
 @njit(cache=True)
-def branches_mujoco(p, h, accel, forms, maps):
-    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+def branches_mujoco(p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)``, ``maps[:N_BRANCHES]`` with each branch's step.
 
     The forms: ``z`` (the contact acts below 0) and ``aref - a0 = -(stiffness/d) z - (damping/d) w
     + accel`` (it pushes above 0).  A branch's step is ``z' = maps[b, 0:3] . (z, w, 1)``,
@@ -99,17 +99,17 @@ def branches_mujoco(p, h, accel, forms, maps):
 
 
 @njit(cache=True)
-def branch_mujoco(vals):
+def branch_mujoco(vals: np.ndarray) -> int:
     """The branch from the forms' values at a state: 1 where the contact pushes, else 0."""
     return 1 if vals[0] < 0.0 and vals[1] > 0.0 else 0
 
 
-def contact_time(p):
+def contact_time(p: np.ndarray) -> float | np.ndarray:
     """The undamped contact's half period ``pi / sqrt(stiffness)``, s: the time scale of a contact."""
     return np.pi / np.sqrt(p[STIFFNESS])
 
 
-def stable_damping(x):
+def stable_damping(x: float | np.ndarray) -> float | np.ndarray:
     """The largest damping ratio at which the contact step ``x = omega h`` is stable.
 
     The step of ``z'' = -omega^2 z - 2 zeta omega z'`` (velocity first, then position) has the
@@ -119,25 +119,30 @@ def stable_damping(x):
     return (1.0 - 0.25 * x * x) / x
 
 
-def pack(stiffness, damping, impedance, diag_ratio=1.0):
+def pack(
+    stiffness: float | np.ndarray,
+    damping: float | np.ndarray,
+    impedance: float | np.ndarray,
+    diag_ratio: float | np.ndarray = 1.0,
+) -> np.ndarray:
     """``p`` from MuJoCo's direct-mode values (``solref = (-stiffness, -damping)``, ``solimp[0:2] = d``)."""
     # Arrays give one row of slots per scene.
     return np.stack(np.broadcast_arrays(stiffness, damping, impedance, diag_ratio), axis=-1).astype(float)
 
 
-def from_block(block, mass, radius):
+def from_block(block: dict, mass: float | np.ndarray | None, radius: float | np.ndarray | None) -> np.ndarray:
     """``p`` from the MuJoCo block of ``contact_parameters`` (direct-mode ``solref``, ``solimp``)."""
     del mass, radius  # per unit mass, and the map needs no geometry
     solref, solimp = np.asarray(block["solref"]), np.asarray(block["solimp"])  # a tuple, or a row per world
     return pack(-solref[..., 0], block_damping(block), solimp[..., 0])
 
 
-def block_damping(block):
+def block_damping(block: dict) -> np.ndarray:
     """MuJoCo's own damping ``-solref[1]`` (direct mode, per unit mass) of a block; arrays go through."""
     return -np.asarray(block["solref"], dtype=float)[..., 1]
 
 
-def law_damping(p, approach_speed):
+def law_damping(p: np.ndarray, approach_speed: float | np.ndarray) -> float | np.ndarray:
     """The law's damping ratio zeta = damping / (2 sqrt(stiffness)) of ``p`` (any approach speed)."""
     del approach_speed
     return p[DAMPING] / (2.0 * np.sqrt(p[STIFFNESS]))

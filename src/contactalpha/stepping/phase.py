@@ -64,7 +64,7 @@ QUAD_TOL = 1e-11
 MAX_INTERVALS = 4000
 
 
-def lobatto(n):
+def lobatto(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Lobatto nodes and weights on [-1, 1]: the ends and the roots of P'_{n-1}."""
     c = np.zeros(n)
     c[-1] = 1.0  # P_{n-1}
@@ -90,7 +90,9 @@ def _gl(code, p, h, v_in, accel, max_steps, a, b, acc, xs, ws):
     half = 0.5 * (b - a)
     mid = 0.5 * (a + b)
     for i in range(xs.size):
-        row = run_drop(code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps)
+        row = run_drop(
+            code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps
+        )
         _fold(row, acc)
         e, s = row[D_EN], row[D_EPS]
         wgt = half * ws[i]
@@ -155,7 +157,19 @@ def _jumps(code, p, h, v_in, accel, max_steps, grid, acc):
 
 
 @njit(cache=True)
-def phase_mean(code, p, h, v_in, accel, max_steps, tol, grid, max_intervals, xs, ws):
+def phase_mean(
+    code: int,
+    p: np.ndarray,
+    h: float,
+    v_in: float,
+    accel: float,
+    max_steps: int,
+    tol: float,
+    grid: int,
+    max_intervals: int,
+    xs: np.ndarray,
+    ws: np.ndarray,
+) -> np.ndarray:
     """The row of ``codes.P_*`` slots for one scene: mean, range, std of e_N and eps over the phase."""
     acc = np.zeros(N_PHASE)
     acc[P_MIN] = acc[P_EPS_MIN] = acc[P_STEPS_MIN] = math.inf

@@ -24,20 +24,20 @@ MAX_SPLITS = 2000
 
 
 @njit(cache=True)
-def value(q, t):
+def value(q: np.ndarray, t: float) -> float:
     """The quadratic with coefficients ``q`` at ``t``."""
     return q[0] + t * (q[1] + t * q[2])
 
 
 @njit(cache=True)
-def poly(c0, c1, c2, t):
+def poly(c0: float, c1: float, c2: float, t: float) -> float:
     """``c0 + c1 t + c2 t^2``."""
     return c0 + t * (c1 + t * c2)
 
 
 @njit(cache=True)
-def roots_into(c0, c1, c2, lo, hi, buf, nb):
-    """Append the roots of ``c0 + c1 t + c2 t^2`` in ``(lo + ROOT_GAP, hi)`` to ``buf[nb:]``; the new count."""
+def roots_into(c0: float, c1: float, c2: float, lo: float, hi: float, buf: np.ndarray, nb: int) -> int:
+    """Append the roots of ``c0 + c1 t + c2 t^2`` in ``(lo + ROOT_GAP, hi)`` to ``buf[nb:]``; new count."""
     lo = lo + ROOT_GAP
     m = 0.5 * (lo + hi)
     r = 0.5 * (hi - lo)
@@ -62,7 +62,7 @@ def roots_into(c0, c1, c2, lo, hi, buf, nb):
 
 
 @njit(cache=True)
-def sort_roots(buf, nb):
+def sort_roots(buf: np.ndarray, nb: int) -> None:
     """Sort ``buf[:nb]`` in place (insertion: a handful of roots)."""
     for i in range(1, nb):
         x = buf[i]
@@ -91,7 +91,17 @@ def _gl(zf, wf, accel, h, v_in, a, b, acc):
 
 
 @njit(cache=True)
-def integrate_piece(zf, wf, accel, h, v_in, lo, hi, tol, acc):
+def integrate_piece(
+    zf: np.ndarray,
+    wf: np.ndarray,
+    accel: float,
+    h: float,
+    v_in: float,
+    lo: float,
+    hi: float,
+    tol: float,
+    acc: np.ndarray,
+) -> tuple[float, float, float, bool]:
     """Adaptive Gauss-Legendre of e_N over one separated piece: ``(int e, int e^2, error, limited)``."""
     for t in (lo, hi):  # both ends of the piece: the one-sided limits a single drop approaches
         e = rebound_speed(value(zf, t), value(wf, t), accel, h) / v_in
@@ -112,7 +122,7 @@ def integrate_piece(zf, wf, accel, h, v_in, lo, hi, tol, acc):
     splits = 0
     limited = False
     while len(stack_a) > 0:
-        a, b, q0, q1 = stack_a.pop(), stack_b.pop(), stack_e.pop(), stack_f.pop()
+        a, b, q0, _ = stack_a.pop(), stack_b.pop(), stack_e.pop(), stack_f.pop()
         m = 0.5 * (a + b)
         l0, l1 = _gl(zf, wf, accel, h, v_in, a, m, acc)
         r0, r1 = _gl(zf, wf, accel, h, v_in, m, b, acc)

@@ -35,8 +35,8 @@ In the penetrating branch the impulse is ``lambda = -h (k z' + c w')`` with the 
 
 Parameters ``p`` (float64, the engine's own units), slots named below: the ball's and the plane's
 values apart, as PyBullet's ``changeDynamics`` takes them (the registry's inverse gives both
-bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).  A whole drop through this map is
-``stepping.drop.drop_pybullet``.  Importing this module does
+bodies the same ``contactDamping``; a plane left unset keeps Bullet's defaults, ``UNSET_*``).
+A whole drop through this map is ``stepping.drop.drop_pybullet``.  Importing this module does
 not need PyBullet.
 """
 
@@ -71,29 +71,52 @@ DAMPING_GROUND = 4  # the plane's contactDamping, N s/m
 BREAKING = 5  # the manifold's contact breaking threshold, m (``breaking_threshold``)
 SLOP = 6  # the solver's linear slop, m
 N_PARAMS = 7
-SLOT_NAMES = ("mass", "stiffness_ball", "damping_ball", "stiffness_ground", "damping_ground", "breaking", "slop")
+SLOT_NAMES = (
+    "mass",
+    "stiffness_ball",
+    "damping_ball",
+    "stiffness_ground",
+    "damping_ground",
+    "breaking",
+    "slop",
+)
 
 
-def breaking_threshold(radius, factor=BREAKING_FACTOR):
+def breaking_threshold(radius: float | np.ndarray, factor: float = BREAKING_FACTOR) -> float | np.ndarray:
     """The contact breaking threshold (m) of a sphere-plane manifold: ``factor * sqrt(3) * radius``."""
     return factor * math.sqrt(3.0) * radius
 
 
-def make_params(mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, radius):
+def make_params(
+    mass: float | np.ndarray,
+    stiffness_ball: float | np.ndarray,
+    damping_ball: float | np.ndarray,
+    stiffness_ground: float | np.ndarray,
+    damping_ground: float | np.ndarray,
+    radius: float | np.ndarray,
+) -> np.ndarray:
     """``p`` for a sphere of ``radius`` (m) on a plane, at PyBullet's default threshold and slop."""
     # Arrays give one row of slots per scene.
-    cols = (mass, stiffness_ball, damping_ball, stiffness_ground, damping_ground, breaking_threshold(radius), LINEAR_SLOP)
+    cols = (
+        mass,
+        stiffness_ball,
+        damping_ball,
+        stiffness_ground,
+        damping_ground,
+        breaking_threshold(radius),
+        LINEAR_SLOP,
+    )
     return np.stack(np.broadcast_arrays(*cols), axis=-1).astype(float)
 
 
-def contact_time(p):
+def contact_time(p: np.ndarray) -> float | np.ndarray:
     """The undamped contact's half period ``pi sqrt(m / k)`` with the pair's k, s."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
     return np.pi * np.sqrt(p[MASS] / k)
 
 
 @njit(cache=True)
-def pair_values(p):
+def pair_values(p: np.ndarray) -> tuple[float, float]:
     """The pair's ``(k, c)`` from the two bodies' (``btManifoldResult``'s combining rules)."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])
     return k, p[DAMPING_BALL] + p[DAMPING_GROUND]
@@ -101,7 +124,10 @@ def pair_values(p):
 
 @njit(cache=True)
 def _row_terms(p, h):
-    """The normal row's ``(erp, D)``: ``erp = h k / (h k + c)``, ``cfm = 1 / (h (h k + c))``, ``D = 1 / (1/m + cfm)``."""
+    """The normal row's ``(erp, D)``.
+
+    ``erp = h k / (h k + c)``, ``cfm = 1 / (h (h k + c))``, ``D = 1 / (1/m + cfm)``.
+    """
     k, c = pair_values(p)
     denom = h * k + c
     if denom < SIMD_EPSILON:
@@ -111,7 +137,7 @@ def _row_terms(p, h):
 
 
 @njit(cache=True)
-def impulse_pybullet(z, w, p, h, accel):
+def impulse_pybullet(z: float, w: float, p: np.ndarray, h: float, accel: float) -> float:
     """The normal impulse ``lambda`` (N s, >= 0) of one step from ``(z, w)``; 0 without a contact point."""
     if not (z - p[SLOP] < p[BREAKING]):
         return 0.0
@@ -125,7 +151,7 @@ def impulse_pybullet(z, w, p, h, accel):
 
 
 @njit(cache=True)
-def step_pybullet(z, w, p, h, accel):
+def step_pybullet(z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
     """One PyBullet step of the height ``z`` (m, above the contact surface) and velocity ``w`` (m/s, up).
 
     ``accel`` (m/s^2, > 0) is the load's acceleration into the contact, ``h`` the step (s).
@@ -142,8 +168,8 @@ N_BRANCHES = 3
 
 
 @njit(cache=True)
-def branches_pybullet(p, h, accel, forms, maps):
-    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)`` and ``maps[:N_BRANCHES]`` with each branch's step.
+def branches_pybullet(p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
+    """Fill ``forms[:N_FORMS]`` with ``(alpha, beta, gamma)``, ``maps[:N_BRANCHES]`` with each branch's step.
 
     The forms: a contact point (``z - slop - breaking < 0``), the speculative row (``z > 0``) and
     the sign of each row's target, ``-v* - z/h`` and ``-v* - erp z/h`` with ``v* = w - h accel``.
@@ -165,7 +191,7 @@ def branches_pybullet(p, h, accel, forms, maps):
 
 
 @njit(cache=True)
-def branch_pybullet(vals):
+def branch_pybullet(vals: np.ndarray) -> int:
     """The branch from the forms' values at a state (``branches_pybullet``)."""
     if not vals[0] < 0.0:
         return 0
@@ -174,7 +200,7 @@ def branch_pybullet(vals):
     return 2 if vals[3] > 0.0 else 0
 
 
-def from_block(block, mass, radius):
+def from_block(block: dict, mass: float | np.ndarray, radius: float | np.ndarray | None) -> np.ndarray:
     """``p`` from PyBullet's block of ``contact_parameters`` (each body's contactStiffness, contactDamping).
 
     The contact breaking threshold needs the sphere's ``radius`` (m); ValueError without one.
@@ -185,12 +211,12 @@ def from_block(block, mass, radius):
     return make_params(mass, k, c, k, c, radius)
 
 
-def block_damping(block):
+def block_damping(block: dict) -> np.ndarray:
     """PyBullet's own damping, each body's ``contactDamping`` (N s/m), of a block; arrays go through."""
     return np.asarray(block["contactDamping"], dtype=float)
 
 
-def law_damping(p, approach_speed):
+def law_damping(p: np.ndarray, approach_speed: float | np.ndarray) -> float | np.ndarray:
     """The spring-dashpot's damping ratio zeta = c / (2 sqrt(k m)) of the pair in ``p`` (any speed)."""
     del approach_speed
     k, c = pair_values.py_func(p)  # numpy arithmetic: p may hold one column per scene

@@ -62,11 +62,14 @@ class Stepper:
     read_at: str = "the contact surface"
 
     @property
-    def affine(self):
-        """Whether the map is piecewise affine (``kernels.AFFINE``): exact phase means and batches at formula speed."""
+    def affine(self) -> bool:
+        """Whether the map is piecewise affine (``kernels.AFFINE``).
+
+        Then phase means are exact and batches run at formula speed.
+        """
         return self.code in kernels.AFFINE
 
-    def pack(self, **values):
+    def pack(self, **values: float) -> np.ndarray:
         """``p`` from slot names (``defaults`` fill the rest); ValueError naming a missing or unknown slot."""
         unknown = sorted(set(values) - set(self.slots))
         if unknown:
@@ -77,7 +80,7 @@ class Stepper:
             raise ValueError(f"{self.name}: parameter(s) {missing} are required; the slots are {self.slots}")
         return np.array([float(merged[s]) for s in self.slots])
 
-    def unpack(self, p):
+    def unpack(self, p: np.ndarray) -> dict[str, float]:
         """Slot name -> value of ``p``."""
         return {s: float(v) for s, v in zip(self.slots, p, strict=True)}
 
@@ -139,7 +142,8 @@ STEPPERS = (
         law_damping=drake_map.law_damping,
         block_damping=drake_map.block_damping,
         step_setting="time_step",
-        source="drake multibody/plant: discrete_update_manager.cc (AppendDiscreteContactPairsForPointContact), "
+        source="drake multibody/plant: discrete_update_manager.cc "
+        "(AppendDiscreteContactPairsForPointContact), "
         "multibody_plant.h (CombinePointContactParameters), tamsi_solver.cc, sap_driver.cc; "
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
@@ -147,7 +151,7 @@ STEPPERS = (
 STEPPER_NAMES = tuple(s.name for s in STEPPERS)
 
 
-def stepper(name):
+def stepper(name: str) -> Stepper:
     """The registered stepper called ``name``; ValueError naming the valid choices otherwise."""
     for s in STEPPERS:
         if s.name == name:

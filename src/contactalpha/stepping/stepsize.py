@@ -11,6 +11,8 @@ passes too, then bisects between it and the failing rung above.
 import math
 from dataclasses import dataclass
 
+from numpy.typing import ArrayLike
+
 from contactalpha.validation import check_range
 
 from .delivered import check_restitution, check_scene
@@ -19,7 +21,7 @@ from .registry import stepper
 
 # The ladder starts at this many steps per contact time and falls by RUNG per trial.
 START_STEPS = 2.0
-RUNG = 2.0 ** -0.25
+RUNG = 2.0**-0.25
 RUNGS = 80
 BISECTIONS = 8
 
@@ -46,7 +48,7 @@ class StepNeeded:
     status: str
 
 
-def within(inv, target, tol, restitution):
+def within(inv: StepInverse, target: float, tol: float, restitution: str) -> bool:
     """True when the inverse succeeded and its phase range lies within ``target +- tol``."""
     if inv.status != "ok":
         return False
@@ -54,7 +56,15 @@ def within(inv, target, tol, restitution):
     return max(hi - target, target - lo) <= tol
 
 
-def step_for_tolerance(engine, p, approach_speed, accel, target, tol, restitution="kinematic"):
+def step_for_tolerance(
+    engine: str,
+    p: ArrayLike,
+    approach_speed: float,
+    accel: float,
+    target: float,
+    tol: float,
+    restitution: str = "kinematic",
+) -> StepNeeded:
     """``StepNeeded``: the largest step at which a single drop's restitution is within ``tol`` of ``target``.
 
     Parameters

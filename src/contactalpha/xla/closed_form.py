@@ -15,11 +15,18 @@ count); an impact that has not ended by then gives NaN and status NOT_CONVERGED,
 form goes on to ``laws.closed_form.MAX_PHASES``.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import jax
 import jax.numpy as jnp
 
 from contactalpha.engine.codes import CREEP, NO_RESTITUTION, NONSEPARATION, SEPARATION
 from contactalpha.laws.closed_form import NEWTON_DONE, NEWTON_ITER, START_ON_ROOT
+
+if TYPE_CHECKING:
+    from jax.typing import ArrayLike
 
 # Restitution phases (contact, flight from the floor, re-contact, ...) followed before giving up.
 PHASES = 8
@@ -244,7 +251,9 @@ def _impact(zeta, A, d):
     return jnp.where(done, eps2, nan), jnp.where(done, e_n, nan), state, floors, done
 
 
-def impact(zeta, A, d):
+def impact(
+    zeta: ArrayLike, A: ArrayLike, d: ArrayLike
+) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array, jax.Array]:
     """Both restitutions of impacts at damping ratio ``zeta``, scaled load ``A``, impedance ``d`` (broadcast).
 
     Returns
@@ -259,7 +268,7 @@ def impact(zeta, A, d):
     return eps, e_n, state, floors, ended
 
 
-def restitution(zeta, A, d, kinematic):
+def restitution(zeta: ArrayLike, A: ArrayLike, d: ArrayLike, kinematic: bool) -> jax.Array:
     """Restitution (``e_N`` if ``kinematic``, else eps) at ``zeta``, ``A``, ``d``; NaN if it did not end."""
     eps, e_n, _, _, _ = impact(zeta, A, d)
     return e_n if kinematic else eps

@@ -15,11 +15,18 @@ s delta)`` per unit mass, with ``s = k / m`` and ``b = 2 zeta sqrt(s)`` (docs/en
   pair for its raw solref mode).
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 
 from contactalpha.adapters.mujoco_soft import IMPEDANCE, SOLIMP_TAIL, TIMESTEP, direct_mode, timeconst_form
+
+if TYPE_CHECKING:
+    import jax
+    from jax.typing import ArrayLike
 
 
 @dataclass(frozen=True)
@@ -83,6 +90,6 @@ BLOCKS = {
 LAW = "mujoco_soft"
 
 
-def engine_blocks(zeta, scene):
+def engine_blocks(zeta: ArrayLike, scene: EngineScene) -> dict[str, dict[str, jax.Array]]:
     """Every batched engine's parameters for the law's damping ratio ``zeta`` (arrays broadcast)."""
     return {name: block(zeta, scene) for name, block in BLOCKS.items()}

@@ -8,6 +8,10 @@ impacts have a closed form (MuJoCo's soft contact at any impedance, the spring-d
 table's 0.01, a load factor above 0.99, a non-positive mass) gets NaN and ``ok = False``.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
 import jax.numpy as jnp
 
 from contactalpha.laws import get_law
@@ -15,19 +19,22 @@ from contactalpha.laws import get_law
 from . import engines, scaling
 from .inverse import law_damping
 
+if TYPE_CHECKING:
+    from jax.typing import ArrayLike
+
 
 def contact_parameters(
-    mass,
-    stiffness,
-    approach_speed,
-    accel,
-    target,
+    mass: ArrayLike,
+    stiffness: ArrayLike,
+    approach_speed: ArrayLike,
+    accel: ArrayLike,
+    target: ArrayLike,
     *,
-    restitution="kinematic",
-    law="hunt_crossley",
-    impedance=None,
-    timestep=engines.TIMESTEP,
-):
+    restitution: str = "kinematic",
+    law: str = "hunt_crossley",
+    impedance: float | None = None,
+    timestep: ArrayLike = engines.TIMESTEP,
+) -> dict[str, Any]:
     """The law's damping and every batched engine's parameters for arrays of scenes (broadcast).
 
     Parameters
@@ -54,18 +61,18 @@ def contact_parameters(
         (the law's engine damping, ``ContactLaw.physical_damping``), ``ok`` and, for MuJoCo's law,
         ``engines`` keyed ``mujoco``, ``mjx``, ``mujoco_warp``, ``newton``, ``genesis``.
     """
-    law = get_law(law) if impedance is None else get_law(law, impedance=impedance)
+    chosen = get_law(law) if impedance is None else get_law(law, impedance=impedance)
     m, k, v, a, e = jnp.broadcast_arrays(
         *(jnp.asarray(x, dtype=float) for x in (mass, stiffness, approach_speed, accel, target))
     )
     valid = (m > 0.0) & (k > 0.0) & (v > 0.0) & (a >= 0.0) & jnp.isfinite(m + k + v + a)
-    xi = scaling.load_factor(law, jnp.where(valid, scaling.scaled_load(law, m, k, v, a), jnp.nan))
-    p = law_damping(law, e, xi, restitution)
+    xi = scaling.load_factor(chosen, jnp.where(valid, scaling.scaled_load(chosen, m, k, v, a), jnp.nan))
+    p = law_damping(chosen, e, xi, restitution)
     ok = valid & jnp.isfinite(p)
     p = jnp.where(ok, p, jnp.nan)
-    factor, pm, pk, pv = law.damping_unit
+    factor, pm, pk, pv = chosen.damping_unit
     out = {"xi": xi, "damping": p, "ok": ok, "physical_damping": p * factor * m**pm * k**pk * v**pv}
-    if law.name == engines.LAW:
-        scene = engines.EngineScene(m, k, timestep, law.impedance)
+    if chosen.name == engines.LAW:
+        scene = engines.EngineScene(m, k, timestep, chosen.impedance)
         out["engines"] = engines.engine_blocks(p, scene)
     return out

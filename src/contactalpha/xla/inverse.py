@@ -8,6 +8,10 @@ then carries the implicit function's derivative ``dp = (dtarget - de/dA dA) / (d
 other laws read their shipped table (``tables.py``), as the numba batch does.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import jax
 import jax.numpy as jnp
 
@@ -16,6 +20,11 @@ from contactalpha.laws.solve import BISECT_EVERY, E_TOL, MAX_ITER, P_MAX, P_RTOL
 from . import closed_form
 from .scaling import load_factor  # noqa: F401  (the load factor's home for callers of this module)
 from .tables import device_table, table_damping
+
+if TYPE_CHECKING:
+    from jax.typing import ArrayLike
+
+    from contactalpha.laws.law import ContactLaw
 
 sg = jax.lax.stop_gradient
 
@@ -62,7 +71,7 @@ def _illinois(f, target):
         )  # fmt: skip
 
     exact = ghi == 0.0
-    st = (
+    state = (
         0,
         lo,
         glo,
@@ -72,12 +81,14 @@ def _illinois(f, target):
         ~bracketed | exact,
         jnp.where(exact, hi, jnp.nan),
     )
-    out = jax.lax.while_loop(lambda s: (s[0] < MAX_ITER) & ~jnp.all(s[6]), step, st)
+    out = jax.lax.while_loop(lambda s: (s[0] < MAX_ITER) & ~jnp.all(s[6]), step, state)
     p = jnp.where(target >= 1.0, 0.0, out[7])
     return p, bracketed & jnp.isfinite(p)
 
 
-def closed_form_damping(law, target, xi, restitution="kinematic"):
+def closed_form_damping(
+    law: ContactLaw, target: ArrayLike, xi: ArrayLike, restitution: str = "kinematic"
+) -> jax.Array:
     """The law's damping ratio for ``target`` at load factor ``xi`` by its closed form (any impedance)."""
     kinematic = restitution == "kinematic"
     target, xi = jnp.broadcast_arrays(jnp.asarray(target, dtype=float), jnp.asarray(xi, dtype=float))
@@ -94,7 +105,9 @@ def closed_form_damping(law, target, xi, restitution="kinematic"):
     return jnp.where(inside & ok, p0 - (step - sg(step)), jnp.nan)
 
 
-def law_damping(law, target, xi, restitution="kinematic"):
+def law_damping(
+    law: ContactLaw, target: ArrayLike, xi: ArrayLike, restitution: str = "kinematic"
+) -> jax.Array:
     """The law's damping for ``target`` at ``xi``: by its closed form where it has one, else its table."""
     if law.piecewise_linear:
         return closed_form_damping(law, target, xi, restitution)

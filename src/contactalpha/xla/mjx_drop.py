@@ -12,7 +12,10 @@ the contact's inverse weight ``body_invweight0`` (MuJoCo's regulariser reads it;
 ``adapters.stepped.measure_steps``.
 """
 
+from __future__ import annotations
+
 from types import SimpleNamespace
+from typing import TYPE_CHECKING, Any
 
 import jax
 import jax.numpy as jnp
@@ -21,11 +24,16 @@ import numpy as np
 from contactalpha.adapters.mujoco_soft import MuJoCoSettings, drop_xml
 from contactalpha.adapters.stepped import measure_steps, touchdown_state
 
+if TYPE_CHECKING:
+    import mujoco
+    from jax.typing import ArrayLike
+    from mujoco import mjx
+
 # Radius of the sphere, m (the law does not depend on it).
 RADIUS = 0.05
 
 
-def base_model(impedance, integrator="Euler", mass=1.0):
+def base_model(impedance: float, integrator: str = "Euler", mass: float = 1.0) -> mujoco.MjModel:
     """The MuJoCo model of one drop (gravity 0; ``mass`` kg), to be batched per world."""
     import mujoco
 
@@ -34,7 +42,9 @@ def base_model(impedance, integrator="Euler", mass=1.0):
     return mujoco.MjModel.from_xml_string(drop_xml(scene, settings))
 
 
-def batched_model(model, mass, solref, solimp, timestep):
+def batched_model(
+    model: mujoco.MjModel, mass: np.ndarray, solref: np.ndarray, solimp: np.ndarray, timestep: ArrayLike
+) -> tuple[mjx.Model, Any]:
     """``(mjx.Model with a leading world axis on the per-world fields, in_axes for jax.vmap)``."""
     from mujoco import mjx
 
@@ -57,7 +67,17 @@ def batched_model(model, mass, solref, solimp, timestep):
     return batched, in_axes
 
 
-def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep, phase=0.0):
+def rollout(
+    model: mujoco.MjModel,
+    mass: np.ndarray,
+    accel: np.ndarray,
+    approach_speed: np.ndarray,
+    solref: np.ndarray,
+    solimp: np.ndarray,
+    timestep: ArrayLike,
+    nstep: int,
+    phase: ArrayLike = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Heights ``z`` (m above touchdown) and upward speeds ``v`` of every world, shape (n, nstep + 1).
 
     ``phase`` (per world or one for all, in [0, 1)): the fraction of a step before touchdown at
@@ -93,7 +113,9 @@ def rollout(model, mass, accel, approach_speed, solref, solimp, timestep, nstep,
     return np.asarray(z), np.asarray(v)
 
 
-def delivered_e_n(z, v, accel, timestep, approach_speed):
+def delivered_e_n(
+    z: np.ndarray, v: np.ndarray, accel: np.ndarray, timestep: np.ndarray, approach_speed: np.ndarray
+) -> np.ndarray:
     """e_N of each world's run (``adapters.stepped.measure_steps``)."""
     return np.array(
         [measure_steps(z[i], v[i], accel[i], timestep[i], approach_speed[i]).e_n for i in range(len(accel))]

@@ -10,6 +10,10 @@ takes the sphere's ke/kd.  All worlds step with one dt, and start a step before 
 phase 0 (``adapters.stepped.touchdown_state``).
 """
 
+from __future__ import annotations
+
+from collections.abc import Mapping
+
 import numpy as np
 
 from contactalpha.adapters.stepped import touchdown_state
@@ -21,7 +25,9 @@ RADIUS = 0.05
 FREE_RTOL_F32 = 1e-6
 
 
-def rollout(s, ke, kd, d, h, nstep):
+def rollout(
+    s: Mapping[str, np.ndarray], ke: np.ndarray, kd: np.ndarray, d: float, h: float, nstep: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Heights above touchdown and upward speeds of every world, shape (n, nstep + 1).
 
     ``s``: per-world ``mass`` (kg), ``approach_speed`` (m/s), ``accel`` (m/s^2); ``ke`` (N/m),

@@ -8,19 +8,32 @@ step that carries it: at the root that step moves nothing and its derivative is 
 function's.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import jax
 import jax.numpy as jnp
 
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, XI_NEWTON_STEPS
 
+if TYPE_CHECKING:
+    from jax.typing import ArrayLike
 
-def length_scale(law, mass, stiffness, approach_speed):
+    from contactalpha.laws.law import ContactLaw
+
+
+def length_scale(
+    law: ContactLaw, mass: ArrayLike, stiffness: ArrayLike, approach_speed: ArrayLike
+) -> jax.Array:
     """``delta_s`` of ``law`` (``ContactLaw.length_scale``), elementwise."""
     c = 0.5 * (law.exponent + 1.0)
     return (c * mass * approach_speed * approach_speed / stiffness) ** (1.0 / (law.exponent + 1.0))
 
 
-def scaled_load(law, mass, stiffness, approach_speed, accel):
+def scaled_load(
+    law: ContactLaw, mass: ArrayLike, stiffness: ArrayLike, approach_speed: ArrayLike, accel: ArrayLike
+) -> jax.Array:
     """``A = a delta_s / v^2`` (``ContactLaw.load``)."""
     return accel * length_scale(law, mass, stiffness, approach_speed) / (approach_speed * approach_speed)
 
@@ -29,7 +42,7 @@ def _newton(n1, b, x):
     return x - (x**n1 - 1.0 - 2.0 * b * x) / (n1 * x ** (n1 - 1.0) - 2.0 * b)
 
 
-def load_factor(law, A):
+def load_factor(law: ContactLaw, A: ArrayLike) -> jax.Array:
     """``xi`` of scaled load ``A >= 0`` (``ContactLaw.load_factor``); NaN where A is not finite or huge."""
     ok = jnp.isfinite(A) & (A >= 0.0) & (A < A_ROUNDS_TO_ONE)
     A = jnp.where(ok, A, 0.0)

@@ -18,10 +18,18 @@ A stacked spline is a dict of arrays: ``pp`` (R, nx - 1, ny - 1, 36) cell polyno
 are the grid's (the evaluator computes them).
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
+
+if TYPE_CHECKING:
+    import jax
+    from jax.typing import ArrayLike
 
 DEGREE = 5
 
@@ -55,7 +63,7 @@ def _basis(j, X, n):
     return jnp.stack(N, axis=-1)
 
 
-def eval_1d(c, grid, x):
+def eval_1d(c: jax.Array, grid: ArrayLike, x: ArrayLike) -> jax.Array:
     """Value at ``x`` of the spline with coefficients ``c`` on the grid (first, step, count)."""
     j, X, n = _span(x, grid)
     N = _basis(j, X, n)
@@ -63,7 +71,7 @@ def eval_1d(c, grid, x):
     return jnp.sum(c[rows] * N, axis=-1)
 
 
-def eval_2d(spl, region, x, y):
+def eval_2d(spl: dict[str, jax.Array], region: ArrayLike, x: ArrayLike, y: ArrayLike) -> jax.Array:
     """Value at ``(x, y)`` of region ``region``'s tensor spline of the stacked ``spl``."""
     grid = spl["grid"][region]
     jx, X, _ = _span(x, grid[..., :3])
@@ -80,7 +88,7 @@ def eval_2d(spl, region, x, y):
     return value
 
 
-def cell_polynomials(tx, ty, c, grid):
+def cell_polynomials(tx: np.ndarray, ty: np.ndarray, c: np.ndarray, grid: Sequence[float]) -> np.ndarray:
     """Taylor coefficients ``P[jx, jy, 6 m + q]`` of a tensor quintic about each cell's centre.
 
     ``P[.., 6 m + q]`` multiplies ``dx^m dy^q``; ``(tx, ty, c)`` the B-spline, ``grid`` its
@@ -99,20 +107,22 @@ def cell_polynomials(tx, ty, c, grid):
     return np.moveaxis(P, 0, 1).reshape(int(nx) - 1, int(ny) - 1, (DEGREE + 1) ** 2)
 
 
-def grid_knots(grid):
+def grid_knots(grid: Sequence[float]) -> np.ndarray:
     """The clamped uniform knots of a grid (first, step, count): ``DEGREE + 1`` copies at each end."""
     x0, h, n = float(grid[0]), float(grid[1]), int(grid[2])
     return x0 + h * np.clip(np.arange(n + 2 * DEGREE) - DEGREE, 0, n - 1)
 
 
-def check_knots(t, grid, what):
+def check_knots(t: np.ndarray, grid: Sequence[float], what: str) -> None:
     """Raise unless the stored knots ``t`` are the grid's to rounding (the evaluator computes them)."""
     want = grid_knots(grid)
     if t.shape != want.shape or not np.allclose(t, want, rtol=1e-13, atol=1e-13 * np.abs(want).max()):
         raise ValueError(f"{what}: stored knots are not the clamped uniform knots of its grid {list(grid)}")
 
 
-def stack(regions):
+def stack(
+    regions: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray, Sequence[float]]],
+) -> dict[str, jax.Array]:
     """Stacked device arrays of 2-D splines ``[(tx, ty, c, grid6), ...]`` (padding never read)."""
     for r, (tx, ty, _, grid) in enumerate(regions):
         check_knots(tx, grid[:3], f"region {r}, first axis")
@@ -121,5 +131,5 @@ def stack(regions):
     cx = max(p.shape[0] for p in cells)
     cy = max(p.shape[1] for p in cells)
     pp = np.stack([np.pad(p, ((0, cx - p.shape[0]), (0, cy - p.shape[1]), (0, 0))) for p in cells])
-    grid = np.stack([np.asarray(r[3], dtype=float) for r in regions])
-    return {"pp": jnp.asarray(pp), "grid": jnp.asarray(grid)}
+    grids = np.stack([np.asarray(r[3], dtype=float) for r in regions])
+    return {"pp": jnp.asarray(pp), "grid": jnp.asarray(grids)}

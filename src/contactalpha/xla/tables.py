@@ -14,7 +14,10 @@ accepts ``jax.jit``, ``jax.vmap`` and ``jax.grad``: outside the table's domain
 (``EPS_MIN <= target <= 1``, ``0 <= xi <= XI_MAX``) it returns NaN, never an extrapolated number.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
@@ -33,6 +36,11 @@ from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.laws.table import GEOM_HEAD, REGION_SLOTS, load_law_tables
 
 from . import splines
+
+if TYPE_CHECKING:
+    from jax.typing import ArrayLike
+
+    from contactalpha.laws.law import ContactLaw
 
 
 @jax.tree_util.register_dataclass
@@ -54,7 +62,7 @@ class DeviceTable:
     kinematic: bool = field(default=False, metadata={"static": True})
 
 
-def eta_of_xi(xi):
+def eta_of_xi(xi: ArrayLike) -> jax.Array:
     """``engine.table.eta_of_xi`` in JAX: ``ln(1 + xi / XI_SCALE) - ln(1 - xi)``."""
     return jnp.log1p(xi / XI_SCALE) - jnp.log1p(-xi)
 
@@ -92,7 +100,7 @@ def _law_energetic(arrays):
 _CACHE: dict = {}
 
 
-def device_table(law, restitution="energetic"):
+def device_table(law: ContactLaw, restitution: str = "energetic") -> DeviceTable:
     """The shipped table of ``law`` (a ``ContactLaw`` with a table) for ``restitution``, on the device.
 
     Hunt-Crossley, n = 3/2 reads ``alpha_table*.npz``; the other laws their ``law_table_<law>.npz``
@@ -146,7 +154,7 @@ def _column(tab, u, eta):
     return r, w
 
 
-def table_damping(tab, target, xi):
+def table_damping(tab: DeviceTable, target: ArrayLike, xi: ArrayLike) -> jax.Array:
     """The table's damping ``p`` at ``target`` (eps or e_N) and load factor ``xi``; NaN outside its domain.
 
     Elementwise with broadcasting; ``engine.table.alpha_from_table``,

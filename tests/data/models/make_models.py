@@ -264,33 +264,38 @@ def sdf():
 
 
 def _urdf_inertial(m, inertia, z):
-    return (f'<inertial><origin xyz="0 0 {f(z)}"/><mass value="{f(m)}"/><inertia ixx="{f(inertia)}" '
-            f'iyy="{f(inertia)}" izz="{f(inertia)}" ixy="0" ixz="0" iyz="0"/></inertial>')
+    return (
+        f'<inertial><origin xyz="0 0 {f(z)}"/><mass value="{f(m)}"/><inertia ixx="{f(inertia)}" '
+        f'iyy="{f(inertia)}" izz="{f(inertia)}" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
 
 
 def urdf():
     """The leg in URDF (MuJoCo and Drake both read it): a floor box on a link welded to the world."""
     g = LEG
-    yield "leg", f"""<?xml version="1.0"?>
+    yield (
+        "leg",
+        f"""<?xml version="1.0"?>
 <robot name="two_link_leg">
   <link name="world"/>
   <link name="ground">
     <collision name="floor"><origin xyz="0 0 -0.5"/><geometry><box size="4 4 1"/></geometry></collision>
   </link>
   <joint name="ground_weld" type="fixed"><parent link="world"/><child link="ground"/></joint>
-  <link name="hip">{_urdf_inertial(g['M0'], g['I0'], 0.0)}</link>
+  <link name="hip">{_urdf_inertial(g["M0"], g["I0"], 0.0)}</link>
   <joint name="slide" type="prismatic"><parent link="world"/><child link="hip"/>
     <origin xyz="0 0 {f(leg_height())}"/><axis xyz="0 0 1"/><limit lower="-10" upper="10" effort="0" velocity="100"/></joint>
-  <link name="thigh">{_urdf_inertial(g['m1'], g['I1'], -g['l1'] / 2)}</link>
+  <link name="thigh">{_urdf_inertial(g["m1"], g["I1"], -g["l1"] / 2)}</link>
   <joint name="hip_joint" type="continuous"><parent link="hip"/><child link="thigh"/>
-    <origin rpy="0 {f(g['q1'])} 0"/><axis xyz="0 1 0"/></joint>
-  <link name="shank">{_urdf_inertial(g['m2'], g['I2'], -g['l2'] / 2)}
-    <collision name="foot"><origin xyz="0 0 {f(-g['l2'])}"/><geometry><sphere radius="{f(g['r'])}"/></geometry></collision>
+    <origin rpy="0 {f(g["q1"])} 0"/><axis xyz="0 1 0"/></joint>
+  <link name="shank">{_urdf_inertial(g["m2"], g["I2"], -g["l2"] / 2)}
+    <collision name="foot"><origin xyz="0 0 {f(-g["l2"])}"/><geometry><sphere radius="{f(g["r"])}"/></geometry></collision>
   </link>
   <joint name="knee" type="continuous"><parent link="thigh"/><child link="shank"/>
-    <origin xyz="0 0 {f(-g['l1'])}" rpy="0 {f(g['q2'])} 0"/><axis xyz="0 1 0"/></joint>
+    <origin xyz="0 0 {f(-g["l1"])}" rpy="0 {f(g["q2"])} 0"/><axis xyz="0 1 0"/></joint>
 </robot>
-"""
+""",
+    )
 
 
 if __name__ == "__main__":

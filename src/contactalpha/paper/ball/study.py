@@ -254,9 +254,13 @@ def first_collision(
     ds["status"] = ds["status"].astype(np.int8)
     ds["state"].attrs.update({"legend": _legend(END_STATES), "units": "1"})
     ds["status"].attrs.update({"legend": _legend(STATUS), "units": "1"})
-    units = {"time": "s", "delta": "m", "ddelta": "m/s", "contact_force": "N"}
-    for name, values in series.items():
-        ds[name] = ((*dims, "sample"), values, {"units": units[name], "long_name": f"contact path: {name}"})
+    series_units = {"time": "s", "delta": "m", "ddelta": "m/s", "contact_force": "N"}
+    for name, samples in series.items():
+        ds[name] = (
+            (*dims, "sample"),
+            samples,
+            {"units": series_units[name], "long_name": f"contact path: {name}"},
+        )
     ds.attrs["scene"] = json_text(asdict(scene))
     return ds
 

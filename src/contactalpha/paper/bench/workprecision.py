@@ -525,11 +525,11 @@ def ridge_share(eps, xi, *, eps_max=0.1, xi_max=0.1):
     """
     E, X = np.meshgrid(np.asarray(eps, float), np.asarray(xi, float), indexing="ij")
     ridge = (E < eps_max) & (X > 0.0) & (X < xi_max)
-    out = {}
+    out: dict[str, float] = {}
     for name, mask in (("ridge", ridge), ("rest", ~ridge)):
         s = solve_alpha(E[mask], X[mask])
         out[f"{name}_points"] = int(mask.sum())
-        out[f"{name}_nfev"] = int(s.nfev.sum())
+        out[f"{name}_nfev"] = int(np.sum(s.nfev))
         out[f"{name}_seconds"] = _best_time(lambda mask=mask: solve_alpha(E[mask], X[mask]), 2)
     for key in ("points", "nfev", "seconds"):
         out[f"share_{key}"] = out[f"ridge_{key}"] / (out[f"ridge_{key}"] + out[f"rest_{key}"])

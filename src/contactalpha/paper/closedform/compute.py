@@ -17,6 +17,7 @@ surface pins a constant, not sampling noise).  A fixed checkerboard of points
 """
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -211,7 +212,7 @@ def fit_closed_form(t, start, *, polish_steps=0, max_nfev=MAX_NFEV, free=None):
     if polish_steps > 0:
         # least_squares asks for the Jacobian at the point whose residuals it has just taken:
         # the last impact pass (errors and slopes) serves both.
-        last = {}
+        last: dict[str, np.ndarray] = {}
 
         def at(x):
             if last.get("x") is None or not np.array_equal(last["x"], x):
@@ -315,7 +316,7 @@ def _scores(err, state, target_state, eps, xi):
     """Max, RMS, failures, end-state agreement, worst point (eps, xi) and targets met of errors ``err``."""
     ok = np.isfinite(err)
     i = int(np.argmax(np.where(ok, np.abs(err), -1.0)))
-    stats = {
+    stats: dict[str, Any] = {
         "n": int(err.size),
         "n_failed": int(np.count_nonzero(~ok)),
         "eps_abs_max": float(np.max(np.abs(err[ok]))) if ok.any() else np.nan,

@@ -1,5 +1,7 @@
 """Fig. 9: post- versus pre-restitution coefficient, one panel per load."""
 
+from typing import Any
+
 import numpy as np
 from matplotlib.lines import Line2D
 
@@ -15,14 +17,14 @@ _STYLE = {"exact": dict(color="k", lw=1.0, ls="--", zorder=4)}
 # stay visible.
 MARKER_SPACING = 0.06
 # Non-separation markers sit under the lines.
-MARKER_STYLE = dict(marker="x", ls="none", ms=3.5, mew=0.7, zorder=1.5)
+MARKER_STYLE: dict[str, Any] = dict(marker="x", ls="none", ms=3.5, mew=0.7, zorder=1.5)
 # Height added for the legend below the panels, as a fraction of the figure's width.
 LEGEND_ASPECT = 0.1
 
 
 def _thinned(indices, pre, spacing=MARKER_SPACING):
     """Of ``indices`` (increasing ``pre``), the first and then each ``spacing`` or more further on."""
-    kept = []
+    kept: list[int] = []
     for i in indices:
         if not kept or pre[i] - pre[kept[-1]] >= spacing:
             kept.append(i)

@@ -487,7 +487,7 @@ def fit_eq39_slice(eps, xi, alpha, lam, weight=None, a=SLICE_A, jacobian="exact"
 
     lo, hi = to_internal(SLICE_BOUNDS[0]), to_internal(SLICE_BOUNDS[1])
     label = f"Eq. 39 at xi = {xi:g}"
-    fits = []
+    fits: list = []
     for s in starts:
         if len(fits) == 2 and _same_minimum(*fits):
             break  # the first two starts agree: the third is not needed

@@ -139,7 +139,7 @@ def fig8_errors(ds, models, restitution=True):
     restitution : bool
         Add a row with the restitution error (the eps the model's alpha produces).
     """
-    maps = {t: error_maps(ds, *m, restitution=restitution) for t, m in models.items()}
+    maps = {t: error_maps(ds, *m, restitution=restitution) for t, m in models.items()}  # type: ignore[misc]
     rows = 2 if restitution else 1
     fig, axes = new_figure(len(models), rows, aspect=0.36 * rows, squeeze=False)
     eps, xi = ds["epsilon"].values, ds["xi"].values

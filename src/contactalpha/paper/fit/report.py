@@ -63,7 +63,7 @@ class _Inline:
     """``submit`` runs at once, in this process: ``refit_report`` with one worker."""
 
     def submit(self, fn, *args, **kwargs):
-        done = Future()
+        done: Future = Future()
         done.set_result(fn(*args, **kwargs))
         return done
 
@@ -256,7 +256,7 @@ def _slice_entry(f):
 
 
 def _lambda_entry(points, refit):
-    out = {}
+    out: dict[str, dict[str, float] | float] = {}
     for name, c in (("published", shen.PUBLISHED), ("refit", {**shen.PUBLISHED, **refit})):
         d = shen.lambda_eq40(points.eps, points.xi, c) - points.lam
         ok = np.isfinite(d)

@@ -49,8 +49,9 @@ def _zoom_axes(ax):
 def plot_alpha_surface(ds):
     """Fig. 4: alpha over (eps, xi) with a log colour scale; linear axes left, log axes right."""
     alpha = ds["alpha"].where(ds["alpha"] > 0)
-    norm = LogNorm(float(alpha.min()), float(alpha.max()))
-    decades = 10.0 ** np.arange(np.ceil(np.log10(norm.vmin)), np.floor(np.log10(norm.vmax)) + 1)
+    vmin, vmax = float(alpha.min()), float(alpha.max())
+    norm = LogNorm(vmin, vmax)
+    decades = 10.0 ** np.arange(np.ceil(np.log10(vmin)), np.floor(np.log10(vmax)) + 1)
     fig, axes = new_figure(2)
     xi, eps = ds["xi"].values, ds["epsilon"].values
     _zoom_axes(axes[1])

@@ -97,7 +97,7 @@ def cheapest_figure(ds):
         1, len(tols), figsize=(FULL_WIDTH, 0.45 * FULL_WIDTH), sharey=True, layout="constrained"
     )
     axes = np.atleast_1d(axes)
-    colours = ["0.6", *[plt.cm.tab20(i % 20) for i in range(len(names))]]
+    colours: list = ["0.6", *[plt.cm.tab20(i % 20) for i in range(len(names))]]
     cmap = ListedColormap(colours)
     norm = BoundaryNorm(np.arange(NONE_ADEQUATE - 0.5, len(names)), cmap.N)
     for ax, t in zip(axes, tols, strict=True):

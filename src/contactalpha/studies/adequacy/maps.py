@@ -134,7 +134,8 @@ def compute_maps(surface, tols, costs):
     E, X = np.meshgrid(eps, xi, indexing="ij")
     exact_state = surface["state"].values
     alphas = np.array(
-        [model_alpha(name, surface) for name in names] + [np.broadcast_to(alpha_exact(eps)[:, None], E.shape)]
+        [model_alpha(name, surface) for name in names]
+        + [np.broadcast_to(np.asarray(alpha_exact(eps))[:, None], E.shape)]
     )
     deliv, states = delivered_all(alphas, np.broadcast_to(X, alphas.shape))
     adequate = np.array([is_adequate(deliv, states, E, exact_state, tol) for tol in tols])

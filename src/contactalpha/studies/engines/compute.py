@@ -31,6 +31,12 @@ import xarray as xr
 
 from contactalpha.adapters import exudyn_contact, opensim_hc
 from contactalpha.adapters.contract import DropScene, drop
+from contactalpha.adapters.engine_conventions import (
+    exudyn_alpha,
+    exudyn_restitution_input,
+    opensim_alpha,
+    opensim_dissipation,
+)
 from contactalpha.adapters.exudyn_contact import ExudynSettings
 from contactalpha.adapters.opensim_hc import OpenSimSettings
 from contactalpha.adapters.registry import adapter
@@ -42,12 +48,6 @@ from contactalpha.models.registry import hunt_crossley
 from contactalpha.paper.ball.study import SCENE_KEYS
 from contactalpha.provenance import result_attrs
 from contactalpha.scene.ball import Scene, simulate
-from contactalpha.adapters.engine_conventions import (
-    exudyn_alpha,
-    exudyn_restitution_input,
-    opensim_alpha,
-    opensim_dissipation,
-)
 
 # Runs of each engine: name -> (engine input, what it is).  The order is the table's.
 RUNS = {

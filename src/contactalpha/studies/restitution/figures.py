@@ -1,12 +1,14 @@
 """Figure: Newton's e_N against Stronge's eps for several loads xi."""
 
+from typing import Any
+
 import numpy as np
 from matplotlib.lines import Line2D
 
 from contactalpha.plotting import COLUMN_WIDTH, new_figure
 
 # The separation boundary eps_b of each load: a dotted vertical line in the load's colour.
-BOUNDARY_STYLE = dict(lw=0.6, ls=":")
+BOUNDARY_STYLE: dict[str, Any] = dict(lw=0.6, ls=":")
 
 
 def restitution_figure(ds):

@@ -1,1 +1,4 @@
-"""Figures of restitution at an engine's step (docs/stepping.md): numerics in ``compute``, plots in ``figures``."""
+"""Figures of restitution at an engine's step (docs/stepping.md).
+
+Numerics in ``compute``, plots in ``figures``.
+"""
