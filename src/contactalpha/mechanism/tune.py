@@ -292,6 +292,7 @@ def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete)
     )
     lines.append(es.note)
     if use:
+        assert s.law_damping is not None  # every stepper tune reaches has its law's damping
         zeta = float(s.law_damping(step.inverse.p, contact.approach_speed))
         a = adapter(engine)
         settings = replace(a.settings, **{s.step_setting: h})
