@@ -46,8 +46,9 @@ def test_mujoco_blocks_match_the_adapter(jax):
     ref = MUJOCO.parameters(zeta, EngineScene(s["mass"], s["stiffness"], s["approach_speed"], None))
     for name in ("mujoco", "mjx", "mujoco_warp"):
         block = got["engines"][name]
-        np.testing.assert_allclose(np.asarray(block["solref"]), np.stack(ref["solref"], -1), rtol=1e-15)
-        np.testing.assert_allclose(np.asarray(block["solimp"])[0], ref["solimp"], rtol=0)
+        # the adapter's batch: (n, 2) and (n, 5), the shape MJX and MuJoCo Warp take
+        np.testing.assert_allclose(np.asarray(block["solref"]), np.asarray(ref["solref"]), rtol=1e-15)
+        np.testing.assert_allclose(np.asarray(block["solimp"])[0], np.asarray(ref["solimp"])[0], rtol=0)
         np.testing.assert_allclose(np.asarray(block["timeconst"]), ref["timeconst"], rtol=1e-15)
     missing = np.isnan(ref["timeconst"])
     assert 0 < missing.sum() < missing.size
