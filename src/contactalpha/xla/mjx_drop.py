@@ -15,7 +15,7 @@ the contact's inverse weight ``body_invweight0`` (MuJoCo's regulariser reads it;
 from __future__ import annotations
 
 from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import jax
 import jax.numpy as jnp
@@ -90,7 +90,7 @@ def rollout(
     start = np.array(
         [
             touchdown_state(v, a, h, f)
-            for v, a, h, f in zip(approach_speed, accel, timestep, phase, strict=True)
+            for v, a, h, f in zip(approach_speed, accel, cast(Any, timestep), phase, strict=True)
         ]
     )
     data = mjx.make_data(mjx.put_model(model))

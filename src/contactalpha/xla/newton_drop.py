@@ -13,6 +13,7 @@ phase 0 (``adapters.stepped.touchdown_state``).
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -53,7 +54,7 @@ def rollout(
         builder.add_shape_sphere(body, radius=RADIUS, cfg=cfg)
         builder.end_world()
     builder.add_ground_plane(cfg=newton.ModelBuilder.ShapeConfig(ke=1.0, kd=1.0, mu=0.0))
-    model = builder.finalize(device="cpu")
+    model: Any = builder.finalize(device="cpu")  # SolverMuJoCo adds model.mujoco at run time
     shapes = model.shape_count
     model.mujoco.condim.assign(np.ones(shapes, dtype=np.int32))
     model.mujoco.geom_solimp.assign(np.tile([d, d, 0.001, 0.5, 2.0], (shapes, 1)).astype(np.float32))

@@ -10,7 +10,7 @@ function's.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import jax
 import jax.numpy as jnp
@@ -28,14 +28,16 @@ def length_scale(
 ) -> jax.Array:
     """``delta_s`` of ``law`` (``ContactLaw.length_scale``), elementwise."""
     c = 0.5 * (law.exponent + 1.0)
-    return (c * mass * approach_speed * approach_speed / stiffness) ** (1.0 / (law.exponent + 1.0))
+    scale = (c * mass * approach_speed * approach_speed / stiffness) ** (1.0 / (law.exponent + 1.0))
+    return cast(jax.Array, scale)  # numpy or JAX in, as the arithmetic gives
 
 
 def scaled_load(
     law: ContactLaw, mass: ArrayLike, stiffness: ArrayLike, approach_speed: ArrayLike, accel: ArrayLike
 ) -> jax.Array:
     """``A = a delta_s / v^2`` (``ContactLaw.load``)."""
-    return accel * length_scale(law, mass, stiffness, approach_speed) / (approach_speed * approach_speed)
+    load = accel * length_scale(law, mass, stiffness, approach_speed) / (approach_speed * approach_speed)
+    return cast(jax.Array, load)
 
 
 def _newton(n1, b, x):
@@ -44,7 +46,8 @@ def _newton(n1, b, x):
 
 def load_factor(law: ContactLaw, A: ArrayLike) -> jax.Array:
     """``xi`` of scaled load ``A >= 0`` (``ContactLaw.load_factor``); NaN where A is not finite or huge."""
-    ok = jnp.isfinite(A) & (A >= 0.0) & (A < A_ROUNDS_TO_ONE)
+    real = cast(jax.Array, A)  # a real load (ArrayLike admits complex)
+    ok = jnp.isfinite(real) & (real >= 0.0) & (real < A_ROUNDS_TO_ONE)
     A = jnp.where(ok, A, 0.0)
     b = (1.0 - law.impedance) * A
     if law.exponent == 1.0:

@@ -17,7 +17,7 @@ accepts ``jax.jit``, ``jax.vmap`` and ``jax.grad``: outside the table's domain
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import jax
 import jax.numpy as jnp
@@ -64,7 +64,8 @@ class DeviceTable:
 
 def eta_of_xi(xi: ArrayLike) -> jax.Array:
     """``engine.table.eta_of_xi`` in JAX: ``ln(1 + xi / XI_SCALE) - ln(1 - xi)``."""
-    return jnp.log1p(xi / XI_SCALE) - jnp.log1p(-xi)
+    x = cast(jax.Array, xi)  # a real load factor
+    return jnp.log1p(x / XI_SCALE) - jnp.log1p(-x)
 
 
 def _no_curves():
