@@ -120,6 +120,7 @@ class MujocoLoop:
     """
 
     def __init__(self, model, pair, qpos, qvel, *, timestep=None, forces=None, edit=None):
+        self.source = model
         self.pair = tuple(pair)
         self.model = _with_gap_sensor(model, self.pair)
         if edit is not None:
@@ -144,12 +145,14 @@ class MujocoLoop:
         return out
 
     def e_n_at(self, solref, phases):
-        """e_N of each phase with ``solref``: MuJoCo's ``rollout`` of every phase at once.
+        """``(e_N of each phase, the drop at phase 1/2)`` with ``solref``: one ``rollout`` of all phases.
 
-        Each drop's gap is the model's geometry-distance sensor, sampled at every step's start as
-        ``mujoco_drop`` samples it, and read the same way (``crossing.rebound_speed``).  A phase
-        whose gap has not come back within the rollout's steps is run by ``mujoco_drop`` (up to its
-        second), so that it is counted as captured only when it is.  NaN: never touched.
+        The drop at phase 1/2 (``mujoco_drop``) sizes the rollout and gives the effective mass's
+        change over the contact.  Each drop's gap is the model's geometry-distance sensor, sampled
+        at every step's start as ``mujoco_drop`` samples it, and read the same way
+        (``crossing.rebound_speed``).  A phase whose gap has not come back within the rollout's
+        steps is run by ``mujoco_drop`` (up to its second), so that it is counted as captured only
+        when it is.  NaN: never touched.
         """
         mj = mujoco_module()
         from mujoco import rollout
@@ -190,7 +193,7 @@ class MujocoLoop:
             )
             out[i] = slow.e_n if math.isfinite(slow.e_n) or not slow.steps else 0.0
         self.drops += len(states)
-        return out
+        return out, probe
 
     def phase_mean(self, solref, phases=PHASES):
         """``PhaseMean`` of the pair's e_N with ``solref`` at ``phases`` midpoint phases.
@@ -199,21 +202,14 @@ class MujocoLoop:
         captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
         drop that never touched makes the mean NaN: ``failed`` counts them.
         """
-        values = self.e_n_at(solref, phase_grid(phases))
-        change = self.mass_change(solref)
+        values, probe = self.e_n_at(solref, phase_grid(phases))
+        change = probe.mass_change if probe.steps else math.nan
         failed = int(np.sum(~np.isfinite(values)))
         if failed:
             return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
         half = phase_mean_error(values)
         return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
                          int(phases), values, float(change))  # fmt: skip
-
-    def mass_change(self, solref):
-        """The effective mass's largest relative change over the drop at phase 1/2 (``MechanismDrop``)."""
-        self.model.pair_solref[self.rows] = np.asarray(solref, dtype=float)
-        drop = mujoco_drop(self.model, self.pair, self.qpos, self.qvel, timestep=self.timestep,
-                           forces=self.forces, phase=0.5)  # fmt: skip
-        return drop.mass_change if drop.steps else math.nan
 
     def converged_mean(self, solref, phases=PHASES, tol=PHASE_TOL):
         """``phase_mean`` with N doubled from ``phases`` until its error estimate is within ``tol``."""
@@ -367,23 +363,22 @@ class Share:
     share: float
 
 
-def explain(model, pair, qpos, qvel, solref, full, *, timestep=None, forces=None):
-    """The ``Share`` of each of ``PARTS`` the model has, at the reduced model's ``solref``.
+def explain(loop, solref, full):
+    """The ``Share`` of each of ``PARTS`` ``loop``'s model has, at the reduced model's ``solref``.
 
-    ``full`` is the ``PhaseMean`` with everything on (its phase count is used for each part).
+    ``full`` is the ``PhaseMean`` with everything on (its phase count is used for each part); each
+    part is switched off in a fresh load of ``loop``'s model, dropped from the same touchdown.
     The parts' shares need not add up to the whole gap: the rest is the effective mass moving over
     the contact, the step and the parts' interactions.
     """
     out = []
-    probe = load_model(model)
     for part in PARTS:
-        rows = _pair_rows(probe, pair)
-        present = part.present(probe, rows)
+        present = part.present(loop.model, loop.rows)
         if not present:
             continue
-        loop = MujocoLoop(model, pair, qpos, qvel, timestep=timestep, forces=forces,
-                          edit=lambda m, p=part: p.switch_off(m, _pair_rows(m, pair)))  # fmt: skip
-        pm = loop.phase_mean(solref, full.phases)
+        off = MujocoLoop(loop.source, loop.pair, loop.qpos, loop.qvel, timestep=loop.timestep,
+                         forces=loop.forces, edit=lambda m, p=part: p.switch_off(m, loop.rows))  # fmt: skip
+        pm = off.phase_mean(solref, full.phases)
         out.append(Share(part.name, present, float(full.mean - pm.mean)))
     return tuple(out)
 
@@ -445,8 +440,7 @@ def in_engine(source, contact, solref, target, timestep):
     answer = solve_damping(loop, target, solref)
     shares = ()
     if math.isfinite(answer.reduced.mean):
-        shares = explain(source, c.pair, c.qpos, c.qvel, answer.reduced_solref, answer.reduced,
-                         timestep=loop.timestep, forces=c.forces)  # fmt: skip
+        shares = explain(loop, answer.reduced_solref, answer.reduced)
     m = loop.model
     bases = [base_of(m, geom_id(m, g)) for g in contact.pair]
     return answer, shares, loop_notes(answer, shares, target, loop.timestep, bases)
