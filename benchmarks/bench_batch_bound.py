@@ -45,8 +45,8 @@ from contactalpha.engine.table import (
     kinematic_alpha_from_table_rows,
     kinematic_table_arrays,
 )
-from contactalpha.scene.batched import _hertz_load_factor_rows, hertz_load_factor
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.batch import _hertz_load_factor_rows, hertz_load_factor
+from contactalpha.parameters.front_door import contact_parameters
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "performance.md"
 START, END = "<!-- batch-bound:start -->", "<!-- batch-bound:end -->"

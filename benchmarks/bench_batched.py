@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.front_door import contact_parameters
 
 
 def scenes(n, seed=0):

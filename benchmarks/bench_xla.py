@@ -5,7 +5,7 @@ For N random scenes of the default law (Hunt-Crossley, n = 3/2; Newton's e_N), t
 
 - the table lookup alone: ``engine.table.alpha_tabulated`` (numba, its threads) against
   ``xla.table_damping`` under ``jax.jit`` (XLA's CPU threads), and their ratio;
-- the whole front door: ``scene.batched.batched_parameters`` against ``xla.contact_parameters``
+- the whole front door: ``parameters.batch.batched_parameters`` against ``xla.contact_parameters``
   (load factor, lookup, engine damping), and their ratio;
 - where the numba front door's time goes: the load factor (Eq. 10 solved per scene), the lookup,
   and the impact it integrates per scene to report what the damping delivers;
@@ -41,7 +41,7 @@ def main():
     jax.config.update("jax_enable_x64", True)
     from contactalpha.engine.table import alpha_tabulated
     from contactalpha.laws import get_law
-    from contactalpha.scene.batched import batched_parameters, hertz_load_factor
+    from contactalpha.parameters.batch import batched_parameters, hertz_load_factor
     from contactalpha.xla import contact_parameters, device_table, table_damping
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])

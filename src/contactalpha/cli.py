@@ -311,8 +311,8 @@ def main(argv=None):
 
 
 def _unreachable(exc):
-    """True for ``scene.reach.UnreachableTarget`` (only a loaded ``reach`` can have raised one)."""
-    reach = sys.modules.get("contactalpha.scene.reach")
+    """True for ``parameters.reach.UnreachableTarget`` (only a loaded ``reach`` can have raised one)."""
+    reach = sys.modules.get("contactalpha.parameters.reach")
     return reach is not None and isinstance(exc, reach.UnreachableTarget)
 
 
@@ -353,11 +353,11 @@ def _export_c(args, parser):
 
 
 def _print_engine(args, value, restitution):
-    """``params --engine NAME``: that engine's block (``scene.engine_params``)."""
+    """``params --engine NAME``: that engine's block (``parameters.engine_block``)."""
     from contactalpha.adapters.registry import adapter
     from contactalpha.io import json_text
+    from contactalpha.parameters.engine_block import engine_answer, format_block
     from contactalpha.progress import Progress
-    from contactalpha.scene.engine_params import engine_answer, format_block
 
     if args.refine:
         label = f"contactalpha: refining on {args.engine}'s drops"
@@ -388,8 +388,8 @@ def _params(args, parser):
     from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.adapters.registry import adapter
     from contactalpha.io import json_text
-    from contactalpha.scene.parameters import contact_parameters
-    from contactalpha.scene.result import as_plain_data, format_parameters
+    from contactalpha.parameters.front_door import contact_parameters
+    from contactalpha.parameters.result import as_plain_data, format_parameters
 
     value, restitution = _restitution(args, parser)
     if args.engine is not None and args.law is not None:

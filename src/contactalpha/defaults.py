@@ -3,8 +3,9 @@
 ``contactalpha ... --help`` builds its parsers from these without importing a kernel.  Each has its
 one home here; its users import it from here, and the registries check theirs against it when
 they load: the integrator's tolerances (``engine.driver``), the alpha solver's (``engine.solver``),
-the exit status of an unreachable target (``scene.reach``), the tuners (``mechanism.tune``), and each contact
-law's stiffness unit (``laws``; tests/scene/test_result.py keeps the help and the laws equal).
+the exit status of an unreachable target (``parameters.reach``), the tuners (``mechanism.tune``),
+and each contact law's stiffness unit (``laws``; tests/scene/test_result.py keeps the help and the laws
+equal).
 The engines are not listed here: the registry (``adapters.registry``) is their one home, and
 ``--engine`` takes any name, checked against it when the command runs.
 """

@@ -81,7 +81,7 @@ def _laws():
     # restitutions (the batch takes the tables, the scalar the family's exact solver), and the
     # closed-form forward map of the piecewise-linear laws.
     from contactalpha.laws import LAWS
-    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.parameters.front_door import contact_parameters
 
     scene: dict[str, Any] = {"mass": 0.5, "stiffness": 1.0e6, "approach_speed": 0.5, "accel": 9.81}
     batch = {name: _points(2, value) for name, value in scene.items()}

@@ -180,7 +180,7 @@ def test_c_contact_parameters_match_the_python_path(lib, restitution):
         checked += 1
     assert checked > 1000
     # The paper's ball (m = 0.5 kg, k = 1.4e8, v- = 0.5 m/s) under gravity plus 5.1 N.
-    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.parameters.front_door import contact_parameters
 
     kw = {"e_N": 0.5} if restitution == "kinematic" else {"eps": 0.5}
     cp = contact_parameters(mass=0.5, stiffness=1.4e8, approach_speed=0.5, accel=9.81 + 5.1 / 0.5, **kw)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from contactalpha.laws import get_law
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.front_door import contact_parameters
 
 
 @pytest.mark.parametrize("law", ["kelvin_voigt", "mujoco_soft"])

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from contactalpha.laws import LAWS, get_law
+from contactalpha.parameters.engine_block import engine_block
+from contactalpha.parameters.front_door import contact_parameters
 from contactalpha.scene.advisor import advise
-from contactalpha.scene.engine_params import engine_block
-from contactalpha.scene.parameters import contact_parameters
 
 KV, HT = "kelvin_voigt", "hertz_tsuji"
 

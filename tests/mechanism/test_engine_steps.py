@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from contactalpha.mechanism.discrete import COMPOUND_BREAKING, drake_p, pybullet_p, step_answer
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.front_door import contact_parameters
 from contactalpha.stepping import drake_map, kernels, pybullet_map
 from contactalpha.stepping.drop import run_drop
 
@@ -47,7 +47,7 @@ def _stiffness(steps, h):
 def test_mechanism_step_answer_is_the_front_doors_at_m_eff(engine):
     """The mechanism's discrete answer is the front door's stepped answer for a free body of m_eff.
 
-    Independent path: ``contact_parameters(..., timestep=h)`` (scene.stepped); PyBullet's needs a
+    Independent path: ``contact_parameters(..., timestep=h)`` (parameters.at_step); PyBullet's needs a
     sphere radius, so that side is compared at the same breaking threshold through the map.
     """
     h = {"drake": 1e-3, "pybullet": pybullet_map.TIMESTEP}[engine]

@@ -12,7 +12,7 @@ from contactalpha.cli import main
 from contactalpha.mechanism import inputs
 from contactalpha.mechanism.inputs import check_link, link_inertias
 from contactalpha.mechanism.tune import tune
-from contactalpha.scene.reach import EXIT_UNREACHABLE
+from contactalpha.parameters.reach import EXIT_UNREACHABLE
 
 PENDULUM = str(MODELS / "pendulum.xml")
 ARM = MODELS / "arm.urdf"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import contactalpha as ca
-from contactalpha.scene.result import ContactParameters
+from contactalpha.parameters.result import ContactParameters
 
 NUMBER_FIELDS = (
     "xi",

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from contactalpha.engine.solver import solve_alpha
-from contactalpha.scene.batched import batched_parameters
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.batch import batched_parameters
+from contactalpha.parameters.front_door import contact_parameters
 
 
 def scenes(n=64, seed=1):

@@ -5,8 +5,8 @@ import pytest
 from scipy.optimize import brentq
 
 from contactalpha.laws import LAWS
-from contactalpha.scene.batched import batched_parameters
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.batch import batched_parameters
+from contactalpha.parameters.front_door import contact_parameters
 
 # Stiffness of each law's scenes, in its own units (MuJoCo's per unit mass with mass 1).
 STIFFNESS = {"hunt_crossley": 1e5, "hertz_tsuji": 1e5, "mujoco_soft": 1e4}

@@ -17,8 +17,8 @@ from contactalpha import validation
 from contactalpha.adapters.registry import ENGINE_NAMES
 from contactalpha.cli import main
 from contactalpha.laws import get_law
-from contactalpha.scene import batched
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters import checks as batch_checks
+from contactalpha.parameters.front_door import contact_parameters
 
 SCENE = {"e_N": 0.5, "mass": 0.5, "stiffness": 2e4, "approach_speed": 0.5, "accel": 9.81}
 INPUTS = ("approach_speed", "mass", "stiffness", "e_N", "accel")
@@ -64,7 +64,7 @@ def counted(monkeypatch):
         for name, fn in vars(validation).items()
         if callable(fn) and (name.startswith("check_") or name in ("plain_in", "as_real"))
     }
-    checks[batched.check_rows] = counting(batched.check_rows, None)
+    checks[batch_checks.check_rows] = counting(batch_checks.check_rows, None)
     for module in [m for name, m in sys.modules.items() if name.startswith("contactalpha")]:
         for attr, value in list(vars(module).items()):
             if callable(value) and value in checks:

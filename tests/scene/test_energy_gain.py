@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from contactalpha import contact_parameters
-from contactalpha.scene.result import stepped_lines
-from contactalpha.scene.stepped import EnergyGainWarning
+from contactalpha.parameters.at_step import EnergyGainWarning
+from contactalpha.parameters.result import stepped_lines
 
 HEAVY = {"mass": 0.0444, "stiffness": 73.7, "approach_speed": 0.0901, "accel": 9.81 + 2.06 / 0.0444,
          "e_N": 0.174}  # fmt: skip

@@ -4,7 +4,7 @@ import pytest
 
 from contactalpha.cli import main
 from contactalpha.laws import get_law
-from contactalpha.scene.engine_params import engine_block
+from contactalpha.parameters.engine_block import engine_block
 
 ARGS = ["params", "--e-n", "0.5", "--mass", "0.5", "--stiffness", "1e4", "--speed", "0.5", "--force", "5"]
 

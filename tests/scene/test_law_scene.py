@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from contactalpha.laws import get_law
+from contactalpha.parameters.front_door import ContactParameters, contact_parameters
 from contactalpha.scene import ball
 from contactalpha.scene.advisor import advise
 from contactalpha.scene.bounces import predict_bounces
-from contactalpha.scene.parameters import ContactParameters, contact_parameters
 from contactalpha.scene.threshold import critical_speed
 
 G = 9.81

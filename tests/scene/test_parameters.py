@@ -5,7 +5,7 @@ import pytest
 
 import contactalpha as ca
 from contactalpha.cli import main
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.front_door import contact_parameters
 
 BALL = dict(mass=0.5, stiffness=1.4e8, approach_speed=0.5)  # the paper's ball (Sect. 6)
 

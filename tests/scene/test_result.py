@@ -11,7 +11,7 @@ import contactalpha as ca
 from contactalpha import cli
 from contactalpha.adapters.registry import ADAPTERS, ENGINE_NAMES, check_radius_used
 from contactalpha.laws import LAWS, get_law
-from contactalpha.scene.result import ContactParameters
+from contactalpha.parameters.result import ContactParameters
 
 G = 9.81
 
@@ -95,7 +95,7 @@ def test_the_physical_damping_is_the_laws_in_its_unit_checked_by_hand():
     assert hc.physical_damping == pytest.approx(hc.alpha / v, rel=1e-15) and hc.physical_unit == "s/m"
 
 
-@pytest.mark.parametrize("old", ["scene.law_scene:LawParameters", "scene.batched:BatchedParameters"])
+@pytest.mark.parametrize("old", ["scene.law_scene:LawParameters", "parameters.batch:BatchedParameters"])
 def test_the_old_result_classes_are_deprecated_aliases(old):
     import importlib
 
@@ -203,7 +203,7 @@ def test_printed_labels_carry_the_right_units(capsys):
 
 
 def test_result_is_frozen_and_plain_data_for_json():
-    from contactalpha.scene.result import as_plain_data
+    from contactalpha.parameters.result import as_plain_data
 
     cp = ca.contact_parameters(e_N=0.5, mass=0.5, stiffness=1.4e8, approach_speed=0.5, accel=G)
     with pytest.raises(dataclasses.FrozenInstanceError):
@@ -219,7 +219,7 @@ def test_batch_integrates_its_impacts_only_when_read():
     import numpy as np
 
     import contactalpha as ca
-    from contactalpha.scene.result import Deferred
+    from contactalpha.parameters.result import Deferred
 
     e = np.array([0.3, 0.6, 0.9])
     cp = ca.contact_parameters(

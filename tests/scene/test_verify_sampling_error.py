@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from contactalpha.cli import main
-from contactalpha.scene.parameters import contact_parameters
-from contactalpha.scene.stepped import VERIFY_TOL, phase_mean_error
+from contactalpha.parameters.front_door import contact_parameters
+from contactalpha.parameters.verify import VERIFY_TOL, phase_mean_error
 
 # MuJoCo at its 2 ms step, 2-3 steps per contact: one drop's e_N jumps with the phase.
 COARSE = {"mass": 0.5, "stiffness": 1e5, "approach_speed": 0.5, "accel": 9.81, "e_N": 0.5}

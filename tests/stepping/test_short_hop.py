@@ -80,7 +80,7 @@ def test_pybullet_drops_are_read_at_the_geometric_surface():
 
 def test_the_printed_answer_says_which_surface_it_is_for():
     from contactalpha import contact_parameters
-    from contactalpha.scene.result import stepped_lines
+    from contactalpha.parameters.result import stepped_lines
 
     cp = contact_parameters(mass=0.0229, stiffness=12.8, approach_speed=0.0902, accel=9.81, e_N=0.232,
                             engine="pybullet", timestep=0.29e-3, radius=0.05)  # fmt: skip

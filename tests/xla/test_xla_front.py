@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from contactalpha.adapters.mujoco_soft import ADAPTER as MUJOCO
-from contactalpha.scene.batched import batched_parameters
+from contactalpha.parameters.batch import batched_parameters
 
 
 def _scenes(n, seed=0):
@@ -35,7 +35,7 @@ def test_table_laws_match_the_numba_front_door(jax, law):
 
 def test_mujoco_blocks_match_the_adapter(jax):
     """Every MuJoCo-law engine's block against the MuJoCo adapter's own parameters."""
-    from contactalpha.scene.law_scene import EngineScene
+    from contactalpha.parameters.block_scene import BlockScene
     from contactalpha.xla import contact_parameters
 
     s = _scenes(40, 3)
@@ -43,7 +43,7 @@ def test_mujoco_blocks_match_the_adapter(jax):
     got = contact_parameters(**s, law="mujoco_soft")
     zeta = np.asarray(got["damping"])
     assert np.all(np.isfinite(zeta))
-    ref = MUJOCO.parameters(zeta, EngineScene(s["mass"], s["stiffness"], s["approach_speed"], None))
+    ref = MUJOCO.parameters(zeta, BlockScene(s["mass"], s["stiffness"], s["approach_speed"], None))
     for name in ("mujoco", "mjx", "mujoco_warp"):
         block = got["engines"][name]
         # the adapter's batch: (n, 2) and (n, 5), the shape MJX and MuJoCo Warp take

@@ -1,7 +1,7 @@
 """The phase-mean answer at MuJoCo's default 2 ms step, in MJX: one world per touchdown phase.
 
 ``contact_parameters(..., engine="mujoco", timestep=0.002)`` gives the solref whose e_N, averaged
-over a uniformly random touchdown phase, is the target (``scene.stepped``), and the range one
+over a uniformly random touchdown phase, is the target (``parameters.at_step``), and the range one
 drop sees.  In MJX, 128 worlds per scene start at the midpoints of 128 equal phase intervals of a
 step (all scenes in one batched rollout): each world's e_N is the MuJoCo map's at its phase
 (``stepping.mujoco_map``), their mean is the target, and they stay inside the predicted range.
@@ -24,7 +24,7 @@ SCENES = [
 
 
 def test_mjx_phase_mean_is_the_target_and_each_phase_the_map(jax, mjx):
-    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.parameters.front_door import contact_parameters
     from contactalpha.stepping.delivered import at_phases
     from contactalpha.stepping.registry import stepper
     from contactalpha.xla import mjx_drop

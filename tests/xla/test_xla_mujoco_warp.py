@@ -54,7 +54,7 @@ def test_phase_mean_answer_at_2ms_steps_like_the_map(mujoco, mujoco_warp):
     """The stepped answer at MuJoCo's 2 ms step, one world per touchdown phase: the map's e_N."""
     import warp as wp
 
-    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.parameters.front_door import contact_parameters
     from contactalpha.stepping.delivered import at_phases
     from contactalpha.stepping.registry import stepper
     from contactalpha.xla.mjx_drop import base_model

@@ -4,7 +4,7 @@ An engine adapter is one module in ``contactalpha.adapters`` holding one object 
 ``EngineAdapter`` (usually by deriving from ``adapters.base.Adapter``, or from
 ``adapters.stepped.SteppingAdapter`` for a fixed-step engine, which write the derived parts once
 for every engine); ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
-(``contactalpha.scene.parameters``), the command line, the engines study and the tests iterate
+(``contactalpha.parameters.front_door``), the command line, the engines study and the tests iterate
 that list, so adding an engine is that module plus one line there (``docs/adding-an-engine.md``).
 
 The parts of the contract:

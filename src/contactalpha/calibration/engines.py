@@ -8,7 +8,7 @@ block at the first impact.  Two checks decide how a block is offered:
   profile interval that reaches a bound (``LawFit.bounded``) or held (the data cannot see it),
   the blocks come with that caveat;
 - the step: an engine that steps (MuJoCo, Drake, PyBullet) gets the front door's answer at its
-  default step (``contact_parameters(..., engine=, timestep="default")``, ``scene.stepped``) for
+  default step (``contact_parameters(..., engine=, timestep="default")``, ``parameters.at_step``) for
   the first impact's e_N: what the block delivers there over the touchdown phase, and the
   block that delivers the e_N as a phase mean, or "unreachable at this step: use h <= ...".
 """
@@ -19,15 +19,15 @@ from dataclasses import replace
 from contactalpha.adapters.engine_conventions import opensim_dissipation
 from contactalpha.adapters.registry import ADAPTERS
 from contactalpha.laws import get_law
-from contactalpha.scene.law_scene import EngineScene
-from contactalpha.scene.parameters import LAW, contact_parameters
-from contactalpha.scene.result import block_lines
-from contactalpha.scene.stepped import DEFAULT_STEP, needs_radius
+from contactalpha.parameters.at_step import DEFAULT_STEP, needs_radius
+from contactalpha.parameters.block_scene import BlockScene
+from contactalpha.parameters.front_door import LAW, contact_parameters
+from contactalpha.parameters.result import block_lines
 
 from .fit import AT_BOUND
 from .hypotheses import HYPOTHESES
 
-# The words of the at-step answer that reached its target (``scene.stepped.SteppedAnswer.status``).
+# The words of the at-step answer that reached its target (``parameters.at_step.SteppedAnswer.status``).
 REACHED = "ok"
 
 
@@ -116,7 +116,7 @@ def engine_parameters(fit, setup, radius=None):
     mine = [a for a in ADAPTERS if a.law.name == contact_law.name]
     if withheld and mine:
         return {"status": caveat, "withheld": True, "at_approach_speed": v1, "e_n": e1}
-    scene = EngineScene(setup.mass, float(stiffness), v1, radius)
+    scene = BlockScene(setup.mass, float(stiffness), v1, radius)
     given = {name: fit.values[name] for name in fit.given}
     engines = {a.name: a.parameters(float(damping), scene, **_settings(a, given)) for a in mine}
     changed = [k for k, v in given.items() if v != law.given.get(k)]

@@ -72,7 +72,7 @@ def _forces(items, parser):
 def run(args, parser):
     """Run the subcommand; returns the exit status (ValueError propagates to the CLI's handler)."""
     from contactalpha.adapters.mujoco_soft import IMPEDANCE
-    from contactalpha.scene.reach import EXIT_UNREACHABLE
+    from contactalpha.parameters.reach import EXIT_UNREACHABLE
 
     from .tune import default_output, tune
 

@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from contactalpha.adapters.base import refine
-from contactalpha.scene.stepped import phase_mean_error
+from contactalpha.parameters.verify import phase_mean_error
 
 from .crossing import rebound_speed
 from .mujoco_model import geom_id, load_model, mujoco_drop, mujoco_module, start_state, touchdown

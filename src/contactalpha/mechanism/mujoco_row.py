@@ -42,7 +42,7 @@ from dataclasses import dataclass
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.mujoco_soft import IMPEDANCE, direct_mode
 from contactalpha.laws import get_law
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.front_door import contact_parameters
 from contactalpha.stepping.registry import stepper
 
 from .contact import MechanismContact

@@ -23,8 +23,8 @@ from contactalpha import defaults
 from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
 from contactalpha.adapters.registry import adapter
-from contactalpha.scene.law_scene import EngineScene
-from contactalpha.scene.parameters import contact_parameters
+from contactalpha.parameters.block_scene import BlockScene
+from contactalpha.parameters.front_door import contact_parameters
 from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
@@ -297,7 +297,7 @@ def _engine_step(contact, engine, cp, params, notes, target, timestep, discrete)
         a = adapter(engine)
         settings = replace(a.settings, **{s.step_setting: h})
         k = float(params["pair_stiffness"])
-        scene = EngineScene(contact.effective_mass, k, contact.approach_speed, None)
+        scene = BlockScene(contact.effective_mass, k, contact.approach_speed, None)
         params = a.parameters(zeta, scene, settings)
     return params, notes + lines, cp, step
 

@@ -5,7 +5,7 @@ step, then, through the engine's discrete map (``contactalpha.stepping``): what 
 deliver at ``h`` (the phase mean, its range), the engine's own damping whose phase mean is the
 target (``stepping.inverse``), and what that delivers.  The engine's block of ``engines`` then
 holds the stepped parameters; the law's ``damping`` and ``physical_damping`` stay the continuous
-law's.  ``SteppedAnswer`` carries the rest; ``verify`` runs the installed engine at N phases.
+law's.  ``SteppedAnswer`` carries the rest; ``parameters.verify`` runs the installed engine at N phases.
 """
 
 import math
@@ -14,26 +14,17 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
 from contactalpha.stepping.delivered import over_phase
 from contactalpha.stepping.inverse import damping_for
 from contactalpha.stepping.registry import stepper
-from contactalpha.validation import check_count, check_scalar
+from contactalpha.validation import check_scalar
 
-from .law_scene import EngineScene
+from .block_scene import BlockScene
 from .result import gain_note
 
 # The word that asks for the engine's default step.
 DEFAULT_STEP = "default"
-# Radius of the sphere an engine's verification drop uses when the scene gives none, m.
-VERIFY_RADIUS = 0.05
-# ``verify="default"`` (``--verify`` alone): phases to start with, the sampling error at which
-# doubling them stops, and the most phases.  Where a drop's step count jumps with the phase the
-# error falls as 1/N: at 2-3 steps per contact 2.6e-3 over 64 phases, 1.6e-4 over 1024.
-VERIFY_PHASES = 64
-VERIFY_TOL = 1e-4
-VERIFY_MAX_PHASES = 4096
 
 
 @dataclass(frozen=True)
@@ -102,11 +93,11 @@ class EnergyGainWarning(UserWarning):
     """A single drop at the engine's step can leave faster than it came (e_N or eps above 1)."""
 
 
-def warn_gain(ans, stacklevel=5):
+def warn_gain(ans, stacklevel=4):
     """``warnings.warn`` ``gain_note`` (``EnergyGainWarning``) where there is one; ``ans`` back.
 
-    ``stacklevel`` 5 names the caller of ``contact_parameters`` (through ``parameters._at_step``
-    and ``at_step`` or ``at_step_batch``).
+    ``stacklevel`` 4 names the caller of ``contact_parameters`` (through ``at_step`` or
+    ``at_step_batch``).
     """
     note = gain_note(ans)
     if note is not None:
@@ -145,7 +136,7 @@ def at_step(cp, engine, timestep, mass, stiffness, approach_speed, accel, radius
     if inv.status == "ok":
         a = adapter(engine)
         settings = replace(a.settings, **{s.step_setting: h})
-        scene = EngineScene(mass, stiffness, approach_speed, radius)
+        scene = BlockScene(mass, stiffness, approach_speed, radius)
         engines[engine] = a.parameters(sol.zeta, scene, settings)
     answer = SteppedAnswer(
         engine=engine, timestep=h, restitution=restitution, target=float(target),
@@ -188,49 +179,3 @@ def solve_on_map(s, block, mass, radius, h, approach_speed, accel, target, resti
     zeta = float(s.law_damping(inv.p, approach_speed)) if ok else math.nan
     continuous = tuple(float(x) for x in before.of(restitution))
     return MapSolution(inv, float(mean), float(lo), float(hi), float(std), zeta, continuous)
-
-
-def phase_mean_error(values):
-    """Error estimate of the mean over equally spaced phases: half its two interleaved halves' gap.
-
-    ``values[0::2]`` and ``values[1::2]`` are each a rectangle rule of the phase integral on half
-    the points, shifted by one spacing; their means differ by about twice the full grid's error
-    (which falls as 1/N where a drop's step count jumps with the phase, faster where it is smooth).
-    """
-    x = np.asarray(values, dtype=float)
-    return 0.5 * abs(float(x[0::2].mean() - x[1::2].mean())) if x.size >= 2 else math.nan
-
-
-def verify(cp, phases, mass, stiffness, approach_speed, accel, radius):
-    """``cp`` with ``stepped.verify``: the installed engine's drop at ``phases`` touchdown phases.
-
-    The engine runs the block of ``cp.engines`` (the stepped parameters) at the stepped answer's
-    step, the whole load as gravity; e_N per phase is read by the adapter.
-    ``stepped.verify["sampling_error"]`` is the mean's ``phase_mean_error``.  ``phases``
-    "default" starts at ``VERIFY_PHASES`` and doubles them (to ``VERIFY_MAX_PHASES``) until that
-    error is at most ``VERIFY_TOL``.
-    """
-    ans = cp.stepped
-    if ans is None or ans.status != "ok":
-        raise ValueError("verify needs a stepped answer that reached the target (give timestep=)")
-    auto = isinstance(phases, str) and phases == DEFAULT_STEP
-    n = VERIFY_PHASES if auto else check_count("phases", phases, 1, 100_000)
-    a = adapter(ans.engine)
-    scene = DropScene(mass, stiffness, approach_speed, gravity=accel, force=0.0,
-                      radius=VERIFY_RADIUS if radius is None else radius)  # fmt: skip
-    seconds = 0.0
-    while True:
-        settings = replace(a.settings, **{stepper(ans.engine).step_setting: ans.timestep}, phases=n)
-        samples = a.run(a.build_drop(scene, cp.engines[ans.engine], settings), scene, settings)
-        a.measure(samples, scene)
-        e = np.asarray(samples.extra["e_n_phases"], dtype=float)
-        seconds += float(samples.seconds)
-        error = phase_mean_error(e)
-        if not auto or error <= VERIFY_TOL or 2 * n > VERIFY_MAX_PHASES:
-            break
-        n *= 2
-    measured = {
-        "phases": n, "mean": float(e.mean()), "minimum": float(e.min()), "maximum": float(e.max()),
-        "sampling_error": error, "seconds": seconds, "version": a.version(),
-    }  # fmt: skip
-    return cp.replaced(stepped=replace(ans, verify=measured))

@@ -1,7 +1,7 @@
 """A batch at an engine's own step: the phase-mean parameters of many scenes at formula speed.
 
 ``contact_parameters(..., engine=NAME, timestep=h)`` with array inputs solves the continuous law
-for the batch first (``scene.batched``).  For an engine whose step is piecewise affine
+for the batch first (``parameters.batch``).  For an engine whose step is piecewise affine
 (``stepping.registry.Stepper.affine``: MuJoCo, PyBullet) and an e_N target, every row is then
 solved exactly in one parallel call (``stepping.batch_inverse``): the damping whose phase mean is
 the target within ``stepping.inverse.MEAN_TOL`` by the map, starting from the continuous law's
@@ -42,9 +42,9 @@ from contactalpha.stepping.batch_inverse import ROW_STATUS as BATCH_STATUS
 from contactalpha.stepping.delivered import MAX_CONTACT_STEPS, check_contact_steps, check_scene, contact_steps
 from contactalpha.stepping.registry import stepper
 
-from .batched import masked_rows
-from .law_scene import EngineScene
-from .stepped import SteppedAnswer, resolve_timestep, solve_on_map, warn_gain
+from .at_step import SteppedAnswer, resolve_timestep, solve_on_map, warn_gain
+from .batch import masked_rows
+from .block_scene import BlockScene
 
 # A world whose contact spans fewer steps than this is flagged: one landing there spreads by tens
 # of percent of the target about the phase mean.
@@ -126,7 +126,7 @@ def at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, accel, 
     ok = status == "ok"
     a_ = adapter(engine)
     settings = replace(a_.settings, **{s.step_setting: h})
-    scene = EngineScene(*(None if x is None else x.reshape(shape) for x in (m, k, v, r)))
+    scene = BlockScene(*(None if x is None else x.reshape(shape) for x in (m, k, v, r)))
     params = a_.parameters(np.where(ok, zeta, 0.0).reshape(shape), scene, settings)
     engines = dict(cp.engines)
     engines[engine] = {key: masked_rows(x, ok.reshape(shape)) for key, x in params.items()}

@@ -7,7 +7,7 @@ table at ``engine.scaling``'s xi, as the scalar front door), and each registered
 converts it (``adapters.registry.engine_parameters``).  The stiffness is the law's physical one
 (N/m for n = 1, MuJoCo's included; N/m^1.5 for n = 3/2).  Each row's impact is integrated
 (``ContactLaw.impact``) for its restitutions and end state, as one scene's is, but only when one
-of those fields is first read (``scene.result.Deferred``): the damping and the engine blocks come
+of those fields is first read (``parameters.result.Deferred``): the damping and the engine blocks come
 at the table's speed, and the integration costs about a thousand times more per row.
 
 The batch rules:
@@ -24,7 +24,7 @@ The batch rules:
 import numpy as np
 from numba import njit
 
-from contactalpha.adapters.registry import check_radius_used, engine_parameters
+from contactalpha.adapters.registry import check_radius_used
 from contactalpha.engine.firstcall import twin_rows
 from contactalpha.engine.scaling import A_ROUNDS_TO_ONE, length_scale, scales_kernel, xi_of_load_kernel
 from contactalpha.engine.table import EPS_MIN, XI_MAX, tabulated_or_nan
@@ -33,9 +33,10 @@ from contactalpha.laws import get_law
 from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE, fast_damping_unchecked
 from contactalpha.laws.maps import impact_unchecked
-from contactalpha.validation import check_range
 
-from .law_scene import SPEED_FACTORS, EngineScene, fixed_damping_e_n
+from .block_scene import BlockScene
+from .checks import broadcast_shape, check_rows
+from .one_scene import SPEED_FACTORS, engine_blocks, fixed_damping_e_n
 from .result import ContactParameters, Deferred
 
 
@@ -73,47 +74,6 @@ def hertz_load_factor(mass, stiffness, approach_speed, accel):
     if not scale_ok.all():
         length_scale(mass, stiffness, approach_speed)  # raises, naming the first such scene
     return xi
-
-
-def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
-    """``value`` as a float array in range; else ValueError naming ``name``, its first bad index and value."""
-    try:
-        return np.asarray(check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open), dtype=float)
-    except ValueError as err:
-        try:
-            arr = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            raise err from None
-        with np.errstate(invalid="ignore"):
-            good = (arr > lo if lo_open else arr >= lo) & (arr < hi if hi_open else arr <= hi)
-        bad = np.argwhere(~good)
-        if arr.ndim == 0 or bad.size == 0:
-            raise
-        index = int(bad[0][0]) if arr.ndim == 1 else tuple(int(i) for i in bad[0])
-        left, right = "(" if lo_open else "[", ")" if hi_open else "]"
-        shown = float(arr[tuple(bad[0])])
-        raise ValueError(
-            f"{name}[{index}] = {shown!r} is outside the valid range {left}{lo}, {hi}{right} "
-            f"(the first bad index of {name}; {len(bad)} of {arr.size} bad): the whole batch is refused"
-        ) from None
-
-
-def broadcast_shape(**arrays):
-    """The broadcast shape of the named arrays (None skipped); else ValueError naming the two that clash."""
-    shape, owner = (), None
-    for name, value in arrays.items():
-        if value is None:
-            continue
-        try:
-            joined = np.broadcast_shapes(shape, np.shape(value))
-        except ValueError:
-            raise ValueError(
-                f"{name} has shape {np.shape(value)}, which does not broadcast with {owner}'s shape {shape}: "
-                "give arrays of one shape (or plain numbers)"
-            ) from None
-        owner = name if joined != shape else owner
-        shape = joined
-    return shape
 
 
 def _load_factor(law):
@@ -181,6 +141,7 @@ def batched_parameters(
     law="hunt_crossley",
     radius=None,
     force=None,
+    engine=None,
 ):
     """Every engine's parameters for arrays of scenes (see the module docstring).
 
@@ -200,11 +161,13 @@ def batched_parameters(
         Sphere radius, m (adds OpenSim's stiffness).
     force : array_like, optional
         The load as a force, N (>= 0), instead of ``accel``: ``accel = force / mass``.
+    engine : str, optional
+        Only this engine's block in ``engines`` (an engine of ``law``); default every engine of the law.
 
     Returns
     -------
     ContactParameters
-        Every per-scene field an array of the broadcast shape (``scene.result``).
+        Every per-scene field an array of the broadcast shape (``parameters.result``).
     """
     law = get_law(law)
     name = target_name(restitution)
@@ -263,7 +226,7 @@ def batched_parameters(
 
     cache = {}
 
-    engines = engine_parameters(law, p, EngineScene(m, k, v, r))
+    engines = engine_blocks(law, p, BlockScene(m, k, v, r), engine)
     return ContactParameters(
         law=law.name,
         xi=rows(xi),
@@ -283,17 +246,3 @@ def batched_parameters(
         e_n_half_speed=speed_field(SPEED_FACTORS[0]),
         e_n_twice_speed=speed_field(SPEED_FACTORS[1]),
     )
-
-
-def __getattr__(name):
-    if name == "BatchedParameters":
-        import warnings
-
-        warnings.warn(
-            "scene.batched.BatchedParameters is deprecated: contact_parameters returns "
-            "contactalpha.ContactParameters for one scene and for arrays",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return ContactParameters
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

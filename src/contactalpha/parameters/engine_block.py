@@ -10,13 +10,13 @@ import warnings
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
+from contactalpha.scene.load import scene_accel
 from contactalpha.validation import check_flag
 
-from . import stepped
-from .parameters import contact_parameters, scene_accel
+from .at_step import DEFAULT_STEP, EnergyGainWarning, at_step
+from .front_door import contact_parameters
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import as_plain_data, block_lines, stepped_lines
-from .stepped import EnergyGainWarning
 
 # Refinement outcomes that reached the target (``adapters.base.Refinement.status``).
 REACHED = ("ok", "unchanged")
@@ -59,7 +59,7 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
 
     Raises
     ------
-    scene.reach.UnreachableTarget
+    parameters.reach.UnreachableTarget
         When the refinement finds no damping that delivers the target on the engine's drops: the
         message names the nearest e_N reached and the stiffness and step that would reach it.
     """
@@ -120,7 +120,7 @@ def _at_default_step(cp, engine, target, restitution, mass, stiffness, approach_
     try:
         with warnings.catch_warnings():  # the lines carry it (``result.stepped_lines``)
             warnings.simplefilter("ignore", EnergyGainWarning)
-            at = stepped.at_step(cp, engine, stepped.DEFAULT_STEP, *scene, target, restitution)
+            at = at_step(cp, engine, DEFAULT_STEP, *scene, target, restitution)
     except ValueError as exc:
         return [f"not checked at {engine}'s default step: {' '.join(str(exc).split())}"]
     return stepped_lines(at.stepped)

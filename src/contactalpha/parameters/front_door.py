@@ -7,86 +7,51 @@ Hunt-Crossley, n = 3/2) or the law of the engine asked for: the load factor xi (
 for Hunt-Crossley), the law's exact dimensionless damping for that restitution at that xi, its
 physical damping, the end state and both restitutions of the impact it gives (one impact
 integrated), and the parameters of each engine of the law in its own names and units.  One
-result type for every law and for batches: ``scene.result.ContactParameters``.
+result type for every law and for batches: ``parameters.result.ContactParameters``.
 
 The physical damping (and OpenSim's ``dissipation``) is a constant of the contact law, but for
 the Hunt-Crossley laws the alpha it stands for is ``d v_minus``: it delivers the requested
 restitution at this approach speed only.  So the parameters also carry the e_N the same physical
 damping delivers at half and at twice the approach speed (one impact each, the load's xi at that
 speed): a drop from another height needs its own damping.
+
+This module checks the call and picks one path, each in its own module: one scene
+(``one_scene``), a batch (``batch``), and, with ``timestep``, the continuous answer carried to the
+engine's step for one scene (``at_step``, ``verify``) or a batch (``at_step_batch``).  Each input
+is checked once, the continuous answer is solved once, and no path calls back into this one.
 """
 
-import math
 import warnings
 
 import numpy as np
 
-from contactalpha.adapters.exudyn_contact import IMPACT_MODEL as EXUDYN_IMPACT_MODEL  # noqa: F401
-from contactalpha.adapters.registry import adapter, check_radius_used, engine_parameters
-from contactalpha.engine.driver import frozen_instance, impact_unchecked
-from contactalpha.engine.scaling import influence_factor_unchecked, length_scale
-from contactalpha.engine.solver import no_kinematic_inverse, solve_alpha
-from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
-from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.adapters.registry import check_radius_used
+from contactalpha.laws import DEFAULT_LAW
 from contactalpha.laws.domain import target_name
+from contactalpha.scene.load import checked_load, positive
 from contactalpha.stepping.registry import STEPPER_NAMES
-from contactalpha.validation import PLAIN_FLOATS, check_scalar
+from contactalpha.validation import check_scalar
 
-from . import stepped
-from .batched import broadcast_shape, check_rows
-from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
-from .reach import eps_zero_without_load
-from .result import ContactParameters, NoSeparationWarning, format_parameters, no_separation_note  # noqa: F401
-from .stepped_batch import at_step_batch
+from .at_step import at_step, needs_radius
+from .at_step_batch import at_step_batch
+from .batch import batched_parameters
+from .checks import (
+    broadcast_shape,
+    check_load_rows,
+    check_rows,
+    checked_radius,
+    checked_target,
+    is_batch,
+    law_of,
+    law_reads_radius,
+    require_scene,
+)
+from .one_scene import hunt_crossley_parameters, law_parameters
+from .result import ContactParameters, NoSeparationWarning, no_separation_note
+from .verify import verify_on_engine
 
 # The contact law this front door solves for by default (Hunt-Crossley, n = 3/2).
 LAW = DEFAULT_LAW
-
-
-def _positive(name, value):
-    return check_scalar(name, value, 0.0, math.inf, lo_open=True, hi_open=True)
-
-
-def scene_accel(mass: float, accel: float | None = None, force: float | None = None) -> float:
-    """Relative acceleration of the load from exactly one of ``accel`` (m/s^2) and ``force`` (N)."""
-    load, is_force = _load(accel, force)
-    return load / _positive("mass", mass) if is_force else load
-
-
-def _load(accel, force):
-    """``(value, is_force)``: exactly one of ``accel`` and ``force``, checked."""
-    if (accel is None) == (force is None):
-        raise ValueError(
-            f"give exactly one of accel (m/s^2) and force (N); got accel = {accel!r}, force = {force!r}"
-        )
-    if force is None:
-        return check_scalar("accel", accel, 0.0, np.inf, hi_open=True), False
-    return check_scalar("force", force, 0.0, np.inf, hi_open=True), True
-
-
-def _target(eps, e_n):
-    """``(value, restitution)`` from exactly one of ``eps`` and ``e_N``, checked."""
-    if (eps is None) == (e_n is None):
-        raise ValueError(
-            f"give exactly one of eps (energetic) and e_N (kinematic); got eps = {eps!r}, e_N = {e_n!r}"
-        )
-    if e_n is None:
-        return check_scalar("eps", eps, 0.0, 1.0), "energetic"
-    e_n = check_scalar("e_N", e_n, 0.0, 1.0)
-    if e_n == 0.0:
-        raise no_kinematic_inverse()
-    return e_n, "kinematic"
-
-
-def _alpha(value, xi, restitution):
-    """``(alpha, source)``: the shipped table inside its domain, the solver outside it."""
-    if EPS_MIN <= value <= 1.0 and xi <= XI_MAX:
-        return alpha_tabulated(value, xi, restitution=restitution), "table"
-    sol = solve_alpha(value, xi, restitution=restitution)
-    if not sol.ok:
-        where = f"{target_name(restitution)} = {value!r}, xi = {xi!r}"
-        raise RuntimeError(f"exact alpha not found at {where}: {sol.status}")
-    return sol.alpha, "solver"
 
 
 def contact_parameters(
@@ -149,7 +114,7 @@ def contact_parameters(
     Returns
     -------
     ContactParameters
-        The one result type (``scene.result``): plain values for one scene, arrays of the broadcast
+        The one result type (``parameters.result``): plain values for one scene, arrays of the broadcast
         shape when any input is an array (the law's fast evaluator gives the damping; each row's
         impact is integrated for its restitutions).  ``engines`` is keyed by engine.
 
@@ -159,187 +124,116 @@ def contact_parameters(
         Naming the value and its valid range, for bad or non-physical input (also a load so
         large for the approach speed that xi rounds to 1, and e_N = 0, which many alpha give);
         for a batch, naming the argument and its first bad index.
-    scene.reach.UnreachableTarget
+    parameters.reach.UnreachableTarget
         A ``ValueError`` for a target no damping reaches (eps = 0 without a load), naming what would,
         or one the law's inverse does not resolve (a load factor next to 1, a target next to
         capture), naming what to change.
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
-    batch = _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
-    map_radius = radius
-    if radius is not None and engine in STEPPER_NAMES and stepped.needs_radius(engine):
-        # The engine's step map reads the geometry (PyBullet's breaking threshold) even where its
-        # law's parameters do not: checked here, on every path, and kept from the law if unread.
-        map_radius = _checked_radius(radius, batch)
-        if not _law_reads_radius(_law_of(law, engine)):
-            radius = None
-    if timestep is not None or verify is not None:
-        scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius, map_radius)
-        return _at_step(*scene, law, engine, timestep, verify)
-    chosen = _law_of(law, engine)
+    batch = is_batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+    radius, map_radius = _radii(radius, law, engine, batch)
+    stepped = timestep is not None or verify is not None
+    if stepped:
+        _check_step_call(timestep, engine)
     if batch:
-        batch_scene = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
-        return _only(_batched(*batch_scene, chosen), engine)
-    value, restitution = _target(eps, e_N)
-    for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
-        if given is None:
-            raise ValueError(f"{name} is required (SI units)")
-    m = _positive("mass", mass)
-    k = _positive("stiffness", stiffness)
-    v = _positive("approach_speed", approach_speed)
-    load, is_force = _load(accel, force)
-    a = load / m if is_force else load
-    sphere = None if radius is None else _positive("radius", radius)
-    if chosen.name != DEFAULT_LAW:
-        check_radius_used(chosen, radius)
-        return _only(law_contact_parameters(chosen, value, restitution, m, k, v, a, sphere), engine)
-    xi = influence_factor_unchecked(m, k, v, a)
-    if restitution == "energetic" and value == 0.0 and xi == 0.0:
-        raise eps_zero_without_load()
-    alpha, source = _alpha(value, xi, restitution)
-    r = impact_unchecked(alpha, xi)
-    if r.status != "ok":
-        raise RuntimeError(f"impact at alpha = {alpha!r}, xi = {xi!r} failed: {r.status}")
-    engines = engine_parameters(chosen, alpha, EngineScene(m, k, v, sphere))
-    e_n_half, e_n_twice = (_fixed_damping_e_n(alpha, m, k, v, a, factor) for factor in SPEED_FACTORS)
-    return _only(
-        frozen_instance(
-            ContactParameters,
-            law=chosen.name,
-            xi=xi,
-            damping_name=chosen.damping,
-            damping=alpha,
-            physical_damping=chosen.physical_damping_unchecked(alpha, m, k, v),
-            physical_unit=chosen.physical_unit,
-            eps=r.eps,
-            e_n=r.e_n,
-            end_state=r.state,
-            ok=True,
-            reason="",
-            accel=a,
-            delta_star=float(length_scale(m, k, v)),
-            source=source,
-            engines=engines,
-            e_n_half_speed=e_n_half,
-            e_n_twice_speed=e_n_twice,
-            engine=None,
-            stepped=None,
-        ),
-        engine,
-    )
+        if stepped:
+            target, restitution = _step_rows(eps, mass, stiffness, approach_speed, e_N, accel, force,
+                                             map_radius, verify)  # fmt: skip
+        chosen = law_of(law, engine)
+        rows = _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius, chosen, engine)
+        cp = _answer_for(rows, engine)
+        if not stepped:
+            return cp
+        return at_step_batch(cp, engine, timestep, mass, stiffness, approach_speed, cp.accel, map_radius,
+                             target, restitution)  # fmt: skip
+    if stepped:
+        # The mean restitution at the step is 1 only without damping and with no loss to the step: an
+        # open range, named as the target the user gave.
+        value, restitution = checked_target(eps, e_N)
+        check_scalar(target_name(restitution), value, 0.0, 1.0, lo_open=True, hi_open=True)
+    chosen = law_of(law, engine)
+    if not stepped:
+        value, restitution = checked_target(eps, e_N)
+    cp = _answer_for(_one_scene(value, restitution, mass, stiffness, approach_speed, accel, force, radius,
+                                chosen, engine), engine)  # fmt: skip
+    if not stepped:
+        return cp
+    scene = (float(mass), float(stiffness), float(approach_speed), float(cp.accel), map_radius)
+    cp = at_step(cp, engine, timestep, *scene, value, restitution)
+    return cp if verify is None else verify_on_engine(cp, verify, *scene)
 
 
-def _at_step(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, map_radius, law, engine,
-             timestep, verify):  # fmt: skip
-    """``contact_parameters`` at an engine's step (``scene.stepped``).
+def _radii(radius, law, engine, batch):
+    """``(radius, map_radius)``: the radius the continuous law reads (None where none) and the step map's.
 
-    ``radius`` is the continuous law's (None where it reads none), ``map_radius`` the step map's.
+    The engine's step map reads the geometry (PyBullet's breaking threshold) even where its law's
+    parameters do not: checked here, on every path, and kept from the law if unread.
     """
+    if radius is None or engine not in STEPPER_NAMES or not needs_radius(engine):
+        return radius, radius
+    map_radius = checked_radius(radius, batch)
+    return (radius if law_reads_radius(law_of(law, engine)) else None), map_radius
+
+
+def _check_step_call(timestep, engine):
+    """A call at the step names the step and the engine whose step it is."""
     if timestep is None:
         raise ValueError("verify needs timestep= (the engine's step, s, or 'default')")
     if engine is None:
         raise ValueError("timestep needs engine=: the step is an engine's (mujoco, pybullet, drake)")
+
+
+def _step_rows(eps, mass, stiffness, approach_speed, e_n, accel, force, map_radius, verify):
+    """``(target, restitution)`` of a batch at the step: the target rows in the open range (0, 1), checked.
+
+    Every row needs a load > 0; ``verify`` takes one scene.
+    """
     restitution = "kinematic" if eps is None else "energetic"
     name = target_name(restitution)
-    if _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, map_radius):
-        if verify is not None:
-            raise ValueError("verify= takes one scene; a batch at the step is checked one scene at a time")
-        broadcast_shape(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
-                        force=force, **{name: e_n if eps is None else eps}, radius=map_radius)  # fmt: skip
-        target = check_rows(name, e_n if eps is None else eps, 0.0, 1.0, lo_open=True, hi_open=True)
-        _check_load_rows(accel, force)
-        cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                                radius=radius, law=law, engine=engine)  # fmt: skip
-        return at_step_batch(cp, cp.engine, timestep, mass, stiffness, approach_speed, cp.accel, map_radius,
-                             target, restitution)  # fmt: skip
-    # The mean restitution at the step is 1 only without damping and with no loss to the step: an
-    # open range, named as the target the user gave.
-    value, restitution = _target(eps, e_n)
-    check_scalar(name, value, 0.0, 1.0, lo_open=True, hi_open=True)
-    cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_n, accel=accel, force=force,
-                            radius=radius, law=law, engine=engine)  # fmt: skip
-    args = (cp.engine, float(mass), float(stiffness), float(approach_speed), float(cp.accel), map_radius)
-    cp = stepped.at_step(cp, args[0], timestep, *args[1:], value, restitution)
-    return cp if verify is None else stepped.verify(cp, verify, *args[1:])
+    if verify is not None:
+        raise ValueError("verify= takes one scene; a batch at the step is checked one scene at a time")
+    given = e_n if eps is None else eps
+    broadcast_shape(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
+                    force=force, **{name: given}, radius=map_radius)  # fmt: skip
+    target = check_rows(name, given, 0.0, 1.0, lo_open=True, hi_open=True)
+    check_load_rows(accel, force)
+    return target, restitution
 
 
-def _check_load_rows(accel, force):
-    """A batch at the step needs every row's load > 0, as one scene does: else the whole batch is refused."""
-    name, value = ("accel", accel) if force is None else ("force", force)
-    try:
-        check_rows(name, value, 0.0, np.inf, lo_open=True, hi_open=True)
-    except ValueError as err:
-        raise ValueError(f"timestep needs a load pressing the bodies together in every row: {err}") from None
+def _one_scene(value, restitution, mass, stiffness, approach_speed, accel, force, radius, law, engine):
+    """The continuous answer of one scene (``one_scene``), its scene checked here."""
+    require_scene(mass, stiffness, approach_speed)
+    m = positive("mass", mass)
+    k = positive("stiffness", stiffness)
+    v = positive("approach_speed", approach_speed)
+    load, is_force = checked_load(accel, force)
+    a = load / m if is_force else load
+    sphere = None if radius is None else positive("radius", radius)
+    if law.name != DEFAULT_LAW:
+        check_radius_used(law, radius)
+        return law_parameters(law, value, restitution, m, k, v, a, sphere, engine)
+    return hunt_crossley_parameters(law, value, restitution, m, k, v, a, sphere, engine)
 
 
-def _checked_radius(radius, batch):
-    """``radius`` checked > 0 and finite: by name for one scene, by its first bad index for a batch."""
-    if not batch:
-        return _positive("radius", radius)
-    return check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
-
-
-def _law_reads_radius(law):
-    """True when some engine of ``law`` reads the radius (``check_radius_used`` accepts one)."""
-    try:
-        check_radius_used(law, 1.0)
-    except ValueError:
-        return False
-    return True
-
-
-def _law_of(law, engine):
-    """The law to solve for: ``law`` (default Hunt-Crossley), or ``engine``'s (they must agree)."""
-    if engine is None:
-        return get_law(DEFAULT_LAW if law is None else law)
-    engines_law = adapter(engine).law
-    if law is not None and get_law(law).name != engines_law.name:
-        raise ValueError(
-            f"law = {get_law(law).name!r} is not engine {engine!r}'s law {engines_law.name!r}: "
-            "give engine= or law=, not both"
-        )
-    return engines_law
-
-
-def _only(cp, engine):
-    """``cp`` with only ``engine``'s block (and ``engine`` set), or ``cp`` itself when none is asked.
-
-    One scene whose target leaves the bodies in contact warns (``NoSeparationWarning``).
-    """
-    if np.ndim(cp.ok) == 0 and no_separation_note(cp):
-        warnings.warn(no_separation_note(cp), NoSeparationWarning, stacklevel=3)
-    if engine is None:
-        return cp
-    return cp.replaced(engines={engine: cp.engines[engine]}, engine=engine)
-
-
-def _batch(*values):
-    """True when any input is an array (or a list) of more than a plain number."""
-    return any(v is not None and type(v) not in PLAIN_FLOATS and np.ndim(v) > 0 for v in values)
-
-
-def _batched(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law):
-    """Arrays of scenes: ``scene.batched.batched_parameters`` (see there)."""
-    from contactalpha.scene.batched import batched_parameters
-
+def _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine):
+    """The continuous answer of arrays of scenes (``batch.batched_parameters``, which checks the rows)."""
     if (eps is None) == (e_n is None):
         raise ValueError("give exactly one of eps (energetic) and e_N (kinematic) arrays")
     if (accel is None) == (force is None):
         raise ValueError("give exactly one of accel (m/s^2) and force (N) arrays")
-    for name, given in (("mass", mass), ("stiffness", stiffness), ("approach_speed", approach_speed)):
-        if given is None:
-            raise ValueError(f"{name} is required (SI units)")
+    require_scene(mass, stiffness, approach_speed)
     target, restitution = (e_n, "kinematic") if eps is None else (eps, "energetic")
-    scene = (mass, stiffness, approach_speed, accel, target)
-    return batched_parameters(*scene, restitution=restitution, law=law, radius=radius, force=force)
+    return batched_parameters(mass, stiffness, approach_speed, accel, target, restitution=restitution,
+                              law=law, radius=radius, force=force, engine=engine)  # fmt: skip
 
 
-def _fixed_damping_e_n(alpha, mass, stiffness, speed, accel, factor):
-    """Newton's e_N of an impact at ``factor`` times ``speed`` with the same damping ``mu = alpha k / v``."""
-    try:
-        xi = influence_factor_unchecked(mass, stiffness, speed * factor, accel)
-    except ValueError:  # the load's xi rounds to 1 at that speed: no impact to speak of
-        return math.nan
-    r = impact_unchecked(alpha * factor, xi)
-    return float(r.e_n) if r.status == "ok" else math.nan
+def _answer_for(cp, engine):
+    """``cp`` with ``engine`` set (its block is the only one), or ``cp`` itself when none is asked.
+
+    One scene whose target leaves the bodies in contact warns (``NoSeparationWarning``) at the
+    caller of ``contact_parameters``.
+    """
+    if np.ndim(cp.ok) == 0 and no_separation_note(cp):
+        warnings.warn(no_separation_note(cp), NoSeparationWarning, stacklevel=3)
+    return cp if engine is None else cp.replaced(engine=engine)

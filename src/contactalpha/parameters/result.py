@@ -93,7 +93,7 @@ class ContactParameters:
         engine's constant holds at this approach speed only.
     engine : the engine asked for (``contact_parameters(..., engine=NAME)``), else None.
     stepped : with ``timestep=``, what the engine delivers at its step over a uniformly random
-        touchdown phase (``scene.stepped.SteppedAnswer``; ``engines[engine]`` then holds the
+        touchdown phase (``parameters.at_step.SteppedAnswer``; ``engines[engine]`` then holds the
         parameters for the phase mean), else None.
     """
 
@@ -115,7 +115,7 @@ class ContactParameters:
     e_n_half_speed: float | np.ndarray
     e_n_twice_speed: float | np.ndarray
     engine: str | None = None
-    stepped: Any = None  # scene.stepped.SteppedAnswer or None (stepped imports this module)
+    stepped: Any = None  # parameters.at_step.SteppedAnswer or None (at_step imports this module)
 
     def __getattribute__(self, name):
         value = object.__getattribute__(self, name)
@@ -193,7 +193,7 @@ def gain_note(ans):
 
 
 def stepped_lines(ans):
-    """Text lines of a ``scene.stepped.SteppedAnswer`` for ``format_parameters``."""
+    """Text lines of a ``parameters.at_step.SteppedAnswer`` for ``format_parameters``."""
     name = "e_N" if ans.restitution == "kinematic" else "eps"
     lines = [
         f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "

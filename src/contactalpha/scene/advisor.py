@@ -52,7 +52,7 @@ from contactalpha.laws.domain import target_name
 from contactalpha.validation import check_positive, check_range, check_scalar
 
 from .law_scene import law_advise
-from .parameters import scene_accel
+from .load import scene_accel
 
 # The paper's three levels of xi (Sect. 3): small 0-0.1, moderate 0.1-0.5, large 0.5-1.
 XI_LEVELS = (("small", 0.0, 0.1), ("moderate", 0.1, 0.5), ("large", 0.5, 1.0))

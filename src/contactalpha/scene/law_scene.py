@@ -1,129 +1,20 @@
-"""The scene-level answers for any contact law: parameters, advice, critical speed, bounce sequence.
+"""The ball's answers for any contact law but the default: advice, critical speed, bounce sequence.
 
-``contact_parameters``, ``advise``, ``critical_speed`` and ``predict_bounces`` take ``law=`` and hand
-every law but the default (Hunt-Crossley, n = 3/2, whose own code stays as it was) to the functions
-here.  A scene's ``stiffness`` is the law's physical one: N/m for the linear laws (MuJoCo's soft
-contact included: its block divides by the mass), N/m^1.5 for the Hertz laws; its load enters as
-the scaled load ``A = a delta_s / v^2`` of the law's own scaling (``ContactLaw.load``).
+``advise``, ``critical_speed`` and ``predict_bounces`` take ``law=`` and hand every law but the
+default (Hunt-Crossley, n = 3/2, whose own code stays as it was) to the functions here
+(``contact_parameters``' path for such a law is ``parameters.one_scene``).  A scene's
+``stiffness`` is the law's physical one: N/m for the linear laws (MuJoCo's soft contact included),
+N/m^1.5 for the Hertz laws; its load enters as the scaled load ``A = a delta_s / v^2`` of the
+law's own scaling (``ContactLaw.load``).
 """
 
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contactalpha.adapters.registry import engine_parameters
 from contactalpha.engine.codes import NO_BRACKET, OK, STATUS
 from contactalpha.laws import get_law
-from contactalpha.laws.domain import target_name
-from contactalpha.laws.maps import check_settings, check_target, damping_for_unchecked, impact_unchecked
-
-from .reach import UnreachableTarget
-from .result import ContactParameters
-
-# Approach speeds, as factors of the given one, at which the fixed physical damping is checked.
-SPEED_FACTORS = (0.5, 2.0)
-
-
-@dataclass(frozen=True)
-class EngineScene:
-    """What an adapter's ``parameters`` reads of a scene (``radius`` may be None)."""
-
-    mass: object
-    stiffness: object
-    approach_speed: object
-    radius: object
-
-
-# Where the law's inverse fails, a load factor this close to 1, or a target this small, is named as
-# the cause: the load outweighs the approach, or the target is next to capture.
-XI_NEAR_ONE = 1.0 - 1e-6
-TARGET_SMALL = 1e-3
-
-
-def unresolved(law, value, restitution, xi, approach_speed, accel, status):
-    """``UnreachableTarget`` for a scene the law's inverse does not resolve: what the user can change."""
-    name = target_name(restitution)
-    where = f"no {law.damping} of law {law.name!r} gives {name} = {value!r} at xi = {xi!r} ({status})"
-    hints = []
-    if xi >= XI_NEAR_ONE:
-        hints.append(
-            f"the load factor is within {1.0 - xi:.2g} of 1: the load (accel = {accel!r} m/s^2) "
-            f"outweighs the approach (approach_speed = {approach_speed!r} m/s); give a faster approach "
-            "or a smaller load"
-        )
-    if value < TARGET_SMALL:
-        hints.append(
-            f"{name} = {value!r} is next to capture (no rebound), where the restitution falls steeply "
-            f"with the damping; give {name} >= {TARGET_SMALL:g}, or model the contact as capture"
-        )
-    if not hints:
-        hints.append("the scene is at the edge of what the law resolves; give a target or a load farther "
-                     "from it")  # fmt: skip
-    return UnreachableTarget(f"{where}: {'; '.join(hints)}")
-
-
-def law_contact_parameters(law, value, restitution, mass, stiffness, approach_speed, accel, radius=None):
-    """``contact_parameters`` of a law of the family for checked SI inputs (see ``contact_parameters``).
-
-    ``stiffness`` is the law's physical one (N/m for n = 1, N/m^1.5 for n = 3/2); the engines'
-    blocks (``adapters.registry.engine_parameters``) convert it to their own units.
-    """
-    law = get_law(law)
-    xi = float(law.scene_load_factor_unchecked(mass, stiffness, approach_speed, accel))
-    if value == 0.0:
-        raise ValueError(
-            f"{'eps' if restitution == 'energetic' else 'e_N'} = 0.0 is outside the valid range (0.0, 1.0] "
-            f"of law {law.name!r}"
-        )
-    sol = damping_for_unchecked(law, value, xi, restitution)
-    if not sol.ok:
-        raise unresolved(law, value, restitution, xi, approach_speed, accel, sol.status)
-    p = float(sol.damping)
-    scene = EngineScene(mass, stiffness, approach_speed, radius)
-    e_n_half, e_n_twice = (
-        float(fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, f)) for f in SPEED_FACTORS
-    )
-    return ContactParameters(
-        law=law.name,
-        xi=xi,
-        damping_name=law.damping,
-        damping=p,
-        physical_damping=float(law.physical_damping_unchecked(p, mass, stiffness, approach_speed)),
-        physical_unit=law.physical_unit,
-        eps=float(sol.eps),
-        e_n=float(sol.e_n),
-        end_state=str(sol.state),
-        ok=True,
-        reason="",
-        accel=accel,
-        delta_star=float(law.length_scale_unchecked(mass, stiffness, approach_speed)),
-        source="solver",
-        engines=engine_parameters(law, p, scene),
-        e_n_half_speed=e_n_half,
-        e_n_twice_speed=e_n_twice,
-    )
-
-
-def fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, factor, load_factor=None):
-    """Newton's e_N at ``factor`` times the approach speed with the same physical damping as ``p``.
-
-    The physical damping is ``p m^a k^b v^c`` (``ContactLaw.damping_unit``), so at the speed
-    ``factor v`` the law's damping is ``p factor^-c``; the load factor is the scene's at that
-    speed (``load_factor(mass, stiffness, speed, accel)`` if given, else the law's).  NaN where the
-    load's xi rounds to 1 there or the impact fails; arrays go through.
-    """
-    speed = np.asarray(approach_speed, dtype=float) * factor
-    with np.errstate(all="ignore"):
-        if load_factor is None:
-            A = law.load_unchecked(mass, stiffness, speed, accel)
-            xi = np.asarray(law.load_factor_unchecked(A), dtype=float)
-        else:
-            xi = np.asarray(load_factor(mass, stiffness, speed, accel), dtype=float)
-    p_f = np.asarray(p, dtype=float) * factor ** -law.damping_unit[3]
-    good = np.isfinite(p_f) & (xi < 1.0)
-    r = impact_unchecked(law, np.where(good, p_f, 0.0), np.where(good, xi, 0.0))
-    e_n = np.where(good & (np.asarray(r.status) == "ok"), r.e_n, np.nan)
-    return float(e_n) if e_n.ndim == 0 else e_n
+from contactalpha.laws.maps import damping_for_unchecked
 
 
 @dataclass(frozen=True)
@@ -201,7 +92,7 @@ def law_advise(law, value, restitution, mass, stiffness, approach_speed, accel, 
 def _separates(law, value, restitution, A, settings):
     """(True if the law's exact damping for ``value`` at scaled load ``A`` separates, or None; status).
 
-    ``value`` and ``settings`` checked (``law_boundary_load``).
+    ``value`` and ``settings`` checked.
     """
     sol = damping_for_unchecked(law, value, law.load_factor_unchecked(A), restitution, settings)
     if not sol.ok:
@@ -221,15 +112,11 @@ LOAD_BRACKET = (1e-8, 1e6)
 LOAD_BRACKET_STEP = 10.0
 
 
-def law_boundary_load(law, eps, restitution="energetic", **settings):
-    """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status)."""
-    law = get_law(law)
-    settings = check_settings(law, settings)
-    return _boundary_load(law, float(check_target(law, eps, restitution)), restitution, settings)
-
-
 def _boundary_load(law, eps, restitution, settings):
-    """``law_boundary_load`` of a target and settings already checked."""
+    """Scaled load ``A_b`` above which the law's exact damping for ``eps`` stops separating: (A_b, status).
+
+    ``eps`` and ``settings`` checked (``laws.maps.check_target``, ``check_settings``).
+    """
     lo = np.log(LOAD_BRACKET[0])
     s_lo, status = _separates(law, eps, restitution, LOAD_BRACKET[0], settings)
     if s_lo is None:
@@ -313,17 +200,3 @@ def law_predict_bounces(scene, model, law, max_contacts=1000):
     out["states"] = tuple(rows["state"])
     out["time_to_rest"] = t
     return out
-
-
-def __getattr__(name):
-    if name == "LawParameters":
-        import warnings
-
-        warnings.warn(
-            "scene.law_scene.LawParameters is deprecated: contact_parameters returns "
-            "contactalpha.ContactParameters for every law",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return ContactParameters
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

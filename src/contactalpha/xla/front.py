@@ -1,6 +1,6 @@
 """The JAX front door: target restitutions of many scenes -> the law's damping and the engines' parameters.
 
-``contact_parameters`` is ``scene.batched.batched_parameters`` as a pure function of arrays: it
+``contact_parameters`` is ``parameters.batch.batched_parameters`` as a pure function of arrays: it
 accepts ``jax.jit``, ``jax.vmap`` and ``jax.grad`` (the law and the restitution are static).
 The law's damping comes from its shipped table on the device (``tables.py``), or, for a law whose
 impacts have a closed form (MuJoCo's soft contact at any impedance, the spring-dashpot), from
