@@ -58,7 +58,7 @@ def main():
         ]
         scalar.append(time.perf_counter() - t0)
     if law:  # another law: the scalar call solves exactly; compare the dimensionless damping
-        worst = max(abs(one[i].alpha / out.damping[i] - 1.0) for i in range(args.scalar) if one[i].alpha)
+        worst = max(abs(one[i].damping / out.damping[i] - 1.0) for i in range(args.scalar) if one[i].damping)
     else:  # the scalar xi may differ from the array path's in the last bit (engine.scaling's two paths)
         worst = max(
             abs(one[i].engines[e][name] / np.broadcast_to(out.engines[e][name], (args.n,))[i] - 1.0)

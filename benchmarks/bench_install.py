@@ -25,7 +25,7 @@ CORE_CHECK = """
 import warnings, contactalpha as ca
 print(ca.alpha(0.5, 0.2), ca.alpha(0.5, 0.2, restitution="kinematic"))
 print(ca.contact_parameters(0.5, 2.0, 2.51e6, 0.5, accel=9.81).damping)
-print(ca.contact_parameters(e_N=0.5, mass=2.0, stiffness=2.51e6, approach_speed=0.5, accel=9.81).alpha)
+print(ca.contact_parameters(e_N=0.5, mass=2.0, stiffness=2.51e6, approach_speed=0.5, accel=9.81).damping)
 print(ca.advise(0.5, 2.0, 2.51e6, 0.5, accel=9.81).recommended)
 print(ca.critical_speed(0.5, 2.0, 2.51e6, 9.81))
 print(ca.predict_bounces(ca.Scene(), "exact").approach_speeds[:3])

@@ -34,7 +34,7 @@ print(f"approach speed   {approach_speed:.6g} m/s")
 print(f"measured e_N     {e_n:.6g}")
 print(f"Hertz stiffness  {stiffness:.6g} N/m^1.5")
 print(f"xi               {cp.xi:.6g}")
-print(f"alpha            {cp.alpha:.6g}")
+print(f"alpha            {cp.damping:.6g}")
 print(f"OpenSim stiffness   {opensim['stiffness']:.6g} Pa (each geometry, Simbody's convention)")
 print(f"OpenSim dissipation {opensim['dissipation']:.6g} s/m (for this approach speed only)")
 

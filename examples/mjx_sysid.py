@@ -103,8 +103,8 @@ for it in range(1, ITERATIONS + 1):
 b_fit = -float(solref_of(e_n)[1])
 print(f"misfit at b_true          {float(misfit_of_b(B_TRUE)):.3e}")
 
-cal = ca.calibrate(recorded, kind="trajectory", t=times, mass=MASS, gravity=G, laws=["mujoco_soft_damping"],
-                   intervals=False, impedance=IMPEDANCE)  # fmt: skip
+cal = ca.calibrate(recorded, kind="trajectory", t=times, mass=MASS, gravity=G,
+                   hypotheses=["mujoco_soft_damping"], intervals=False, impedance=IMPEDANCE)  # fmt: skip
 b_cal = cal.fits["mujoco_soft_damping"].values["damping"]
 print(f"first-impact e_N fitted   {e_n:.6f}")
 print(f"damping b true            {B_TRUE:.6f}")

@@ -357,3 +357,36 @@ def test_an_example_that_needs_a_missing_engine_skips(tmp_path, monkeypatch):
     page.write_text("```python\nimport no_such_module_at_all\n```\n", encoding="utf-8")
     with pytest.raises(ImportError):  # any other missing module is a failure
         run_page(page, tmp_path)
+
+
+def _nav_pages(items):
+    """Every page path of a mkdocs ``nav`` (nested sections walked)."""
+    for item in items:
+        value = next(iter(item.values())) if isinstance(item, dict) else item
+        if isinstance(value, list):
+            yield from _nav_pages(value)
+        elif not str(value).startswith(("http://", "https://")):
+            yield str(value)
+
+
+def _nav():
+    import yaml
+
+    return yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))["nav"]
+
+
+def test_every_docs_page_is_in_the_navigation():
+    """A page outside the nav is built but unreachable from the site's menus: each is listed.
+
+    The pages of docs/engines/ count as listed when docs/hooks.py's ``on_config`` adds them.
+    """
+    nav = list(_nav_pages(_nav()))
+    docs = ROOT / "docs"
+    missing_files = [page for page in nav if not (docs / page).is_file()]
+    assert missing_files == []
+    engines_section = [item for item in _nav() if isinstance(item, dict) and "Engines" in item]
+    listed = set(nav)
+    if engines_section:
+        listed |= {f"engines/{p.name}" for p in (docs / "engines").glob("*.md")}  # the hook adds them
+    pages = sorted(str(p.relative_to(docs)) for p in [*docs.glob("*.md"), *(docs / "engines").glob("*.md")])
+    assert [page for page in pages if page not in listed] == []

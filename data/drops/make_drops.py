@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contactalpha.calibration import laws, sequence
+from contactalpha.calibration import hypotheses, sequence
 from contactalpha.calibration.recovery import SCENES, exact_times
 
 HERE = Path(__file__).resolve().parent
@@ -29,11 +29,11 @@ def main():
     t = exact_times(BALL)  # the package's own prediction: scene.bounces.predict_bounces
     write("hc_eps_times.csv", ["t (s)"], [t + rng.normal(0.0, 1e-4, t.size)])
     null = sequence.simulate(
-        laws.LAWS["constant_e"], {"e": 0.8, "stiffness": 1e8}, BALL.mass, G, BALL.speed, 0.0, 21
+        hypotheses.HYPOTHESES["constant_e"], {"e": 0.8, "stiffness": 1e8}, BALL.mass, G, BALL.speed, 0.0, 21
     )
     write("constant_e_times.csv", ["t (s)"], [null.touchdowns + rng.normal(0.0, 1e-4, null.touchdowns.size)])
     hc = sequence.simulate(
-        laws.LAWS["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, BALL.mass, G, BALL.speed, 0.0, 100
+        hypotheses.HYPOTHESES["hc_eps"], {"eps": 0.8, "stiffness": 1e8}, BALL.mass, G, BALL.speed, 0.0, 100
     )
     h = np.concatenate([[BALL.speed**2 / (2 * G)], hc.apexes[:11]])
     write("hc_eps_heights.csv", ["h (m)"], [h * np.exp(rng.normal(0.0, 0.01, h.size))])

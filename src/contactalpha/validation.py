@@ -1,11 +1,7 @@
 """Input checks shared by the public API: every message names the value and the valid range."""
 
-import functools
 import math
 import reprlib
-import warnings
-from collections.abc import Callable
-from typing import TypeVar
 
 import numpy as np
 
@@ -13,35 +9,6 @@ import numpy as np
 FloatOrArray = float | np.ndarray
 # A real number or an array of them (the public functions broadcast their array arguments).
 RealLike = float | np.ndarray
-_F = TypeVar("_F", bound=Callable)
-
-
-def renamed_keywords(**old_to_new: str) -> Callable[[_F], _F]:
-    """Keep old keyword names of a function working, with a ``DeprecationWarning`` naming the new one.
-
-    ``@renamed_keywords(m_e="mass")``: a call with ``m_e=...`` warns and passes it as ``mass``;
-    a call with both raises ``TypeError``.  Positional calls are untouched.
-    """
-
-    def decorate(fn):
-        @functools.wraps(fn)
-        def wrapper(*args, **kwargs):
-            if kwargs and not kwargs.keys().isdisjoint(old_to_new):
-                for old, new in old_to_new.items():
-                    if old in kwargs:
-                        if new in kwargs:
-                            raise TypeError(f"{fn.__name__}() got both {old!r} (its old name) and {new!r}")
-                        warnings.warn(
-                            f"{fn.__name__}(): the keyword {old!r} is deprecated; use {new!r}",
-                            DeprecationWarning,
-                            stacklevel=2,
-                        )
-                        kwargs[new] = kwargs.pop(old)
-            return fn(*args, **kwargs)
-
-        return wrapper
-
-    return decorate
 
 
 # Upper limit on a step budget: far beyond any run, far below int64 overflow in the kernels.

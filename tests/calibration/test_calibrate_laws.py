@@ -75,19 +75,22 @@ def test_touchdowns_and_heights_agree_with_the_time_stepped_ball():
     np.testing.assert_allclose(z, -run.delta[flight], atol=1e-9)
 
 
-def test_old_law_names_of_the_hypotheses_warn_and_still_work(tmp_path):
-    """ "Law" names a contact law only; the hypotheses' old names are kept, with a warning."""
+def test_the_hypotheses_have_one_name(tmp_path):
+    """ "Law" names a contact law only: the hypotheses' old names (before 0.1.0) are gone."""
     import contactalpha as ca
     from contactalpha.cli import main
 
     t = sequence.simulate(
         hypotheses.HYPOTHESES["constant_e"], {"e": 0.8, "stiffness": K}, M, 9.81, 2.0, 0.0, 12
     )
-    with pytest.warns(DeprecationWarning, match="'hypotheses'"):
-        cal = ca.calibrate(t.touchdowns, kind="times", mass=M, laws=["constant_e"], intervals=False)
+    cal = ca.calibrate(t.touchdowns, kind="times", mass=M, hypotheses=["constant_e"], intervals=False)
     assert list(cal.fits) == ["constant_e"]
-    with pytest.warns(DeprecationWarning, match="HYPOTHESES"):
-        assert hypotheses.LAWS is hypotheses.HYPOTHESES
+    with pytest.raises(TypeError, match="laws"):
+        ca.calibrate(t.touchdowns, kind="times", mass=M, laws=["constant_e"], intervals=False)
+    for old in ("LAWS", "DEFAULT_LAW", "Law", "check_law"):
+        assert not hasattr(hypotheses, old)
+    with pytest.raises(ImportError):
+        __import__("contactalpha.calibration.laws")
     path = tmp_path / "t.csv"
     path.write_text("t\n" + "\n".join(repr(float(x)) for x in t.touchdowns) + "\n")
     assert main(["calibrate", str(path), "--mass", str(M), "--law", "constant_e", "--quiet"]) == 0

@@ -25,7 +25,7 @@ def test_contact_parameters_is_a_frozen_dataclass_with_every_field():
     cp = ca.contact_parameters(0.8, mass=0.5, stiffness=1.4e8, approach_speed=0.5, accel=9.81)
     assert cp == type(cp)(**{f.name: getattr(cp, f.name) for f in dataclasses.fields(cp)})
     with pytest.raises(dataclasses.FrozenInstanceError):
-        cp.alpha = 1.0
+        cp.damping = 1.0
 
 
 def test_frozen_instance_refuses_missing_or_unknown_fields():

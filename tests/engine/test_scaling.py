@@ -93,20 +93,6 @@ def test_scalar_length_scale_is_the_array_one_bit_for_bit():
         ca.length_scale(1.0, 0.0, 1.0)
 
 
-def test_old_keyword_names_still_work_with_a_deprecation_warning():
-    new = ca.influence_factor(mass=2.0, stiffness=1e9, approach_speed=0.7, accel=9.81)
-    with pytest.warns(DeprecationWarning, match="'m_e' is deprecated; use 'mass'"):
-        old = ca.influence_factor(m_e=2.0, k=1e9, v0=0.7, a=9.81)
-    assert old == new == ca.influence_factor(2.0, 1e9, 0.7, 9.81)
-    with pytest.warns(DeprecationWarning, match="'v0'"):
-        assert ca.length_scale(2.0, 1e9, v0=0.7) == ca.length_scale(2.0, 1e9, 0.7)
-    with pytest.raises(TypeError, match="both 'k'"):
-        ca.influence_factor(2.0, 0.7, 9.81, k=1e9, stiffness=1e9)
-    with pytest.warns(DeprecationWarning, match="'v_impact'"):
-        f = ca.contact_force(1e-4, 0.1, v_impact=0.5, k=1e9, eps=0.5, xi=0.1)
-    assert f == ca.contact_force(1e-4, 0.1, 0.5, 1e9, 0.5, 0.1)
-
-
 def test_early_stopping_xi_kernel_is_the_fixed_step_iteration_bit_for_bit():
     # The scalar kernel stops at a fixed point of the Newton step; the fixed-count iteration
     # (the array path's and the C export's) must give the same bits, including at the extremes.

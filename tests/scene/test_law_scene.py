@@ -20,9 +20,9 @@ def test_contact_parameters_of_mujocos_soft_contact():
     law = get_law("mujoco_soft")
     assert cp.e_n == pytest.approx(0.5, abs=1e-9)
     assert cp.xi == pytest.approx(law.load_factor(G / (100.0 * 0.5)), rel=1e-14)
-    assert cp.engines["mujoco"]["solref"] == (-1e4, pytest.approx(-2.0 * cp.alpha * 100.0, rel=1e-14))
+    assert cp.engines["mujoco"]["solref"] == (-1e4, pytest.approx(-2.0 * cp.damping * 100.0, rel=1e-14))
     # What the engine receives delivers the target: the law's forward map at its damping.
-    assert law.impact(cp.alpha, cp.xi).e_n == pytest.approx(0.5, abs=1e-9)
+    assert law.impact(cp.damping, cp.xi).e_n == pytest.approx(0.5, abs=1e-9)
 
 
 def test_default_law_is_unchanged():

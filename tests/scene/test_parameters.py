@@ -14,20 +14,20 @@ def test_energetic_scene_gives_the_exact_alpha_and_each_engines_parameter():
     cp = contact_parameters(0.8, **BALL, accel=9.81, radius=0.08)
     xi = ca.influence_factor(0.5, 1.4e8, 0.5, 9.81)
     assert cp.xi == xi
-    assert cp.alpha == ca.alpha(0.8, xi)
-    assert cp.alpha_source == "table"
-    assert cp.damping == cp.alpha and cp.damping_name == "alpha"
-    assert cp.physical_damping == pytest.approx(cp.alpha / 0.5, rel=1e-15) and cp.physical_unit == "s/m"
+    assert cp.damping == ca.alpha(0.8, xi)
+    assert cp.source == "table"
+    assert cp.damping_name == "alpha"
+    assert cp.physical_damping == pytest.approx(cp.damping / 0.5, rel=1e-15) and cp.physical_unit == "s/m"
     assert cp.end_state == "separation"
     assert cp.eps == pytest.approx(0.8, abs=1e-6)
     assert 0 < cp.e_n < cp.eps
-    assert cp.engines["opensim"]["dissipation"] == pytest.approx(2 * cp.alpha / (3 * 0.5), rel=1e-15)
+    assert cp.engines["opensim"]["dissipation"] == pytest.approx(2 * cp.damping / (3 * 0.5), rel=1e-15)
     assert cp.engines["opensim"]["stiffness"] == pytest.approx(3 * 1.4e8 / np.sqrt(2 * 0.08), rel=1e-15)
     assert cp.engines["exudyn"]["contactStiffness"] == 1.4e8
     from contactalpha.adapters.engine_conventions import exudyn_alpha
 
     e_res = cp.engines["exudyn"]["restitutionCoefficient"]
-    assert exudyn_alpha(e_res, 2) == pytest.approx(cp.alpha, rel=1e-12)
+    assert exudyn_alpha(e_res, 2) == pytest.approx(cp.damping, rel=1e-12)
 
 
 def test_kinematic_scene_hits_its_e_n_and_force_is_mass_times_accel():
@@ -35,15 +35,15 @@ def test_kinematic_scene_hits_its_e_n_and_force_is_mass_times_accel():
     assert cp.accel == 120.0
     assert cp.e_n == pytest.approx(0.6, abs=1e-6)
     assert cp.eps > cp.e_n
-    assert cp.alpha == ca.alpha(0.6, cp.xi, restitution="kinematic")
+    assert cp.damping == ca.alpha(0.6, cp.xi, restitution="kinematic")
     same = contact_parameters(e_N=0.6, **BALL, accel=120.0)
-    assert same.alpha == cp.alpha
+    assert same.damping == cp.damping
 
 
 def test_outside_the_table_the_solver_answers():
     cp = contact_parameters(0.005, **BALL, force=495.0)
-    assert cp.alpha_source == "solver"
-    assert cp.alpha == ca.solve_alpha(0.005, cp.xi).alpha
+    assert cp.source == "solver"
+    assert cp.damping == ca.solve_alpha(0.005, cp.xi).alpha
     assert cp.end_state in ("nonseparation", "creep")
 
 
@@ -89,7 +89,7 @@ def test_cli_params(capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out
     cp = contact_parameters(e_N=0.8, **BALL, force=5.1)
-    assert f"alpha           {cp.alpha:.15g}" in out
+    assert f"alpha           {cp.damping:.15g}" in out
     assert f"{cp.engines['opensim']['dissipation']:.15g}" in out
     assert main(["params", "--eps", "2", *scene]) == 2
     assert "eps = 2.0 is outside" in capsys.readouterr().err
@@ -102,7 +102,7 @@ def test_cli_params_with_a_law(capsys):
     cp = contact_parameters(
         e_N=0.6, mass=2, stiffness=2.51e6, approach_speed=0.5, accel=9.81, law="hunt_crossley_linear"
     )
-    assert f"alpha           {cp.alpha:.15g}" in out and "law             hunt_crossley_linear" in out
+    assert f"alpha           {cp.damping:.15g}" in out and "law             hunt_crossley_linear" in out
     assert cp.e_n == pytest.approx(0.6, abs=1e-9)
     assert main(["params", "--e-n", "0.6", "--law", "hooke", *scene]) == 2
     assert "unknown contact law 'hooke'; valid: hunt_crossley," in capsys.readouterr().err

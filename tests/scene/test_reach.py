@@ -11,7 +11,7 @@ from contactalpha import cli
 from contactalpha.adapters.base import Delivered, Refinement
 from contactalpha.adapters.contract import DropScene
 from contactalpha.laws import get_law
-from contactalpha.scene import reach
+from contactalpha.parameters import reach
 
 
 @dataclass(frozen=True)

@@ -92,17 +92,7 @@ def test_the_physical_damping_is_the_laws_in_its_unit_checked_by_hand():
     assert cp.physical_damping == pytest.approx(2.0 * cp.damping * math.sqrt(k * m), rel=1e-15)
     assert cp.physical_unit == "N s/m"
     hc = ca.contact_parameters(e_N=0.5, mass=m, stiffness=1.4e8, approach_speed=v, accel=G)
-    assert hc.physical_damping == pytest.approx(hc.alpha / v, rel=1e-15) and hc.physical_unit == "s/m"
-
-
-@pytest.mark.parametrize("old", ["scene.law_scene:LawParameters", "parameters.batch:BatchedParameters"])
-def test_the_old_result_classes_are_deprecated_aliases(old):
-    import importlib
-
-    module, name = old.split(":")
-    with pytest.warns(DeprecationWarning, match=name):
-        alias = getattr(importlib.import_module(f"contactalpha.{module}"), name)
-    assert alias is ContactParameters
+    assert hc.physical_damping == pytest.approx(hc.damping / v, rel=1e-15) and hc.physical_unit == "s/m"
 
 
 @pytest.mark.parametrize("engine", ENGINE_NAMES)

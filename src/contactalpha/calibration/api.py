@@ -9,7 +9,7 @@ import numpy as np
 
 from contactalpha.laws import get_law
 from contactalpha.scene.ball import GRAVITY
-from contactalpha.validation import check_positive, check_range, renamed_keywords
+from contactalpha.validation import check_positive, check_range
 
 from . import data as data_mod
 from . import family  # noqa: F401  (registers the contact-law family's laws)
@@ -164,7 +164,6 @@ def _as_data(source, kind, t, tolerance):
     )
 
 
-@renamed_keywords(laws="hypotheses")
 def calibrate(
     data: "str | Path | data_mod.DropData | np.ndarray",
     *,

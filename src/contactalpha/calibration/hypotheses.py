@@ -257,27 +257,3 @@ def check_hypothesis(name):
     if name not in HYPOTHESES:
         raise ValueError(f"law = {name!r} is not one of {', '.join(map(repr, HYPOTHESES))}, or 'all'")
     return HYPOTHESES[name]
-
-
-# The names these had before "law" meant the contact law only (never in a release): kept one
-# version, with a DeprecationWarning.
-_OLD_NAMES = {
-    "LAWS": "HYPOTHESES",
-    "DEFAULT_LAW": "DEFAULT_HYPOTHESIS",
-    "DEFAULT_LAWS": "DEFAULT_HYPOTHESES",
-    "Law": "Hypothesis",
-    "law_names": "hypothesis_names",
-    "check_law": "check_hypothesis",
-}
-
-
-def __getattr__(name):
-    if name in _OLD_NAMES:
-        import warnings
-
-        new = _OLD_NAMES[name]
-        warnings.warn(
-            f"calibration.hypotheses.{name} is deprecated; use {new}", DeprecationWarning, stacklevel=2
-        )
-        return globals()[new]
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

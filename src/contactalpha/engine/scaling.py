@@ -20,14 +20,13 @@ from contactalpha.validation import (
     check_positive,
     check_range,
     check_xi,
-    renamed_keywords,
 )
 
 from .firstcall import FirstCall
 from .threads import flat_owned
 
-# The public API's names of the scene's quantities (the front door's), and their old names here.
-OLD_NAMES = {"m_e": "mass", "k": "stiffness", "v0": "approach_speed"}
+# The public API's names of the scene's quantities (the front door's), in the order of the arguments.
+SCENE_NAMES = ("mass", "stiffness", "approach_speed")
 
 # ln(5/4), the constant of delta_star's logarithm.
 LOG_5_4 = math.log(1.25)
@@ -84,7 +83,7 @@ def _scales_checked(m_e, k, v0):
     if plain:
         d, t = _scales(m_e, k, v0)
     else:
-        m_e, k, v0 = (check_positive(n, val) for n, val in zip(OLD_NAMES.values(), (m_e, k, v0), strict=True))
+        m_e, k, v0 = (check_positive(n, val) for n, val in zip(SCENE_NAMES, (m_e, k, v0), strict=True))
         m_e, k, v0 = np.broadcast_arrays(m_e, k, v0)
         d, t = np.empty(m_e.shape), np.empty(m_e.shape)
         flat = [flat_owned(a) for a in (m_e, k, v0)]
@@ -105,7 +104,6 @@ def _scales_checked(m_e, k, v0):
     return d, t
 
 
-@renamed_keywords(**OLD_NAMES)
 def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
     """``delta_star`` in metres, for mass kg, stiffness N/m^1.5 and approach speed m/s.
 
@@ -115,7 +113,6 @@ def length_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) 
     return _scales_checked(mass, stiffness, approach_speed)[0]
 
 
-@renamed_keywords(**OLD_NAMES)
 def time_scale(mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
     """``t_star = delta_star / approach_speed`` in seconds (from logarithms where it would not fit)."""
     return _scales_checked(mass, stiffness, approach_speed)[1]
@@ -250,7 +247,6 @@ def influence_from_scaled_load(A):
     return xi
 
 
-@renamed_keywords(**OLD_NAMES, a="accel")
 def influence_factor(
     mass: RealLike, stiffness: RealLike, approach_speed: RealLike, accel: RealLike
 ) -> FloatOrArray:
@@ -275,18 +271,13 @@ def influence_factor(
     -------
     xi : float or ndarray
         In [0, 1).
-
-    Notes
-    -----
-    The old keyword names ``m_e``, ``k``, ``v0``, ``a`` still work, with a DeprecationWarning.
     """
     xi = _influence_factor_plain(mass, stiffness, approach_speed, accel)
     if xi is not None:
         return xi
     a = check_range("accel", accel, 0.0, np.inf, hi_open=True)
     m_e, k, v0 = (
-        check_positive(n, val)
-        for n, val in zip(OLD_NAMES.values(), (mass, stiffness, approach_speed), strict=True)
+        check_positive(n, val) for n, val in zip(SCENE_NAMES, (mass, stiffness, approach_speed), strict=True)
     )
     return _influence_factor_arrays(m_e, k, v0, a)
 
@@ -323,7 +314,6 @@ def _influence_factor_arrays(m_e, k, v0, a):
     return _scalar_or_array(xi)
 
 
-@renamed_keywords(**OLD_NAMES)
 def load_for(xi: RealLike, mass: RealLike, stiffness: RealLike, approach_speed: RealLike) -> FloatOrArray:
     """Relative acceleration ``accel`` (m/s^2) that gives influence factor ``xi``.
 

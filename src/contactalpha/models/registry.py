@@ -19,7 +19,6 @@ from contactalpha.validation import (
     RealLike,
     check_eps,
     check_xi,
-    renamed_keywords,
 )
 
 from .closed_form import closed_form
@@ -195,7 +194,6 @@ def register(model):
         MODELS[model.name] = model
 
 
-@renamed_keywords(v_impact="approach_speed", k="stiffness")
 def contact_force(
     delta: RealLike,
     delta_dot: RealLike,

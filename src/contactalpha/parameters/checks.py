@@ -1,5 +1,7 @@
 """The front door's checks of its arguments: one scene by name, a batch by name and first bad index."""
 
+from typing import Any
+
 import numpy as np
 
 from contactalpha.adapters.registry import adapter, check_radius_used
@@ -9,7 +11,7 @@ from contactalpha.scene.load import positive
 from contactalpha.validation import PLAIN_FLOATS, check_range, check_scalar
 
 
-def is_batch(*values: object) -> bool:
+def is_batch(*values: Any) -> bool:
     """True when any input is an array (or a list) of more than a plain number."""
     return any(v is not None and type(v) not in PLAIN_FLOATS and np.ndim(v) > 0 for v in values)
 

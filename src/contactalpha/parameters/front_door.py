@@ -155,11 +155,11 @@ def contact_parameters(
     chosen = law_of(law, engine)
     if not stepped:
         value, restitution = checked_target(eps, e_N)
-    cp = _answer_for(_one_scene(value, restitution, mass, stiffness, approach_speed, accel, force, radius,
-                                chosen, engine), engine)  # fmt: skip
+    m, k, v, a, sphere = _checked_scene(mass, stiffness, approach_speed, accel, force, radius)
+    cp = _answer_for(_one_scene(value, restitution, m, k, v, a, sphere, chosen, engine), engine)
     if not stepped:
         return cp
-    scene = (float(mass), float(stiffness), float(approach_speed), float(cp.accel), map_radius)
+    scene = (m, k, v, a, map_radius)
     cp = at_step(cp, engine, timestep, *scene, value, restitution)
     return cp if verify is None else verify_on_engine(cp, verify, *scene)
 
@@ -201,19 +201,23 @@ def _step_rows(eps, mass, stiffness, approach_speed, e_n, accel, force, map_radi
     return target, restitution
 
 
-def _one_scene(value, restitution, mass, stiffness, approach_speed, accel, force, radius, law, engine):
-    """The continuous answer of one scene (``one_scene``), its scene checked here."""
+def _checked_scene(mass, stiffness, approach_speed, accel, force, radius):
+    """``(mass, stiffness, approach_speed, accel, radius)`` of one scene, each checked once, as floats."""
     require_scene(mass, stiffness, approach_speed)
     m = positive("mass", mass)
     k = positive("stiffness", stiffness)
     v = positive("approach_speed", approach_speed)
     load, is_force = checked_load(accel, force)
     a = load / m if is_force else load
-    sphere = None if radius is None else positive("radius", radius)
+    return m, k, v, a, None if radius is None else positive("radius", radius)
+
+
+def _one_scene(value, restitution, m, k, v, a, radius, law, engine):
+    """The continuous answer of one checked scene (``one_scene``): Hunt-Crossley's path or the law's."""
     if law.name != DEFAULT_LAW:
         check_radius_used(law, radius)
-        return law_parameters(law, value, restitution, m, k, v, a, sphere, engine)
-    return hunt_crossley_parameters(law, value, restitution, m, k, v, a, sphere, engine)
+        return law_parameters(law, value, restitution, m, k, v, a, radius, engine)
+    return hunt_crossley_parameters(law, value, restitution, m, k, v, a, radius, engine)
 
 
 def _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine):

@@ -132,16 +132,6 @@ class ContactParameters:
         return ContactParameters(**{**values, **changes})
 
     @property
-    def alpha(self):
-        """``damping`` under its historic name (zeta or beta for those laws)."""
-        return self.damping
-
-    @property
-    def alpha_source(self):
-        """``source`` under its historic name."""
-        return self.source
-
-    @property
     def block(self):
         """The asked engine's block (``engines[engine]``); ValueError when no engine was asked for."""
         if self.engine is None:
