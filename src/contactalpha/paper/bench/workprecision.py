@@ -545,15 +545,6 @@ def reference_rows(regimes=None):
     return [{"regime": name, **reference_point(e, x)} for name, (e, x) in regimes.items()]
 
 
-def work_precision_rows(references, settings, **kwargs):
-    """``work_precision`` at each reference row (``reference_rows``), tagged with its regime."""
-    rows = []
-    for ref in references:
-        for row in work_precision(ref["eps"], ref["xi"], ref["alpha"], settings, **kwargs):
-            rows.append({"regime": ref["regime"], **row})
-    return rows
-
-
 # Per-point fields of ``failure_map`` copied into ``failure_rows``.
 FAILURE_FIELDS = ("alpha", "err_alpha", "nfev", "status", "state", "true_state")
 

@@ -26,8 +26,6 @@ from contactalpha.scene.advisor import cheapest, is_adequate
 
 # The registry name whose alpha is the surface itself.
 SURFACE_MODEL = "exact_solve"
-# Name of the "load ignored" variant in the maps.
-IGNORE = "ignore_load"
 # Code of "no model adequate" in the map of the cheapest model.
 NONE_ADEQUATE = -1
 
