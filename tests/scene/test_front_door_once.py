@@ -58,3 +58,13 @@ def test_one_engine_asked_builds_that_engines_block_only(monkeypatch, scene):
     every = front_door.contact_parameters(**scene, e_N=0.5, radius=0.05)
     assert built == ["exudyn"] and set(every.engines) >= {"opensim", "exudyn"}
     np.testing.assert_array_equal(cp.block["dissipation"], every.engines["opensim"]["dissipation"])
+
+
+def test_the_few_steps_warning_names_the_callers_line():
+    """A batch at a coarse step warns of worlds with few contact steps at the caller's line."""
+    from contactalpha.adapters.stepped import ContactStepsWarning
+
+    with pytest.warns(ContactStepsWarning, match="fewer than") as record:
+        cp = front_door.contact_parameters(**BATCH, e_N=0.5, engine="mujoco", timestep=0.004)
+    assert [w.filename for w in record if w.category is ContactStepsWarning] == [__file__]
+    assert np.all(cp.stepped.steps_min < 5)
