@@ -28,6 +28,7 @@ import numpy as np
 from contactalpha.adapters.registry import check_radius_used
 from contactalpha.laws import DEFAULT_LAW
 from contactalpha.laws.domain import target_name
+from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.scene.load import checked_load, positive
 from contactalpha.stepping.registry import STEPPER_NAMES
 from contactalpha.validation import check_scalar
@@ -213,11 +214,15 @@ def _checked_scene(mass, stiffness, approach_speed, accel, force, radius):
 
 
 def _one_scene(value, restitution, m, k, v, a, radius, law, engine):
-    """The continuous answer of one checked scene (``one_scene``): Hunt-Crossley's path or the law's."""
-    if law.name != DEFAULT_LAW:
-        check_radius_used(law, radius)
-        return law_parameters(law, value, restitution, m, k, v, a, radius, engine)
-    return hunt_crossley_parameters(law, value, restitution, m, k, v, a, radius, engine)
+    """The continuous answer of one checked scene (``one_scene``).
+
+    The law whose evaluator is the engine's own table (Hunt-Crossley, n = 3/2) takes that table and
+    ``engine.solver``; every other law its own inverse, as the batch does (``batch``).
+    """
+    if law.fast is ENGINE_TABLE:
+        return hunt_crossley_parameters(law, value, restitution, m, k, v, a, radius, engine)
+    check_radius_used(law, radius)
+    return law_parameters(law, value, restitution, m, k, v, a, radius, engine)
 
 
 def _batch(eps, mass, stiffness, approach_speed, e_n, accel, force, radius, law, engine):
