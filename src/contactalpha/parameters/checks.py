@@ -7,6 +7,7 @@ import numpy as np
 from contactalpha.adapters.registry import adapter, check_radius_used
 from contactalpha.engine.solver import no_kinematic_inverse
 from contactalpha.laws import DEFAULT_LAW, get_law
+from contactalpha.laws.law import ContactLaw
 from contactalpha.scene.load import positive
 from contactalpha.validation import PLAIN_FLOATS, check_range, check_scalar
 
@@ -37,7 +38,9 @@ def require_scene(mass: object, stiffness: object, approach_speed: object) -> No
             raise ValueError(f"{name} is required (SI units)")
 
 
-def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
+def check_rows(
+    name: str, value: Any, lo: float, hi: float, *, lo_open: bool = False, hi_open: bool = False
+) -> np.ndarray:
     """``value`` as a float array in range; else ValueError naming ``name``, its first bad index and value."""
     try:
         return np.asarray(check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open), dtype=float)
@@ -60,7 +63,7 @@ def check_rows(name, value, lo, hi, *, lo_open=False, hi_open=False):
         ) from None
 
 
-def broadcast_shape(**arrays):
+def broadcast_shape(**arrays: Any) -> tuple[int, ...]:
     """The broadcast shape of the named arrays (None skipped); else ValueError naming the two that clash."""
     shape, owner = (), None
     for name, value in arrays.items():
@@ -78,14 +81,14 @@ def broadcast_shape(**arrays):
     return shape
 
 
-def checked_radius(radius, batch):
+def checked_radius(radius: Any, batch: bool) -> float | np.ndarray:
     """``radius`` checked > 0 and finite: by name for one scene, by its first bad index for a batch."""
     if not batch:
         return positive("radius", radius)
     return check_rows("radius", radius, 0.0, np.inf, lo_open=True, hi_open=True)
 
 
-def check_load_rows(accel, force):
+def check_load_rows(accel: Any, force: Any) -> None:
     """A batch at the step needs every row's load > 0, as one scene does: else the whole batch is refused."""
     name, value = ("accel", accel) if force is None else ("force", force)
     try:
@@ -94,7 +97,7 @@ def check_load_rows(accel, force):
         raise ValueError(f"timestep needs a load pressing the bodies together in every row: {err}") from None
 
 
-def law_reads_radius(law):
+def law_reads_radius(law: ContactLaw) -> bool:
     """True when some engine of ``law`` reads the radius (``check_radius_used`` accepts one)."""
     try:
         check_radius_used(law, 1.0)
@@ -103,7 +106,7 @@ def law_reads_radius(law):
     return True
 
 
-def law_of(law, engine):
+def law_of(law: str | ContactLaw | None, engine: str | None) -> ContactLaw:
     """The law to solve for: ``law`` (default Hunt-Crossley), or ``engine``'s (they must agree)."""
     if engine is None:
         return get_law(DEFAULT_LAW if law is None else law)

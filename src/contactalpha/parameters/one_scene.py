@@ -9,6 +9,7 @@ half and at twice the approach speed (``SPEED_FACTORS``).  Inputs arrive checked
 """
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from contactalpha.engine.solver import solve_alpha
 from contactalpha.engine.table import EPS_MIN, XI_MAX, alpha_tabulated
 from contactalpha.laws import maps
 from contactalpha.laws.domain import target_name
+from contactalpha.laws.law import ContactLaw
 
 from .block_scene import BlockScene
 from .reach import UnreachableTarget, eps_zero_without_load
@@ -32,7 +34,7 @@ XI_NEAR_ONE = 1.0 - 1e-6
 TARGET_SMALL = 1e-3
 
 
-def engine_blocks(law, damping, scene, engine=None):
+def engine_blocks(law: ContactLaw, damping: Any, scene: BlockScene, engine: str | None = None) -> dict:
     """``engine``'s block for the law's ``damping`` in ``scene``, or every engine's of ``law`` (None)."""
     if engine is None:
         return engine_parameters(law, damping, scene)
@@ -40,8 +42,16 @@ def engine_blocks(law, damping, scene, engine=None):
 
 
 def hunt_crossley_parameters(
-    law, value, restitution, mass, stiffness, approach_speed, accel, radius, engine=None
-):
+    law: ContactLaw,
+    value: float,
+    restitution: str,
+    mass: float,
+    stiffness: float,
+    approach_speed: float,
+    accel: float,
+    radius: float | None,
+    engine: str | None = None,
+) -> ContactParameters:
     """``ContactParameters`` of one Hunt-Crossley scene (n = 3/2) for checked SI inputs."""
     xi = influence_factor_unchecked(mass, stiffness, approach_speed, accel)
     if restitution == "energetic" and value == 0.0 and xi == 0.0:
@@ -99,7 +109,17 @@ def _hunt_crossley_e_n(alpha, mass, stiffness, speed, accel, factor):
     return float(r.e_n) if r.status == "ok" else math.nan
 
 
-def law_parameters(law, value, restitution, mass, stiffness, approach_speed, accel, radius=None, engine=None):
+def law_parameters(
+    law: ContactLaw,
+    value: float,
+    restitution: str,
+    mass: float,
+    stiffness: float,
+    approach_speed: float,
+    accel: float,
+    radius: float | None = None,
+    engine: str | None = None,
+) -> ContactParameters:
     """``ContactParameters`` of one scene of another law of the family for checked SI inputs.
 
     ``stiffness`` is the law's physical one (N/m for n = 1, N/m^1.5 for n = 3/2); the engines'
@@ -140,7 +160,15 @@ def law_parameters(law, value, restitution, mass, stiffness, approach_speed, acc
     )
 
 
-def unresolved(law, value, restitution, xi, approach_speed, accel, status):
+def unresolved(
+    law: ContactLaw,
+    value: float,
+    restitution: str,
+    xi: float,
+    approach_speed: float,
+    accel: float,
+    status: str,
+) -> UnreachableTarget:
     """``UnreachableTarget`` for a scene the law's inverse does not resolve: what the user can change."""
     name = target_name(restitution)
     where = f"no {law.damping} of law {law.name!r} gives {name} = {value!r} at xi = {xi!r} ({status})"
@@ -162,7 +190,16 @@ def unresolved(law, value, restitution, xi, approach_speed, accel, status):
     return UnreachableTarget(f"{where}: {'; '.join(hints)}")
 
 
-def fixed_damping_e_n(law, p, mass, stiffness, approach_speed, accel, factor, load_factor=None):
+def fixed_damping_e_n(
+    law: ContactLaw,
+    p: Any,
+    mass: Any,
+    stiffness: Any,
+    approach_speed: Any,
+    accel: Any,
+    factor: float,
+    load_factor: Any = None,
+) -> float | np.ndarray:
     """Newton's e_N at ``factor`` times the approach speed with the same physical damping as ``p``.
 
     The physical damping is ``p m^a k^b v^c`` (``ContactLaw.damping_unit``), so at the speed

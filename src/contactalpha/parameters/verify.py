@@ -7,6 +7,7 @@ is small) and reports what it measured in ``stepped.verify``.
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_count
 
 from .at_step import DEFAULT_STEP
+from .result import ContactParameters
 
 # Radius of the sphere an engine's verification drop uses when the scene gives none, m.
 VERIFY_RADIUS = 0.05
@@ -27,7 +29,7 @@ VERIFY_TOL = 1e-4
 VERIFY_MAX_PHASES = 4096
 
 
-def phase_mean_error(values):
+def phase_mean_error(values: Any) -> float:
     """Error estimate of the mean over equally spaced phases: half its two interleaved halves' gap.
 
     ``values[0::2]`` and ``values[1::2]`` are each a rectangle rule of the phase integral on half
@@ -38,7 +40,15 @@ def phase_mean_error(values):
     return 0.5 * abs(float(x[0::2].mean() - x[1::2].mean())) if x.size >= 2 else math.nan
 
 
-def verify_on_engine(cp, phases, mass, stiffness, approach_speed, accel, radius):
+def verify_on_engine(
+    cp: ContactParameters,
+    phases: int | str,
+    mass: float,
+    stiffness: float,
+    approach_speed: float,
+    accel: float,
+    radius: float | None,
+) -> ContactParameters:
     """``cp`` with ``stepped.verify``: the installed engine's drop at ``phases`` touchdown phases.
 
     The engine runs the block of ``cp.engines`` (the stepped parameters) at the stepped answer's
