@@ -116,7 +116,7 @@ def test_engine_parameters_of_the_selected_law():
     cal = ca.calibrate(t, kind="times", mass=M, radius=0.02, hypotheses=["hc_eps"], intervals=False)
     eng = cal.engines["hc_eps"]
     direct = ca.contact_parameters(eps=EPS, mass=M, stiffness=K, approach_speed=V0, accel=G, radius=0.02)
-    assert eng["alpha"] == pytest.approx(direct.alpha, rel=1e-4)
+    assert eng["alpha"] == pytest.approx(direct.damping, rel=1e-4)
     assert eng["engines"]["opensim"]["dissipation"] == pytest.approx(
         direct.engines["opensim"]["dissipation"], rel=1e-4
     )
