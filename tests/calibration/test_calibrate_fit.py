@@ -126,7 +126,7 @@ def test_engine_parameters_of_the_selected_law():
     ("kwargs", "message"),
     [
         ({"mass": -1.0}, "mass"),
-        ({"mass": M, "laws": ["nope"]}, r"law = 'nope' is not one of 'hc_eps'"),
+        ({"mass": M, "hypotheses": ["nope"]}, r"law = 'nope' is not one of 'hc_eps'"),
         ({"mass": M, "kind": None}, "give kind"),
         ({"mass": M, "moduli": (1e9, 1e9)}, "moduli need the ball's radius"),
     ],
