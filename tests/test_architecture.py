@@ -22,6 +22,7 @@ RANKS = {
     "baselines": 3,
     "adapters": 4,  # the engines: below scene, whose front door iterates the adapters' registry
     "scene": 5,
+    "dem": 5,  # DEM users' tools: the LAMMPS species table, other codes' names, the load's effect
     "xla": 5,  # the JAX front door (optional extra): tables, laws and the batched engines' blocks
     "warmup": 6,
     "paper": 7,
