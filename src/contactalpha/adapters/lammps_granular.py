@@ -224,9 +224,9 @@ def tsuji_factor():
     lmp = new_instance()
     try:
         lmp.commands_string(_box(2e-2) + f"""
-create_atoms 1 single 0 0 {_num(r - dlt)}
-set atom 1 diameter {_num(2 * r)} density {_num(rho)}
-velocity all set 0 0 {_num(-v)}
+create_atoms 1 single 0 0 {lammps_number(r - dlt)}
+set atom 1 diameter {lammps_number(2 * r)} density {lammps_number(rho)}
+velocity all set 0 0 {lammps_number(-v)}
 {wall_line(e_mod, cor, nu, "tsuji", False)}
 fix n all nve/sphere
 run 0
@@ -245,7 +245,7 @@ run 0
     )
 
 
-def _num(x):
+def lammps_number(x):
     """A number as LAMMPS reads it back exactly (``repr`` of the float)."""
     return repr(float(x))
 
@@ -258,7 +258,7 @@ dimension 3
 boundary p p f
 atom_modify map array
 comm_modify vel yes
-region box block {_num(-half)} {_num(half)} {_num(-half)} {_num(half)} {_num(-half)} {_num(half)}
+region box block {lammps_number(-half)} {lammps_number(half)} {lammps_number(-half)} {lammps_number(half)} {lammps_number(-half)} {lammps_number(half)}
 create_box 2 box
 """
 
@@ -266,16 +266,14 @@ create_box 2 box
 # --- lines --------------------------------------------------------------------------------------
 def model_words(modulus, coefficient, poisson, damping, limit_damping):
     """``hertz/material E e ν tangential ... damping STYLE [limit_damping]``: a line's model words."""
-    words = (
-        f"hertz/material {_num(modulus)} {_num(coefficient)} {_num(poisson)} {TANGENTIAL} damping {damping}"
-    )
+    words = f"hertz/material {lammps_number(modulus)} {lammps_number(coefficient)} {lammps_number(poisson)} {TANGENTIAL} damping {damping}"
     return words + (" limit_damping" if limit_damping else "")
 
 
 def wall_line(modulus, coefficient, poisson, damping, limit_damping, *, fix_id="wall", group="all", z=0.0):
     """``fix ID GROUP wall/gran granular ... zplane Z NULL``: a flat wall below the group."""
     words = model_words(modulus, coefficient, poisson, damping, limit_damping)
-    return f"fix {fix_id} {group} wall/gran granular {words} zplane {_num(z)} NULL"
+    return f"fix {fix_id} {group} wall/gran granular {words} zplane {lammps_number(z)} NULL"
 
 
 def pair_line(i, j, modulus, coefficient, poisson, damping, limit_damping):
@@ -410,16 +408,16 @@ class LammpsGranularAdapter(SteppingAdapter):
         h = self.timestep_for(scene, settings)
         line = wall_line(params["youngs_modulus"], params["coefficient"], params["poisson"], settings.damping,
                          self.limit_damping)  # fmt: skip
-        force = f"fix push all addforce 0 0 {_num(-scene.force)}\n" if scene.force else ""
+        force = f"fix push all addforce 0 0 {lammps_number(-scene.force)}\n" if scene.force else ""
         commands = f"""{line}
-fix g all gravity {_num(scene.gravity)} vector 0 0 -1
+fix g all gravity {lammps_number(scene.gravity)} vector 0 0 -1
 {force}fix n all nve/sphere
-timestep {_num(h)}
+timestep {lammps_number(h)}
 variable z equal z[1]
 variable vz equal vz[1]
 fix rec all vector 1 v_z v_vz
 """
-        header = f"set atom 1 diameter {_num(2 * r)} density {_num(params['density'])}\n"
+        header = f"set atom 1 diameter {lammps_number(2 * r)} density {lammps_number(params['density'])}\n"
         states = []
         for phase in np.arange(settings.phases) / settings.phases:
             tau = (1.0 + phase) * h  # from the start to touchdown: the exact parabola (Verlet in flight)
@@ -440,7 +438,7 @@ fix rec all vector 1 v_z v_vz
         for i, (z0, v0) in enumerate(model.states):
             lmp = new_instance()
             try:
-                place = f"create_atoms 1 single 0 0 {_num(r + z0)}\nvelocity all set 0 0 {_num(v0)}\n"
+                place = f"create_atoms 1 single 0 0 {lammps_number(r + z0)}\nvelocity all set 0 0 {lammps_number(v0)}\n"
                 lmp.commands_string(_box(max(40.0 * r, 4.0 * z0)) + place + model.commands)
                 lmp.command(f"run {n}")
                 rows = [[lmp.extract_fix("rec", 0, 2, j, c) for c in (0, 1)] for j in range(n)]
@@ -464,7 +462,7 @@ fix rec all vector 1 v_z v_vz
         model = self.build_drop(scene, params, settings)
         lmp = new_instance()
         try:
-            place = f"create_atoms 1 single 0 0 {_num(scene.radius - predicted)}\n"
+            place = f"create_atoms 1 single 0 0 {lammps_number(scene.radius - predicted)}\n"
             lmp.commands_string(_box(40.0 * scene.radius) + place + model.commands)
             lmp.command(f"run {steps}")
             z = float(lmp.numpy.extract_atom("x")[0, 2])

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contactalpha.adapters.lammps_granular import _num, new_instance
+from contactalpha.adapters.lammps_granular import lammps_number, new_instance
 from contactalpha.adapters.stepped import measure_steps
 
 
@@ -61,25 +61,25 @@ dimension 3
 boundary f f f
 atom_modify map array
 comm_modify vel yes
-region box block {_num(-size)} {_num(size)} {_num(-size)} {_num(size)} {_num(-size)} {_num(size)}
+region box block {lammps_number(-size)} {lammps_number(size)} {lammps_number(-size)} {lammps_number(size)} {lammps_number(-size)} {lammps_number(size)}
 create_box {types} box
-create_atoms {first.atom_type} single {_num(x1)} 0 0
-create_atoms {second.atom_type} single {_num(x2)} 0 0
-set atom 1 diameter {_num(2 * first.radius)} density {_num(first.density)}
-set atom 2 diameter {_num(2 * second.radius)} density {_num(second.density)}
+create_atoms {first.atom_type} single {lammps_number(x1)} 0 0
+create_atoms {second.atom_type} single {lammps_number(x2)} 0 0
+set atom 1 diameter {lammps_number(2 * first.radius)} density {lammps_number(first.density)}
+set atom 2 diameter {lammps_number(2 * second.radius)} density {lammps_number(second.density)}
 group one id 1
 group two id 2
-velocity one set {_num(u0 * m2 / (m1 + m2))} 0 0
-velocity two set {_num(-u0 * m1 / (m1 + m2))} 0 0
+velocity one set {lammps_number(u0 * m2 / (m1 + m2))} 0 0
+velocity two set {lammps_number(-u0 * m1 / (m1 + m2))} 0 0
 pair_style granular
 {pair_lines}
-neighbor {_num(skin)} bin
+neighbor {lammps_number(skin)} bin
 neigh_modify every 1 delay 0 check yes
-fix p1 one addforce {_num(push)} 0 0
-fix p2 two addforce {_num(-push)} 0 0
+fix p1 one addforce {lammps_number(push)} 0 0
+fix p2 two addforce {lammps_number(-push)} 0 0
 fix n all nve/sphere
-timestep {_num(timestep)}
-variable gap equal x[2]-x[1]-{_num(first.radius + second.radius)}
+timestep {lammps_number(timestep)}
+variable gap equal x[2]-x[1]-{lammps_number(first.radius + second.radius)}
 variable rate equal vx[2]-vx[1]
 fix rec all vector 1 v_gap v_rate
 run {int(steps)}

@@ -157,7 +157,7 @@ class SpeciesTable:
                 "pair_style granular",
                 *self.pair_lines(),
                 *self.wall_lines(),
-                f"timestep {lg._num(self.timestep)}",
+                f"timestep {lg.lammps_number(self.timestep)}",
             ]
         )
 
