@@ -251,6 +251,7 @@ def lammps_number(x):
 
 
 def _box(half):
+    bounds = f"{lammps_number(-half)} {lammps_number(half)}"
     return f"""
 units si
 atom_style sphere
@@ -258,7 +259,7 @@ dimension 3
 boundary p p f
 atom_modify map array
 comm_modify vel yes
-region box block {lammps_number(-half)} {lammps_number(half)} {lammps_number(-half)} {lammps_number(half)} {lammps_number(-half)} {lammps_number(half)}
+region box block {bounds} {bounds} {bounds}
 create_box 2 box
 """
 
@@ -266,7 +267,8 @@ create_box 2 box
 # --- lines --------------------------------------------------------------------------------------
 def model_words(modulus, coefficient, poisson, damping, limit_damping):
     """``hertz/material E e ν tangential ... damping STYLE [limit_damping]``: a line's model words."""
-    words = f"hertz/material {lammps_number(modulus)} {lammps_number(coefficient)} {lammps_number(poisson)} {TANGENTIAL} damping {damping}"
+    numbers = " ".join(lammps_number(x) for x in (modulus, coefficient, poisson))
+    words = f"hertz/material {numbers} {TANGENTIAL} damping {damping}"
     return words + (" limit_damping" if limit_damping else "")
 
 
@@ -438,7 +440,8 @@ fix rec all vector 1 v_z v_vz
         for i, (z0, v0) in enumerate(model.states):
             lmp = new_instance()
             try:
-                place = f"create_atoms 1 single 0 0 {lammps_number(r + z0)}\nvelocity all set 0 0 {lammps_number(v0)}\n"
+                place = f"create_atoms 1 single 0 0 {lammps_number(r + z0)}\n"
+                place += f"velocity all set 0 0 {lammps_number(v0)}\n"
                 lmp.commands_string(_box(max(40.0 * r, 4.0 * z0)) + place + model.commands)
                 lmp.command(f"run {n}")
                 rows = [[lmp.extract_fix("rec", 0, 2, j, c) for c in (0, 1)] for j in range(n)]

@@ -52,6 +52,7 @@ def pair_drop_e_n(pair_lines, first, second, approach_speed, accel, timestep, st
     ]
     types = max([first.atom_type, second.atom_type, *named])
     push = mu * accel
+    bounds = f"{lammps_number(-size)} {lammps_number(size)}"
     lmp = new_instance()
     try:
         lmp.commands_string(f"""
@@ -61,7 +62,7 @@ dimension 3
 boundary f f f
 atom_modify map array
 comm_modify vel yes
-region box block {lammps_number(-size)} {lammps_number(size)} {lammps_number(-size)} {lammps_number(size)} {lammps_number(-size)} {lammps_number(size)}
+region box block {bounds} {bounds} {bounds}
 create_box {types} box
 create_atoms {first.atom_type} single {lammps_number(x1)} 0 0
 create_atoms {second.atom_type} single {lammps_number(x2)} 0 0
