@@ -38,8 +38,11 @@ def _linear_drop(m, k, c):
 
     leave.terminal, leave.direction = True, -1
     span = (0.0, 100.0 * math.sqrt(m / k))
-    sol = solve_ivp(lambda t, y: [y[1], -(k * y[0] + c * y[1]) / m], span, [0.0, 1.0], events=leave, rtol=1e-12,
-                    atol=1e-14)  # fmt: skip
+
+    def rhs(t, y):
+        return [y[1], -(k * y[0] + c * y[1]) / m]
+
+    sol = solve_ivp(rhs, span, [0.0, 1.0], events=leave, rtol=1e-12, atol=1e-14)
     return -sol.y_events[0][0][1], sol.t_events[0][0]
 
 

@@ -41,11 +41,13 @@ from contactalpha.validation import check_positive, check_range
 SQRT5 = math.sqrt(5.0)
 
 
-def reduced_mass(m1, m2=math.inf):
-    """``m1 m2 / (m1 + m2)``, kg: the mass of a free pair's contact; ``m2 = inf`` (the default) is a wall."""
+def reduced_mass(m1, m2=None):
+    """``m1 m2 / (m1 + m2)``, kg: the mass of a free pair's contact; without ``m2`` a wall's: ``m1``."""
     m1 = np.asarray(check_positive("m1", m1), dtype=float)
-    m2 = np.asarray(check_range("m2", m2, 0.0, math.inf, lo_open=True), dtype=float)
-    out = np.where(np.isinf(m2), m1, m1 * m2 / (m1 + np.where(np.isinf(m2), 1.0, m2)))
+    if m2 is None:
+        return float(m1) if m1.ndim == 0 else m1
+    m2 = np.asarray(check_positive("m2", m2), dtype=float)
+    out = m1 * m2 / (m1 + m2)
     return float(out) if out.ndim == 0 else out
 
 
