@@ -376,13 +376,13 @@ class LammpsGranularAdapter(SteppingAdapter):
         out = {"coefficient": float_or_array(coefficient), "damp": float_or_array(damp)}
         if r is None:
             return out
-        nu = settings.poisson
-        modulus = float(line_modulus(k * 3.0 / (4.0 * math.sqrt(r)), nu))
+        nu, r = settings.poisson, np.asarray(r, dtype=float)
+        modulus = line_modulus(np.asarray(k, dtype=float) * 3.0 / (4.0 * np.sqrt(r)), nu)
         out.update(
-            youngs_modulus=modulus,
+            youngs_modulus=float_or_array(modulus),
             poisson=float(nu),
-            diameter=2.0 * r,
-            density=m / (4.0 / 3.0 * math.pi * r**3),
+            diameter=float_or_array(2.0 * r),
+            density=float_or_array(np.asarray(m, dtype=float) / (4.0 / 3.0 * math.pi * r**3)),
         )
         return out
 
