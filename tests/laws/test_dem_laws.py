@@ -17,14 +17,15 @@ from scipy_reference import reference_impact
 from contactalpha.laws import get_law
 
 UNFLOORED, VISCOELASTIC = "hertz_tsuji_unfloored", "hertz_viscoelastic"
+SQRT_DELTA = (VISCOELASTIC, "hertz_viscoelastic_unfloored")
 # Ramirez, Poeschel, Brilliantov & Schwager, PRE 60, 4465 (1999): the first two coefficients.
 C1_PUBLISHED, C2_PUBLISHED = 1.15344, 0.79826
 
 
 def drop_si(law_name, mass, stiffness, eta, speed, accel):
     """e_N of one drop in SI units by SciPy: m d'' = m a - F(d, d') while d > 0, from d = 0, d' = speed."""
-    root = 0.25 if law_name == UNFLOORED else 0.5  # the damping's power of the compression
-    floored = law_name != UNFLOORED
+    root = 0.5 if law_name in SQRT_DELTA else 0.25  # the damping's power of the compression
+    floored = not law_name.endswith("_unfloored")
 
     def rhs(_t, y):
         d = max(y[0], 0.0)
@@ -83,23 +84,25 @@ def test_the_floor_changes_tsuji_only_where_the_force_pulls():
     assert np.all(unfloored.e_n < floored.e_n)
 
 
-def test_sqrt_delta_law_at_small_damping_is_the_published_expansion():
+@pytest.mark.parametrize("name", SQRT_DELTA)
+def test_sqrt_delta_law_at_small_damping_is_the_published_expansion(name):
     c1 = math.sqrt(math.pi) * gamma(0.6) / (2**0.2 * 5**0.4 * gamma(2.1))  # Schwager & Poeschel 1998
     assert c1 == pytest.approx(C1_PUBLISHED, abs=1e-5)  # published truncated: 1.1534489
     kappa = np.array([1e-5, 1e-4, 3e-4])
-    r = get_law(VISCOELASTIC).impact(kappa, 0.0)
-    # 1 - e = C1 kappa - C2 kappa^2 + O(kappa^{5/2}) (the floor enters at kappa^{5/2}).
+    r = get_law(name).impact(kappa, 0.0)
+    # 1 - e = C1 kappa - C2 kappa^2 + O(kappa^{5/2}), with or without the floor (it enters at kappa^{5/2}).
     np.testing.assert_allclose((1.0 - r.e_n) / kappa, c1 - C2_PUBLISHED * kappa, rtol=0, atol=2e-6)
 
 
+@pytest.mark.parametrize("name", SQRT_DELTA)
 @pytest.mark.parametrize("speed", [0.01, 1.0, 30.0])
-def test_sqrt_delta_law_depends_on_the_speed_as_v_to_the_one_fifth(speed):
+def test_sqrt_delta_law_depends_on_the_speed_as_v_to_the_one_fifth(name, speed):
     # One physical eta at three speeds: kappa = eta v^{1/5} / (k^{3/5} m^{2/5}) carries the whole dependence.
-    law = get_law(VISCOELASTIC)
+    law = get_law(name)
     m, k, eta = 0.2, 3.0e6, 40.0
     kappa = law.damping_from_physical(eta, m, k, speed)
     assert kappa == pytest.approx(eta * speed**0.2 / (k**0.6 * m**0.4), rel=1e-14)
-    got = drop_si(VISCOELASTIC, m, k, eta, speed, 0.0)
+    got = drop_si(name, m, k, eta, speed, 0.0)
     assert got == pytest.approx(law.impact(kappa, 0.0).e_n, abs=1e-9)
 
 
