@@ -80,8 +80,9 @@ MUJOCO_SOFT = 3
 HERTZ_TSUJI = 4
 HERTZ_TSUJI_UNFLOORED = 5
 HERTZ_VISCOELASTIC = 6
+HERTZ_VISCOELASTIC_UNFLOORED = 7
 # The laws whose force is not floored: it pulls where f < 0 until x = 0.
-FLOORLESS = (HERTZ_TSUJI_UNFLOORED,)
+FLOORLESS = (HERTZ_TSUJI_UNFLOORED, HERTZ_VISCOELASTIC_UNFLOORED)
 
 
 @njit(cache=True, error_model="numpy")
@@ -95,7 +96,7 @@ def scaled_force(code, x, v, p, A, s):
         return mujoco_soft_force(x, v, p, A, s)
     if code == HERTZ_TSUJI or code == HERTZ_TSUJI_UNFLOORED:
         return hertz_tsuji_force(x, v, p, A, s)
-    if code == HERTZ_VISCOELASTIC:
+    if code == HERTZ_VISCOELASTIC or code == HERTZ_VISCOELASTIC_UNFLOORED:
         return hertz_viscoelastic_force(x, v, p, A, s)
     return hunt_crossley_force(x, v, p, A, s)
 
@@ -103,7 +104,7 @@ def scaled_force(code, x, v, p, A, s):
 @njit(cache=True, error_model="numpy")
 def floored(code):
     """True when the law with kernel code ``code`` floors its force at 0 (``FLOORLESS`` lists the others)."""
-    return code != HERTZ_TSUJI_UNFLOORED
+    return code != HERTZ_TSUJI_UNFLOORED and code != HERTZ_VISCOELASTIC_UNFLOORED
 
 
 @njit(cache=True, error_model="numpy")
@@ -111,6 +112,7 @@ def creeps_unloaded(code, p):
     """True when the law, with no load, approaches ``x = 0`` after its maximum without reaching it.
 
     Only Tsuji's law without its floor does (from ``TSUJI_UNLOADED_CRITICAL``); the floored laws
-    fly back to ``x = 0`` from their floor.
+    fly back to ``x = 0`` from their floor, and the sqrt(delta) damping without it, ``O(x^{1/2})``
+    near ``x = 0``, cannot stop the body's coast there.
     """
     return code == HERTZ_TSUJI_UNFLOORED and p >= TSUJI_UNLOADED_CRITICAL

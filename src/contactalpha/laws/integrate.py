@@ -56,6 +56,10 @@ FLIGHT_SAMPLES = 64
 TINY = 1e-300
 # Illinois iterations when placing an event inside a step.
 LOCATE_ITER = 200
+# A law without the floor keeps its damping force, ~x^{1/4} or x^{1/2}, up to x = 0, where the
+# motion is not smooth: the step that reaches x = 0 is taken from no larger a compression than this
+# (its error ~ LAST_STEP_X^{5/4}); from larger ones the steps halve towards it.
+LAST_STEP_X = 1e-12
 
 
 @njit(cache=True, error_model="numpy")
@@ -334,6 +338,9 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
             # dips under x = 0 and back), so separation came first, on [0, best].
             best, bx, bv, good = _locate(code, 1, x, v, best, x, p, A, s, K)
             bk = 1
+        if bk == 1 and x > LAST_STEP_X and not floored(code):
+            h = 0.5 * best  # approach x = 0 by steps the error control checks
+            continue
         t += best
         if bk == 0 and compressing and A == 0.0 and creeps_unloaded(code, p):
             # No load and no floor, overdamped: the motion approaches x = 0 without reaching it.

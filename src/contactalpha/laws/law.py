@@ -105,7 +105,7 @@ class ContactLaw:
 
     @property
     def floored(self):
-        """False for a law whose force is not floored at 0 and pulls as the bodies part (``forces.FLOORLESS``)."""
+        """False for a law whose force is not floored at 0: it pulls as the bodies part (``FLOORLESS``)."""
         return self.code not in forces.FLOORLESS
 
     @property
@@ -443,7 +443,8 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
         code=forces.HERTZ_TSUJI_UNFLOORED,
-        fast=None,
+        # No floor: eps(beta) kinks only where the separation ends and where the creep begins.
+        fast=LawTable("law_table_hertz_tsuji_unfloored.npz", cuts=("separation", "creep_onset")),
     ),
     ContactLaw(
         name="hertz_viscoelastic",
@@ -461,7 +462,32 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_viscoelastic_force,
         code=forces.HERTZ_VISCOELASTIC,
-        fast=None,
+        # Its floor's last reach and the onset of creep cross near xi = 0.02, as Tsuji's do.
+        fast=LawTable(
+            "law_table_hertz_viscoelastic.npz",
+            cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+        ),
+    ),
+    ContactLaw(
+        name="hertz_viscoelastic_unfloored",
+        label="Hertz with √δ damping, no floor",
+        formula=(
+            "F = k δ^{3/2} + η δ^{1/2} δ̇ while δ > 0 (pulls where negative),  "
+            "η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5}"
+        ),
+        scaled_formula="x'' = A − (5/4) x^{3/2} − (5/4)^{3/5} κ x^{1/2} x'  while x > 0",
+        engines=("LAMMPS (viscoelastic; no limit_damping)",),
+        exponent=1.5,
+        damping="kappa",
+        damping_physical="η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5} (N s/m^{3/2})",
+        physical_unit="N s/m^1.5",
+        damping_unit=_VISCOELASTIC_UNIT,
+        piecewise_linear=False,
+        floor_reached=False,
+        end_states=ALL_END_STATES,
+        force=forces.hertz_viscoelastic_force,
+        code=forces.HERTZ_VISCOELASTIC_UNFLOORED,
+        fast=LawTable("law_table_hertz_viscoelastic_unfloored.npz", cuts=("separation", "creep_onset")),
     ),
 ]
 
