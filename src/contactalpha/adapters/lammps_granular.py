@@ -370,7 +370,7 @@ class LammpsGranularAdapter(SteppingAdapter):
         m, k, r = scene.mass, scene.stiffness, scene.radius
         if r is None and s.law_kind != "tsuji":
             return {}
-        eta = self.law.physical_damping(p, m, k, scene.approach_speed)
+        eta = self.law.physical_damping_unchecked(p, m, k, scene.approach_speed)  # the scene is checked
         damp = np.asarray(eta) / s.per_unit(m, k, 1.0 if r is None else r)
         coefficient = s.coefficient_of(damp)
         out = {"coefficient": float_or_array(coefficient), "damp": float_or_array(damp)}
