@@ -274,12 +274,14 @@ def species_table(
         if wall_restitution is None:
             raise ValueError("walls need wall_restitution: the (species, walls) target e_N")
         wspeed = np.diag(speed)[:, None] if wall_speed is None else wall_speed
-        column = [np.broadcast_to(x[:, None], shape).copy() for x in (r, m, nu)]
+        r_col, m_col, nu_col = (np.broadcast_to(x[:, None], shape).copy() for x in (r, m, nu))
         wall_pairs = _block(
             adapter,
             settings,
             lg.effective_modulus(e[:, None], nu[:, None], ew[None, :], nw[None, :]),
-            *column,
+            r_col,
+            m_col,
+            nu_col,
             _matrix("wall_accel", wall_accel, shape),
             _matrix("wall_speed", wspeed, shape),
             _matrix("wall_restitution", wall_restitution, shape),
