@@ -139,3 +139,26 @@ def test_sqrt_delta_inverse_delivers_its_target_in_si_units():
 @pytest.mark.integration
 def test_sqrt_delta_inverse_delivers_its_target_at_150_scenes():
     _check_inverse(150, 2045)
+
+
+def test_lammps_drops_under_gravity_are_the_two_tsuji_laws():
+    """LAMMPS 2025.7.22, fix wall/gran granular hertz/material 1e7 0.5 0.3, damping coeff_restitution 0.5.
+
+    A 5 mm sphere (rho = 2500) on the wall (E* = E / (2 (1 - nu^2)), LAMMPS's mix with itself):
+    measured e_N without and with limit_damping, to its 3 printed digits, and an independent SciPy
+    integration of the unfloored law at 0.02 m/s (0.280666).
+    """
+    radius, nu = 2.5e-3, 0.3
+    mass = 2500.0 * 4.0 / 3.0 * math.pi * radius**3
+    stiffness = 4.0 / 3.0 * 1e7 / (2.0 * (1.0 - nu**2)) * math.sqrt(radius)
+    beta = -math.sqrt(5.0) * math.log(0.5) / math.sqrt(math.pi**2 + math.log(0.5) ** 2)
+    speeds = [1.0, 0.2, 0.05, 0.02]
+    measured = {UNFLOORED: [0.499, 0.490, 0.443, 0.281], "hertz_tsuji": [0.549, 0.540, 0.492, 0.328]}
+    for name, want in measured.items():
+        law = get_law(name)
+        xi = [law.scene_load_factor(mass, stiffness, v, 9.81) for v in speeds]
+        np.testing.assert_allclose(law.impact(beta, xi).e_n, want, rtol=0, atol=6e-4)
+    law = get_law(UNFLOORED)
+    assert float(law.impact(beta, law.scene_load_factor(mass, stiffness, 0.02, 9.81)).e_n) == pytest.approx(
+        0.280666, abs=1e-6
+    )
