@@ -45,3 +45,13 @@ def test_the_load_may_be_ignored_for_a_fast_glass_bead():
     got = load_effect("hertz_tsuji", 0.9, "kinematic", m, k, 1.0, 9.81)
     assert not got.matters and abs(got.change) < 1e-4
     assert "may be ignored" in got.line()
+
+
+def test_params_prints_the_loads_effect(capsys):
+    from contactalpha.cli import main
+
+    args = ["params", "--law", "hertz_tsuji", "--e-n", "0.5", "--mass", repr(MASS), "--stiffness", repr(K)]
+    assert main([*args, "--speed", "0.02", "--accel", "9.81"]) == 0
+    line = capsys.readouterr().out.splitlines()[-1]
+    want = load_effect("hertz_tsuji", 0.5, "kinematic", MASS, K, 0.02, 9.81)
+    assert line.startswith("load            matters") and f"{want.delivered_ignoring:.6g}" in line
