@@ -127,7 +127,7 @@ def test_species_table_refuses_bad_input():
     with pytest.raises(ValueError, match="symmetric"):
         species_table([SOFT, HARD], [[0.5, 0.7], [0.6, 0.9]], 0.05)
     with pytest.raises(ValueError, match="limit_damping"):
-        species_table([SOFT], 0.5, 0.05, damping="viscoelastic", limit_damping=False)
+        species_table([SOFT], 0.5, 0.05, damping="hooke")
     with pytest.raises(ValueError, match="wall_restitution"):
         species_table([SOFT], 0.5, 0.05, walls=[Wall("floor", 2e7, 0.35)])
     with pytest.raises(ValueError, match="target"):

@@ -493,5 +493,9 @@ UNFLOORED = LammpsGranularAdapter(
 VISCOELASTIC = LammpsGranularAdapter(
     "lammps_viscoelastic", "hertz_viscoelastic", ("viscoelastic",), limit_damping=True
 )
+# ``damping viscoelastic`` without limit_damping: the sqrt(delta) law that pulls as the bodies part.
+VISCOELASTIC_UNFLOORED = LammpsGranularAdapter(
+    "lammps_viscoelastic_unfloored", "hertz_viscoelastic_unfloored", ("viscoelastic",), limit_damping=False
+)
 # Every LAMMPS law this module applies.
-VARIANTS = (ADAPTER, UNFLOORED, VISCOELASTIC)
+VARIANTS = (ADAPTER, UNFLOORED, VISCOELASTIC, VISCOELASTIC_UNFLOORED)

@@ -233,7 +233,7 @@ def species_table(
         (default gravity) and speeds (default ``approach_speed``'s diagonal).
     damping : LAMMPS's damping style ("coeff_restitution", "tsuji"; "viscoelastic" applies Hertz with
         √δ damping).
-    limit_damping : the force floor (the unfloored Tsuji law without it; viscoelastic needs it).
+    limit_damping : the force floor (without it the unfloored law of the style, LAMMPS's default).
     timestep : LAMMPS's step, s; default the shortest pair's contact time over ``STEPS_PER_CONTACT``.
     refine : refine each pair's damping on LAMMPS's own drops at the step (needs LAMMPS).
     """
