@@ -34,6 +34,12 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.validation import check_positive, check_range
 
 
+# A refined pair's mean e_N is refined until it is this close to its target (the secant's own
+# tolerance is tighter): one LAMMPS step serves every pair, and the table should not use up the
+# user's tolerance on any of them.
+REFINED_TOL = 1e-4
+
+
 @dataclass(frozen=True)
 class Species:
     """A DEM species: ``name``, ``radius`` (m), ``density`` (kg/m^3), ``youngs_modulus`` (Pa), ``poisson``."""
@@ -323,6 +329,7 @@ def wall_equivalent(block: PairTable, idx) -> DropScene:
 
 
 def _refined(adapter, settings, block):
+    settings = replace(settings, tol=REFINED_TOL)
     damping, damp, coefficient = block.damping.copy(), block.damp.copy(), block.coefficient.copy()
     for idx in np.ndindex(block.damping.shape):
         scene = wall_equivalent(block, idx)
