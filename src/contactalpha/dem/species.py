@@ -33,7 +33,6 @@ from contactalpha.adapters import lammps_granular as lg
 from contactalpha.adapters.contract import DropScene
 from contactalpha.validation import check_positive, check_range
 
-
 # A refined pair's mean e_N is refined until it is this close to its target (the secant's own
 # tolerance is tighter): one LAMMPS step serves every pair, and the table should not use up the
 # user's tolerance on any of them.
