@@ -22,6 +22,7 @@ RANKS = {
     "baselines": 3,
     "adapters": 4,  # the engines: below scene and the front door, which iterates the adapters' registry
     "scene": 5,  # the physics of a ball under a load: bounces, the separation threshold, the advice
+    "dem": 5,  # DEM users' tools: the LAMMPS species table, other codes' names, the load's effect
     "xla": 5,  # the JAX front door (optional extra): tables, laws and the batched engines' blocks
     "parameters": 6,  # the front door (contact_parameters): above scene; imports the adapters' registry
     "warmup": 7,

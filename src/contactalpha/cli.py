@@ -387,6 +387,7 @@ def _print_engine(args, value, restitution):
 def _params(args, parser):
     from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.adapters.registry import adapter
+    from contactalpha.dem.load import load_effect
     from contactalpha.io import json_text
     from contactalpha.parameters.front_door import contact_parameters
     from contactalpha.parameters.result import as_plain_data, format_parameters
@@ -413,7 +414,9 @@ def _params(args, parser):
         "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
         "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
-    print(json_text(data, indent=1) if args.json else format_parameters(cp))
+    effect = load_effect(cp.law, value, restitution, args.mass, args.stiffness, args.speed, cp.accel)
+    data["load_effect"] = effect.to_dict()
+    print(json_text(data, indent=1) if args.json else format_parameters(cp) + "\n" + effect.line())
     return 0
 
 

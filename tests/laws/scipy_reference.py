@@ -4,7 +4,8 @@ Nothing here shares code with ``contactalpha.laws`` beyond the scaled force func
 written out again below.  Each segment integrates one regime (contact: the law's force; flight: the
 load alone) until an event: the maximum compression, the floor ``f = 0``, separation ``x = 0``,
 capture (``v`` back to 0 from below) or, in flight, a re-contact.  Creep and no restitution are
-recognised when the motion settles at the equilibrium within ``T_MAX``.
+recognised when the motion settles at the equilibrium within ``T_MAX``.  A law without the floor
+(``FLOORLESS``) keeps its force, pulling, until ``x = 0``: one contact segment after the maximum.
 """
 
 import math
@@ -18,6 +19,10 @@ SETTLED = 1e-9
 # Longest step of a flight segment.
 FLIGHT_STEP = 1e-2
 SQRT5_2 = math.sqrt(5.0) / 2.0
+# Hertz with sqrt(delta) damping: eta delta_s^{3/2} / (m v) per unit of kappa.
+VISCOELASTIC = 1.25**0.6
+# The laws whose force is not floored at 0.
+FLOORLESS = {"hertz_tsuji_unfloored", "hertz_viscoelastic_unfloored"}
 
 
 def force(name, x, v, p, A, d):
@@ -32,14 +37,16 @@ def force(name, x, v, p, A, d):
         return x + 2.0 * p * v
     if name == "mujoco_soft":
         return d * A + x + 2.0 * p * v
-    if name == "hertz_tsuji":
+    if name in ("hertz_tsuji", "hertz_tsuji_unfloored"):
         return 1.25 * x**1.5 + SQRT5_2 * p * x**0.25 * v
+    if name in ("hertz_viscoelastic", "hertz_viscoelastic_unfloored"):
+        return 1.25 * x**1.5 + VISCOELASTIC * p * math.sqrt(x) * v
     raise KeyError(name)
 
 
 def equilibrium(name, A, d):
     """Static compression of each law under load A."""
-    if name in ("hunt_crossley", "hertz_tsuji"):
+    if name.startswith("hertz") or name == "hunt_crossley":
         return (A / 1.25) ** (2.0 / 3.0)
     if name == "mujoco_soft":
         return (1.0 - d) * A
@@ -54,11 +61,13 @@ def reference_impact(name, p, A, d=0.0, rtol=1e-13, atol=1e-15):
     contact = True
     retake = False
     x_eq = equilibrium(name, A, d)
+    floored = name not in FLOORLESS
     for _ in range(1000):
         compressing = x_m is None
 
         def rhs(_t, s, contact=contact):
-            return [s[1], A - (max(0.0, force(name, s[0], s[1], p, A, d)) if contact else 0.0)]
+            f = force(name, s[0], s[1], p, A, d)
+            return [s[1], A - ((max(0.0, f) if floored else f) if contact else 0.0)]
 
         def ev_v(_t, s):
             return s[1]
@@ -78,7 +87,8 @@ def reference_impact(name, p, A, d=0.0, rtol=1e-13, atol=1e-15):
         ev_x.direction = -1.0
         ev_f.terminal = True
         ev_f.direction = -1.0 if contact else 1.0
-        events = [ev_v, ev_x] + ([ev_f] if (contact and not compressing) or not contact else [])
+        floor_events = floored and ((contact and not compressing) or not contact)
+        events = [ev_v, ev_x] + ([ev_f] if floor_events else [])
         # A flight is a parabola, which DOP853 would cross in one step, missing x = 0 inside it.
         step = FLIGHT_STEP if not contact or retake else np.inf
         sol = solve_ivp(

@@ -34,6 +34,9 @@ def test_the_nonlinear_and_piecewise_linear_laws_have_tables():
     assert {law.name for law in TABULATED} == {
         "hunt_crossley_linear",
         "hertz_tsuji",
+        "hertz_tsuji_unfloored",
+        "hertz_viscoelastic",
+        "hertz_viscoelastic_unfloored",
         "kelvin_voigt",
         "mujoco_soft",
     }

@@ -36,5 +36,5 @@ def test_cli_refuses_an_unknown_engine_on_one_line(capsys):
     # --engine takes any name; the registry refuses an unknown one with its list (one home).
     assert main([*ARGS, "--engine", "physx"]) == 2
     err = capsys.readouterr().err
-    assert "outside the valid choices ('opensim', 'exudyn', 'mujoco', 'drake', 'pybullet')" in err
+    assert "outside the valid choices ('opensim', 'exudyn', 'mujoco', 'drake', 'pybullet', 'lammps')" in err
     assert err.count("\n") == 1 and "physx" in err

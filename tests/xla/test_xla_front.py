@@ -18,7 +18,11 @@ def _scenes(n, seed=0):
     }
 
 
-@pytest.mark.parametrize("law", ["hunt_crossley", "hunt_crossley_linear", "hertz_tsuji"])
+TABLE_LAWS = ["hunt_crossley", "hunt_crossley_linear", "hertz_tsuji", "hertz_tsuji_unfloored"]
+TABLE_LAWS += ["hertz_viscoelastic", "hertz_viscoelastic_unfloored"]
+
+
+@pytest.mark.parametrize("law", TABLE_LAWS)
 def test_table_laws_match_the_numba_front_door(jax, law):
     from contactalpha.xla import contact_parameters
 

@@ -9,7 +9,14 @@ import importlib.util
 import reprlib
 from dataclasses import dataclass
 
-from contactalpha.adapters import drake_point, exudyn_contact, mujoco_soft, opensim_hc, pybullet_kv
+from contactalpha.adapters import (
+    drake_point,
+    exudyn_contact,
+    lammps_granular,
+    mujoco_soft,
+    opensim_hc,
+    pybullet_kv,
+)
 from contactalpha.adapters.contract import check_adapter
 from contactalpha.laws import get_law
 
@@ -22,6 +29,7 @@ ADAPTERS = tuple(
         mujoco_soft.ADAPTER,
         drake_point.ADAPTER,
         pybullet_kv.ADAPTER,
+        lammps_granular.ADAPTER,
     )
 )
 ENGINE_NAMES = tuple(a.name for a in ADAPTERS)

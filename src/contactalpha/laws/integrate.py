@@ -1,6 +1,7 @@
 """The reference impact of any law of the family: DOP853 in contact, exact free flight under the floor.
 
-The scaled motion is ``x'' = A - max(0, f(x, v))`` from ``x = 0``, ``v = 1`` (``forces.py``).
+The scaled motion is ``x'' = A - max(0, f(x, v))`` from ``x = 0``, ``v = 1`` (``forces.py``;
+``x'' = A - f`` for a law without the floor, which then never flies before ``x = 0``).
 While ``f >= 0`` the kernel integrates the law with DOP853 (the tableau of ``engine/tableau.py``,
 SciPy's error norm); every event (maximum compression ``v = 0``, the floor ``f = 0``,
 separation ``x = 0``, capture: ``v`` back to 0 from below) is placed by re-taking the step
@@ -35,7 +36,7 @@ from contactalpha.engine.tableau import E3, E5, N_STAGES
 from contactalpha.engine.tableau import A as RK_A
 from contactalpha.engine.tableau import B as RK_B
 
-from .forces import scaled_force
+from .forces import creeps_unloaded, floored, scaled_force
 
 # Slots of the row the kernel returns.
 R_EPS2, R_EN, R_STATE, R_STATUS, R_XM, R_XE, R_VE, R_TE, R_STEPS, R_FLOORS = range(10)
@@ -55,10 +56,16 @@ FLIGHT_SAMPLES = 64
 TINY = 1e-300
 # Illinois iterations when placing an event inside a step.
 LOCATE_ITER = 200
+# A law without the floor keeps its damping force, ~x^{1/4} or x^{1/2}, up to x = 0, where the
+# motion is not smooth: the step that reaches x = 0 is taken from no larger a compression than this
+# (its error ~ LAST_STEP_X^{5/4}); from larger ones the steps halve towards it.
+LAST_STEP_X = 1e-12
 
 
 @njit(cache=True, error_model="numpy")
 def _deriv(code, x, v, p, A, s):
+    if not floored(code):
+        return A - scaled_force(code, x, v, p, A, s)
     return A - max(0.0, scaled_force(code, x, v, p, A, s))
 
 
@@ -306,7 +313,7 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
             elif kind == 1:
                 hit = g1 <= 0.0 < g0
             else:
-                hit = (not compressing) and g1 < 0.0 <= g0 and x1 > 0.0
+                hit = (not compressing) and g1 < 0.0 <= g0 and x1 > 0.0 and floored(code)
             if hit:
                 hs, xs, vs, good = _locate(code, kind, x, v, h, g0, p, A, s, K)
                 if not good:
@@ -331,8 +338,18 @@ def impact_kernel(code, p, A, s, x_eq, rtol, atol, max_steps):
             # dips under x = 0 and back), so separation came first, on [0, best].
             best, bx, bv, good = _locate(code, 1, x, v, best, x, p, A, s, K)
             bk = 1
+        if bk == 1 and x > LAST_STEP_X and not floored(code):
+            h = 0.5 * best  # approach x = 0 by steps the error control checks
+            continue
         t += best
-        if bk == 0 and compressing:
+        if bk == 0 and compressing and A == 0.0 and creeps_unloaded(code, p):
+            # No load and no floor, overdamped: the motion approaches x = 0 without reaching it.
+            x_m = bx
+            state = CREEP
+            x_e = 0.0
+            v_e = 0.0
+            t = np.inf
+        elif bk == 0 and compressing:
             x = bx
             v = 0.0
             x_m = bx

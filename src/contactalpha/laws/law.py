@@ -57,7 +57,8 @@ class ContactLaw:
         is ``p * factor * m^a * k^b * v^c`` (``physical_damping``).
     piecewise_linear : True when the motion in contact is linear (closed-form phases).
     floor_reached : True when the force floor ``max(0, .)`` acts before ``x = 0`` (the
-        damping force pulls): the impact then ends in a free flight under the load.
+        damping force pulls): the impact then ends in a free flight under the load.  False
+        too for a law without the floor (``floored``), whose force pulls until ``x = 0``.
     end_states : the end states the law can reach.
     restitutions : the restitutions it inverts ("energetic" Stronge, "kinematic" Newton).
     load_domain, restitution_domain : the (xi, target) ranges its inverse and tables cover.
@@ -101,6 +102,11 @@ class ContactLaw:
         lo, hi = self.impedance_range
         d = float(check_range("impedance", d, lo, hi, hi_open=True))
         return replace(self, impedance=d)
+
+    @property
+    def floored(self):
+        """False for a law whose force is not floored at 0: it pulls as the bodies part (``FLOORLESS``)."""
+        return self.code not in forces.FLOORLESS
 
     @property
     def stiffness_unit(self):
@@ -307,6 +313,8 @@ def _plain(arr):
 
 
 _LINEAR_UNIT = (2.0, 0.5, 0.5, 0.0)  # c = 2 zeta sqrt(k m)
+_TSUJI_UNIT = (1.0, 0.5, 0.5, 0.0)  # eta = beta sqrt(m k)
+_VISCOELASTIC_UNIT = (1.0, 0.4, 0.6, -0.2)  # eta = kappa m^{2/5} k^{3/5} / v^{1/5}
 
 LAWS = [
     ContactLaw(
@@ -406,7 +414,7 @@ LAWS = [
         damping="beta",
         damping_physical="η = β √(m k) (N s/m^{5/4})",
         physical_unit="N s/m^1.25",
-        damping_unit=(1.0, 0.5, 0.5, 0.0),
+        damping_unit=_TSUJI_UNIT,
         piecewise_linear=False,
         floor_reached=True,
         end_states=ALL_END_STATES,
@@ -418,6 +426,68 @@ LAWS = [
             # 199 rows gave 3.2e-7 below the creep cut near xi = 0.8 (139: 6.9e-8); see docs/laws.md.
             settings=LawTableSettings(n_eta=139),
         ),
+    ),
+    ContactLaw(
+        name="hertz_tsuji_unfloored",
+        label="Hertz with Tsuji damping, no floor",
+        formula="F = k δ^{3/2} + η δ^{1/4} δ̇ while δ > 0 (pulls where negative),  η = β √(m k)",
+        scaled_formula="x'' = A − (5/4) x^{3/2} − (√5/2) β x^{1/4} x'  while x > 0",
+        engines=("LAMMPS (tsuji, coeff_restitution; no limit_damping)",),
+        exponent=1.5,
+        damping="beta",
+        damping_physical="η = β √(m k) (N s/m^{5/4})",
+        physical_unit="N s/m^1.25",
+        damping_unit=_TSUJI_UNIT,
+        piecewise_linear=False,
+        floor_reached=False,
+        end_states=ALL_END_STATES,
+        force=forces.hertz_tsuji_force,
+        code=forces.HERTZ_TSUJI_UNFLOORED,
+        # No floor: eps(beta) kinks only where the separation ends and where the creep begins.
+        fast=LawTable("law_table_hertz_tsuji_unfloored.npz", cuts=("separation", "creep_onset")),
+    ),
+    ContactLaw(
+        name="hertz_viscoelastic",
+        label="Hertz with √δ damping",
+        formula="F = max(0, k δ^{3/2} + η δ^{1/2} δ̇),  η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5}",
+        scaled_formula="x'' = A − max(0, (5/4) x^{3/2} + (5/4)^{3/5} κ x^{1/2} x')",
+        engines=("LAMMPS (viscoelastic, limit_damping)", "jaxsim (soft contact)"),
+        exponent=1.5,
+        damping="kappa",
+        damping_physical="η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5} (N s/m^{3/2})",
+        physical_unit="N s/m^1.5",
+        damping_unit=_VISCOELASTIC_UNIT,
+        piecewise_linear=False,
+        floor_reached=True,
+        end_states=ALL_END_STATES,
+        force=forces.hertz_viscoelastic_force,
+        code=forces.HERTZ_VISCOELASTIC,
+        # Its floor's last reach and the onset of creep cross near xi = 0.02, as Tsuji's do.
+        fast=LawTable(
+            "law_table_hertz_viscoelastic.npz",
+            cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+        ),
+    ),
+    ContactLaw(
+        name="hertz_viscoelastic_unfloored",
+        label="Hertz with √δ damping, no floor",
+        formula=(
+            "F = k δ^{3/2} + η δ^{1/2} δ̇ while δ > 0 (pulls where negative),  "
+            "η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5}"
+        ),
+        scaled_formula="x'' = A − (5/4) x^{3/2} − (5/4)^{3/5} κ x^{1/2} x'  while x > 0",
+        engines=("LAMMPS (viscoelastic; no limit_damping)",),
+        exponent=1.5,
+        damping="kappa",
+        damping_physical="η = κ m^{2/5} k^{3/5} / (δ̇⁻)^{1/5} (N s/m^{3/2})",
+        physical_unit="N s/m^1.5",
+        damping_unit=_VISCOELASTIC_UNIT,
+        piecewise_linear=False,
+        floor_reached=False,
+        end_states=ALL_END_STATES,
+        force=forces.hertz_viscoelastic_force,
+        code=forces.HERTZ_VISCOELASTIC_UNFLOORED,
+        fast=LawTable("law_table_hertz_viscoelastic_unfloored.npz", cuts=("separation", "creep_onset")),
     ),
 ]
 

@@ -13,6 +13,8 @@ mappings ignore the load.  Their sources:
 - ``tsuji_beta``: the DEM codes' Hertz damping (LIGGGHTS, LAMMPS granular, Chrono SMC)
   gamma_n = 2 sqrt(5/6) beta sqrt(S_n m), S_n = 2 Y* sqrt(R* delta), beta = ln e / sqrt(ln^2 e + pi^2):
   with k = (4/3) Y* sqrt(R*), eta = sqrt(5) |beta| sqrt(m k), i.e. this package's beta = sqrt(5) |beta|.
+  ``lammps_coeff_restitution`` is the same number on Tsuji's law without its floor, LAMMPS's default
+  (``damping coeff_restitution`` without ``limit_damping``; exact there at zero load).
 - ``drake_bound``: Drake documents that the bounce speed after an impact is bounded by 1/d; taking
   that bound as the target rebound, 1/d = e v, gives alpha = d v = 1/e.
 """
@@ -139,4 +141,17 @@ ENGINE_MAPPINGS = [
     _exact_model("kelvin_voigt", "spring–dashpot"),
     _exact_model("mujoco_soft", "MuJoCo soft", MUJOCO_DEFAULT_IMPEDANCE),
     _exact_model("hertz_tsuji", "Tsuji"),
+    Model(
+        "lammps_coeff_restitution",
+        "LAMMPS coeff_restitution (no floor)",
+        "LAMMPS pair granular damping coeff_restitution, no limit_damping",
+        "β = √5 (−ln e) / √(π² + ln² e)",
+        False,
+        tsuji_beta,
+        law="hertz_tsuji_unfloored",
+        restitutions=KINEMATIC,
+    ),
+    _exact_model("hertz_tsuji_unfloored", "Tsuji, no floor"),
+    _exact_model("hertz_viscoelastic", "Hertz, √δ damping"),
+    _exact_model("hertz_viscoelastic_unfloored", "Hertz, √δ damping, no floor"),
 ]
