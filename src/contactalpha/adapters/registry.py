@@ -9,7 +9,14 @@ import importlib.util
 import reprlib
 from dataclasses import dataclass
 
-from contactalpha.adapters import drake_point, exudyn_contact, mujoco_soft, opensim_hc, pybullet_kv
+from contactalpha.adapters import (
+    drake_point,
+    exudyn_contact,
+    mujoco_soft,
+    opensim_hc,
+    pybullet_impulse,
+    pybullet_kv,
+)
 from contactalpha.adapters.contract import check_adapter
 from contactalpha.laws import get_law
 
@@ -22,6 +29,7 @@ ADAPTERS = tuple(
         mujoco_soft.ADAPTER,
         drake_point.ADAPTER,
         pybullet_kv.ADAPTER,
+        pybullet_impulse.ADAPTER,
     )
 )
 ENGINE_NAMES = tuple(a.name for a in ADAPTERS)
@@ -51,7 +59,8 @@ def engine_parameters(law, damping, scene):
 
 def _of_law(law):
     name = get_law(law).name
-    return [a for a in ADAPTERS if a.law.name == name]
+    # An impulse engine (``impulse`` set) has no continuous block: it is answered at its step only.
+    return [a for a in ADAPTERS if a.law.name == name and getattr(a, "impulse", None) is None]
 
 
 def check_radius_used(law, radius):

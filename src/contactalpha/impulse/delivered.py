@@ -1,0 +1,104 @@
+"""What an impulse engine's contact delivers: one drop, and its statistics over the touchdown phase.
+
+A drop starts in free flight a fraction ``phase`` of a step before its parabola meets the
+geometric surface at ``approach_speed`` (``stepping.flight.touchdown_state``) and runs the
+engine's step (``bullet_map.step_bullet``) until
+
+- **separated**: a sample after the first step with an impulse moves up and the step from it is
+  free; e_N is its parabola's speed at the surface over the approach speed
+  (``stepping.flight.rebound_speed``: what a drop test reads from the rebound height), wherever the
+  speculative contact left the ball (above the surface, mostly);
+- **captured**: a step with an impulse leaves the ball at rest (its speed under
+  ``REST_FRACTION`` of the approach speed: the approach below the velocity threshold), or the
+  contact *chatters*: ``CHATTER_STEPS`` steps in a row with an impulse and no free step (under a
+  load whose ``a h`` exceeds the threshold the ball hops within the contact point's reach every
+  step and never leaves): e_N = 0;
+- neither within ``max_steps``: the step limit, e_N NaN.
+
+``phase_stats`` evaluates ``n`` drops at the midpoints of ``n`` equal phase intervals: their mean
+is the phase mean (a midpoint rule; e_N is piecewise smooth in the phase, with jumps where the
+step the contact point catches changes), and their minimum and maximum the range one drop sees.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from contactalpha.stepping.codes import CAPTURED, DROP_STATUS, SEPARATED, STEP_LIMIT
+from contactalpha.stepping.flight import rebound_speed, touchdown_state
+
+from .bullet_map import impulse_bullet
+
+# A captured body's speed, as a fraction of the approach speed.
+REST_FRACTION = 1e-9
+# Steps in a row with an impulse after which a contact that has not let go counts as captured.
+CHATTER_STEPS = 200
+# Steps a drop may take (flight to touchdown, contact, to separation or rest).
+MAX_STEPS = 100_000
+# Phases of ``phase_stats`` by default: midpoints of this many equal intervals.
+PHASES = 4096
+
+
+@njit(cache=True)
+def drop_bullet(p, h, phase, v_in, accel, max_steps=MAX_STEPS):
+    """``(e_N, steps with an impulse, status)`` of one drop through PyBullet's rigid-contact map."""
+    z, w = touchdown_state(v_in, accel, h, phase)
+    contact = 0
+    run = 0
+    for _ in range(max_steps):
+        lam = impulse_bullet(z, w, p, h, accel)
+        if lam == 0.0 and contact > 0 and w > 0.0:
+            return rebound_speed(z, w, accel, h) / v_in, contact, SEPARATED
+        w = w - h * accel + lam
+        z = z + h * w
+        run = run + 1 if lam > 0.0 else 0
+        if lam > 0.0:
+            contact += 1
+            if abs(w) <= REST_FRACTION * v_in or run >= CHATTER_STEPS:
+                return 0.0, contact, CAPTURED
+    return np.nan, contact, STEP_LIMIT
+
+
+@njit(cache=True)
+def phase_drops(p, h, v_in, accel, n):
+    """e_N, steps with an impulse and status of the drops at the ``n`` midpoint phases."""
+    e = np.empty(n)
+    steps = np.empty(n, dtype=np.int64)
+    status = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        e[i], steps[i], status[i] = drop_bullet(p, h, (i + 0.5) / n, v_in, accel, MAX_STEPS)
+    return e, steps, status
+
+
+@dataclass(frozen=True)
+class ImpulseStats:
+    """e_N over a uniform touchdown phase: ``mean``, ``minimum``, ``maximum``, ``std``.
+
+    ``steps`` (fewest, most): steps with an impulse; ``captured``: the fraction of phases that
+    do not bounce; ``status``: "separated", "captured" (every phase) or why it is NaN.
+    """
+
+    mean: float
+    minimum: float
+    maximum: float
+    std: float
+    steps: tuple
+    captured: float
+    status: str
+
+
+def phase_stats(p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHASES) -> ImpulseStats:
+    """``ImpulseStats`` of the drops at ``n`` midpoint phases of a step ``h`` (s)."""
+    e, steps, status = phase_drops(p, float(h), float(v_in), float(accel), int(n))
+    if np.any(status == STEP_LIMIT):
+        nan = float("nan")
+        return ImpulseStats(
+            nan, nan, nan, nan, (int(steps.min()), int(steps.max())), nan, DROP_STATUS[STEP_LIMIT]
+        )
+    captured = float(np.mean(status == CAPTURED))
+    word = DROP_STATUS[CAPTURED] if captured == 1.0 else DROP_STATUS[SEPARATED]
+    return ImpulseStats(
+        float(e.mean()), float(e.min()), float(e.max()), float(e.std()),
+        (int(steps.min()), int(steps.max())), captured, word,
+    )  # fmt: skip
