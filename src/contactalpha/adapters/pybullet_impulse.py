@@ -176,7 +176,8 @@ class PyBulletImpulseAdapter(SteppingAdapter):
         x = samples.extra
         h = x["timestep"]
         results = [
-            measure_impulse(z, w, scene.accel, h, scene.approach_speed) for z, w in zip(x["z"], x["v"])
+            measure_impulse(z, w, scene.accel, h, scene.approach_speed)
+            for z, w in zip(x["z"], x["v"], strict=True)
         ]
         x["e_n_phases"] = np.array([r.e_n for r in results])
         x["contact_steps"] = np.array([max(round(r.t_end / h), 1) for r in results])

@@ -32,7 +32,7 @@ from contactalpha.laws.domain import target_name
 from contactalpha.stepping.registry import STEPPER_NAMES
 from contactalpha.validation import PLAIN_FLOATS, check_scalar
 
-from . import stepped
+from . import impulse_door, stepped
 from .batched import broadcast_shape, check_rows
 from .law_scene import SPEED_FACTORS, EngineScene, law_contact_parameters
 from .reach import eps_zero_without_load
@@ -166,6 +166,9 @@ def contact_parameters(
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
+    if impulse_door.is_impulse(engine):  # a rigid contact with restitution: answered at its step
+        row = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return impulse_door.impulse_parameters(row, law, engine, timestep, verify)
     batch = _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
     map_radius = radius
     if radius is not None and engine in STEPPER_NAMES and stepped.needs_radius(engine):
