@@ -19,7 +19,7 @@ map (``measure_impulse``).  Importing this module does not need PyBullet.
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -30,6 +30,7 @@ from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
 from contactalpha.impulse import bullet_map
 from contactalpha.impulse.delivered import CHATTER_STEPS
 from contactalpha.impulse.inverse import per_body, restitution_for
+from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 from contactalpha.stepping.flight import rebound_speed
 
@@ -206,6 +207,43 @@ class PyBulletImpulseAdapter(SteppingAdapter):
     def timestep(self, settings):
         """PyBullet's fixed step, s."""
         return settings.timestep
+
+
+def drop_sequence(scene, schedule, duration, settings=None):
+    """Per-step states of a drop from rest at the height where ``scene.approach_speed`` is reached.
+
+    ``schedule`` (``impulse.schedule.TouchdownSchedule``) sets the ball's restitution before every
+    step through ``Rebounder`` (the plane's 1, the threshold 0); the run lasts ``duration`` s.
+    Returns ``(z, w)``: height above the plane (m) and upward velocity (m/s) at every step, from
+    the start.
+    """
+    pb = _pybullet()
+    settings = settings or replace(ImpulseSettings(), timestep=schedule.timestep)
+    h, a = settings.timestep, scene.accel
+    model = ADAPTER.build_drop(scene, block(1.0, 0.0), replace(settings, phases=1))
+    c, b = model.client, model.ball
+    rebounder = Rebounder(schedule)
+    height = scene.approach_speed**2 / (2.0 * a)
+    # At rest at the top of the parabola: the stored velocity is its mean over the step, +a h / 2.
+    z, w = height, 0.5 * a * h
+    pb.resetBasePositionAndOrientation(b, [0.0, 0.0, scene.radius + z], [0, 0, 0, 1], physicsClientId=c)
+    pb.resetBaseVelocity(b, [0.0, 0.0, w], [0.0, 0.0, 0.0], physicsClientId=c)
+    n = int(math.ceil(duration / h))
+    zs, ws = np.empty(n + 1), np.empty(n + 1)
+    zs[0], ws[0] = z, w
+    try:
+        for j in range(1, n + 1):
+            pb.changeDynamics(b, -1, restitution=rebounder.restitution(z, w), physicsClientId=c)
+            if scene.force:
+                pb.applyExternalForce(b, -1, [0.0, 0.0, -scene.force], [0.0, 0.0, 0.0], pb.LINK_FRAME,
+                                      physicsClientId=c)  # fmt: skip
+            pb.stepSimulation(physicsClientId=c)
+            z = pb.getBasePositionAndOrientation(b, physicsClientId=c)[0][2] - scene.radius
+            w = pb.getBaseVelocity(b, physicsClientId=c)[0][2]
+            zs[j], ws[j] = z, w
+    finally:
+        pb.disconnect(physicsClientId=c)
+    return zs, ws
 
 
 def block(pair_restitution, threshold):

@@ -102,3 +102,38 @@ def phase_stats(p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHA
         float(e.mean()), float(e.min()), float(e.max()), float(e.std()),
         (int(steps.min()), int(steps.max())), captured, word,
     )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Bounces:
+    """A drop sequence read from per-step states: each rebound's speed and when it lands again (s)."""
+
+    rebound_speeds: np.ndarray
+    landings: np.ndarray
+
+    @property
+    def count(self) -> int:
+        """The number of bounces."""
+        return int(self.rebound_speeds.size)
+
+
+def read_bounces(z: np.ndarray, w: np.ndarray, accel: float, h: float, free_rtol: float = 1e-9) -> Bounces:
+    """The bounces in per-step states (``z`` height above the plane, m; ``w`` up, m/s; from t = 0).
+
+    A bounce is a step with an impulse (a velocity change other than ``-a h``) after which the body
+    moves up and either is above the plane or flies the next step freely (a landing leaves it on
+    the solver's surface, below the plane, or still moving down; a lift by the ERP is followed by
+    more impulses).  Its speed is its parabola's at the plane, and it lands again ``2 u / a`` after
+    that parabola left the plane.
+    """
+    z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
+    free = np.abs(np.diff(w) + accel * h) <= free_rtol * max(accel * h, float(np.abs(w).max()))
+    speeds, landings = [], []
+    for j in range(1, w.size - 1):
+        if not free[j - 1] and w[j] > 0.0 and (z[j] > 0.0 or free[j]):
+            u = rebound_speed(z[j], w[j], accel, h)
+            slope = w[j] - 0.5 * accel * h
+            left = j * h + (slope - np.sqrt(max(slope * slope + 2.0 * accel * z[j], 0.0))) / accel
+            speeds.append(u)
+            landings.append(left + 2.0 * u / accel)
+    return Bounces(np.array(speeds), np.array(landings))

@@ -28,12 +28,12 @@ is exact, so the coefficient for the coming step can be solved from the stored s
    gives ``e``.  Below the critical speed ``u = 0``: the body stays.
 
 The rebound speed is then the loaded contact's (to the table's interpolation), and each release
-within half a step of the loaded contact's: the runner keeps how late the releases so far came
-and asks the next one that much earlier, so the error does not add up over a sequence.  A flight shorter than a step (``u < a h / 2``) lands inside the
-step it leaves in: its parabola is carried by a sample below the plane (the next touchdown reads
-it), but a height reading cannot see it.  The engine's ``restitutionVelocityThreshold`` must be 0
-(the schedule is the threshold), and the value is the pair's: set it on the ball with the plane's
-restitution 1 (Bullet multiplies the two).
+within half a step of the loaded contact's: the runner keeps how late the releases so far came and
+asks the next one that much earlier, so the error does not add up over a sequence.  A flight
+shorter than about a step (``u`` below ``a h``) lands in the step after it leaves: a height
+reading sees one sample above the plane, or none.  The engine's ``restitutionVelocityThreshold``
+must be 0 (the schedule is the threshold), and the value is the pair's: set it on the ball with
+the plane's restitution 1 (Bullet multiplies the two).
 """
 
 import math
