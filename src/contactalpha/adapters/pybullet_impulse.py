@@ -50,7 +50,9 @@ class ImpulseSettings:
     """A PyBullet rigid-contact drop: ``timestep`` (s), ``phases``, ``threshold`` (m/s), ``steps``.
 
     ``steps``: steps a drop runs (touchdown, contact, the rebound's first free step);
-    ``maximal``: ``useMaximalCoordinates`` (a ``btRigidBody`` instead of a ``btMultiBody``).
+    ``maximal``: ``useMaximalCoordinates`` (a ``btRigidBody`` instead of a ``btMultiBody``);
+    ``extra_phases``: touchdown phases run after the ``phases`` midpoints (where the step map puts
+    the range's ends, say).
     """
 
     timestep: float = bullet_map.DEFAULT_TIMESTEP
@@ -59,6 +61,7 @@ class ImpulseSettings:
     steps: int = 2 * CHATTER_STEPS
     maximal: bool = False
     tol: float = 1e-3
+    extra_phases: tuple = ()
 
 
 @dataclass
@@ -145,7 +148,7 @@ class PyBulletImpulseAdapter(SteppingAdapter):
             pb.changeDynamics(body, -1, restitution=float(e), lateralFriction=0.0, linearDamping=0.0,
                               angularDamping=0.0, physicsClientId=client)  # fmt: skip
         h = settings.timestep
-        phases = (np.arange(settings.phases) + 0.5) / settings.phases
+        phases = list((np.arange(settings.phases) + 0.5) / settings.phases) + list(settings.extra_phases)
         return _Drop(client, ball, [touchdown_state(scene.approach_speed, scene.accel, h, p) for p in phases])
 
     def run(self, model, scene, settings):

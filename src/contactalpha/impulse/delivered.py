@@ -8,8 +8,9 @@ engine's step (``bullet_map.step_bullet``) until
   free; e_N is its parabola's speed at the surface over the approach speed
   (``stepping.flight.rebound_speed``: what a drop test reads from the rebound height), wherever the
   speculative contact left the ball (above the surface, mostly);
-- **captured**: a step with an impulse leaves the ball at rest (its speed under
-  ``REST_FRACTION`` of the approach speed: the approach below the velocity threshold), or the
+- **captured**: a step with an impulse leaves the ball at rest on the solver's surface (its speed
+  under ``REST_FRACTION`` of the approach speed and its height within that fraction of a step's
+  travel of the surface: the approach below the velocity threshold), or the
   contact *chatters*: ``CHATTER_STEPS`` steps in a row with an impulse and no free step (under a
   load whose ``a h`` exceeds the threshold the ball hops within the contact point's reach every
   step and never leaves): e_N = 0;
@@ -28,7 +29,7 @@ from numba import njit
 from contactalpha.stepping.codes import CAPTURED, DROP_STATUS, SEPARATED, STEP_LIMIT
 from contactalpha.stepping.flight import rebound_speed, touchdown_state
 
-from .bullet_map import impulse_bullet
+from .bullet_map import SLOP, impulse_bullet
 
 # A captured body's speed, as a fraction of the approach speed.
 REST_FRACTION = 1e-9
@@ -55,7 +56,8 @@ def drop_bullet(p, h, phase, v_in, accel, max_steps=MAX_STEPS):
         run = run + 1 if lam > 0.0 else 0
         if lam > 0.0:
             contact += 1
-            if abs(w) <= REST_FRACTION * v_in or run >= CHATTER_STEPS:
+            at_rest = abs(w) <= REST_FRACTION * v_in and abs(z + p[SLOP]) <= REST_FRACTION * v_in * h
+            if at_rest or run >= CHATTER_STEPS:
                 return 0.0, contact, CAPTURED
     return np.nan, contact, STEP_LIMIT
 
@@ -76,7 +78,8 @@ class ImpulseStats:
     """e_N over a uniform touchdown phase: ``mean``, ``minimum``, ``maximum``, ``std``.
 
     ``steps`` (fewest, most): steps with an impulse; ``captured``: the fraction of phases that
-    do not bounce; ``status``: "separated", "captured" (every phase) or why it is NaN.
+    do not bounce; ``status``: "separated", "captured" (every phase) or why it is NaN;
+    ``phase_min``, ``phase_max``: the phases of the minimum and the maximum.
     """
 
     mean: float
@@ -86,6 +89,8 @@ class ImpulseStats:
     steps: tuple
     captured: float
     status: str
+    phase_min: float = float("nan")
+    phase_max: float = float("nan")
 
 
 def phase_stats(p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHASES) -> ImpulseStats:
@@ -101,6 +106,7 @@ def phase_stats(p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHA
     return ImpulseStats(
         float(e.mean()), float(e.min()), float(e.max()), float(e.std()),
         (int(steps.min()), int(steps.max())), captured, word,
+        (int(np.argmin(e)) + 0.5) / n, (int(np.argmax(e)) + 0.5) / n,
     )  # fmt: skip
 
 

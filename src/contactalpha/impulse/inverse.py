@@ -53,7 +53,12 @@ def restitution_for(
     threshold: float = bm.VELOCITY_THRESHOLD,
     n: int = PHASES,
 ) -> RestitutionAnswer:
-    """The pair restitution whose mean e_N over ``n`` midpoint phases is ``target``."""
+    """The pair restitution whose mean e_N over ``n`` midpoint phases is ``target``.
+
+    The mean rises with the coefficient, continuously except where a phase switches between
+    bouncing and captured (a jump of that drop's e_N over ``n``): there the answer's mean is within
+    such a jump of the target (``stats.mean`` says where it is).
+    """
     lo, hi = _mean(0.0, radius, threshold, h, v, a, n), _mean(MAX_RESTITUTION, radius, threshold, h, v, a, n)
     if not (lo <= target <= hi):
         return RestitutionAnswer(math.nan, None, "unreachable", lo if target < lo else hi)

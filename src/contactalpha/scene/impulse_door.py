@@ -23,25 +23,17 @@ from dataclasses import replace
 import numpy as np
 
 from contactalpha.adapters.contract import DropScene
-from contactalpha.adapters.registry import adapter
-from contactalpha.engine.codes import OUT_STATE, OUT_T_END, OUT_V_END, SEPARATION
-from contactalpha.engine.driver import ATOL, RTOL
-from contactalpha.engine.table import XI_MAX
+from contactalpha.adapters.registry import ADAPTERS, adapter
 from contactalpha.impulse import bullet_map
 from contactalpha.impulse.delivered import phase_stats
 from contactalpha.impulse.inverse import restitution_for, threshold_for
-from contactalpha.impulse.schedule import TouchdownSchedule
 from contactalpha.validation import check_count, check_scalar
 
-from .ball import Scene, contact_alpha, run_contact
 from .stepped import DEFAULT_STEP, VERIFY_RADIUS, SteppedAnswer, phase_mean_error
 from .threshold import critical_speed
 
 # Radius of the sphere when the scene gives none, m (the contact breaking threshold reads it).
 DEFAULT_RADIUS = VERIFY_RADIUS
-# The schedule's table: speeds, and how far above the approach speed it reaches.
-SCHEDULE_POINTS = 64
-SCHEDULE_HEADROOM = 1.05
 _ROW = ("eps", "mass", "stiffness", "approach_speed", "e_N", "accel", "force", "radius")
 
 
@@ -50,9 +42,8 @@ def is_impulse(engine):
     return engine is not None and getattr(adapter(engine), "impulse", None) is not None
 
 
-def _impulse_engines():
-    from contactalpha.adapters.registry import ADAPTERS
-
+def impulse_engines():
+    """The registered impulse engines' names."""
     return tuple(a.name for a in ADAPTERS if getattr(a, "impulse", None) is not None)
 
 
@@ -65,8 +56,12 @@ def resolve_timestep(engine, timestep):
     return check_scalar("timestep", timestep, 0.0, math.inf, lo_open=True, hi_open=True)
 
 
-def impulse_parameters(row, law, engine, timestep, verify):
-    """``ContactParameters`` of ``engine`` at its step for the scene ``row`` (``_ROW``'s values)."""
+def impulse_parameters(row, law, engine, timestep, verify, continuous):
+    """``ContactParameters`` of ``engine`` at its step for the scene ``row`` (``_ROW``'s values).
+
+    ``continuous`` is the front door without an engine (``scene.parameters.contact_parameters``):
+    the loaded contact the answer stands for.
+    """
     values = dict(zip(_ROW, row, strict=True))
     shape = np.broadcast_shapes(*(np.shape(x) for x in row if x is not None))
     if shape:
@@ -74,16 +69,21 @@ def impulse_parameters(row, law, engine, timestep, verify):
             raise ValueError("verify takes one scene: give scalars")
         flat = {k: (None if x is None else np.broadcast_to(x, shape).ravel()) for k, x in values.items()}
         rows = [
-            _one({k: (None if x is None else x[i]) for k, x in flat.items()}, law, engine, timestep, None)
+            _one(
+                {k: (None if x is None else x[i]) for k, x in flat.items()},
+                law,
+                engine,
+                timestep,
+                None,
+                continuous,
+            )
             for i in range(int(np.prod(shape)))
         ]
         return _stacked(rows, shape)
-    return _one(values, law, engine, timestep, verify)
+    return _one(values, law, engine, timestep, verify, continuous)
 
 
-def _one(values, law, engine, timestep, verify):
-    from .parameters import contact_parameters  # the continuous answer (the front door imports this module)
-
+def _one(values, law, engine, timestep, verify, contact_parameters):
     a = adapter(engine)
     h = resolve_timestep(engine, timestep)
     radius = DEFAULT_RADIUS
@@ -131,13 +131,14 @@ def _one(values, law, engine, timestep, verify):
     if not ok:
         raise ValueError("verify needs a restitution that reached the target")
     scene = DropScene(m, k, v, gravity=acc, force=0.0, radius=radius)
-    settings = replace(a.settings, timestep=h, phases=n)
+    # the uniform phases give the mean; the range adds the phases where the map puts its ends
+    settings = replace(a.settings, timestep=h, phases=n, extra_phases=(st.phase_min, st.phase_max))
     samples = a.run(a.build_drop(scene, blk, settings), scene, settings)
     a.measure(samples, scene)
     e = np.asarray(samples.extra["e_n_phases"], dtype=float)
-    measured = {"phases": n, "mean": float(e.mean()), "minimum": float(e.min()), "maximum": float(e.max()),
-                "sampling_error": phase_mean_error(e), "seconds": float(samples.seconds),
-                "version": a.version()}  # fmt: skip
+    measured = {"phases": n, "mean": float(e[:n].mean()), "minimum": float(e.min()),
+                "maximum": float(e.max()), "sampling_error": phase_mean_error(e[:n]),
+                "seconds": float(samples.seconds), "version": a.version()}  # fmt: skip
     return cp.replaced(stepped=replace(stepped, verify=measured))
 
 
@@ -154,45 +155,3 @@ def _stacked(rows, shape):
               "continuous_maximum", "mean_error")  # fmt: skip
     stepped = replace(first.stepped, **{f: stack(lambda r, f=f: getattr(r.stepped, f)) for f in fields})
     return first.replaced(engines={first.engine: blk}, stepped=stepped)
-
-
-def touchdown_schedule(
-    mass, stiffness, approach_speed, *, eps=None, e_N=None, accel=None, force=None,  # noqa: N803
-    radius=None, engine="pybullet_impulse", timestep=None, points=SCHEDULE_POINTS,
-):  # fmt: skip
-    """The loaded contact per approach speed, for a restitution set each step (``impulse.schedule``).
-
-    The contact is the default law's (Hunt-Crossley, n = 3/2; ``stiffness`` in N/m^1.5) with the
-    material's ``eps``, or the one whose e_N at ``approach_speed`` is ``e_N``, under the load
-    ``accel`` (or ``force``); the table runs from its critical speed to ``approach_speed``
-    (``points`` speeds, log spaced), each with the e_N and the contact duration that
-    ``scene.bounces.predict_bounces`` takes for a contact at that speed.
-
-    Returns
-    -------
-    impulse.schedule.TouchdownSchedule
-        At ``engine``'s step ``timestep`` (None or "default": its default); drive it with
-        ``impulse.schedule.Rebounder`` before every step.
-    """
-    from .parameters import contact_parameters
-
-    if not is_impulse(engine):
-        raise ValueError(f"engine = {engine!r} is not an impulse engine; valid: {_impulse_engines()}")
-    h = resolve_timestep(engine, timestep)
-    points = check_count("points", points, 2, 10_000)
-    cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_N, accel=accel, force=force)
-    m, k, v = float(mass), float(stiffness), float(approach_speed)
-    r = DEFAULT_RADIUS if radius is None else check_scalar("radius", radius, 0.0, math.inf, lo_open=True)
-    e = float(cp.eps)
-    critical = float(critical_speed(e, m, k, cp.accel))
-    sc = Scene(mass=m, radius=r, stiffness=k, approach_speed=v, force=0.0, eps=e, gravity=cp.accel)
-    speeds = np.geomspace(critical * (1.0 + 1e-9), v * SCHEDULE_HEADROOM, points)
-    e_n, durations = np.empty(points), np.empty(points)
-    for i, speed in enumerate(speeds):
-        name = "exact" if sc.influence(speed) <= XI_MAX else "exact_solve"
-        _, out, _, _, ts = run_contact(
-            sc, speed, contact_alpha(sc, speed, name, "A"), "A", RTOL, ATOL, np.inf
-        )
-        e_n[i] = -out[OUT_V_END] if int(out[OUT_STATE]) == SEPARATION else 0.0
-        durations[i] = out[OUT_T_END] * ts
-    return TouchdownSchedule(speeds, e_n, durations, critical, float(cp.accel), h, r)

@@ -168,7 +168,7 @@ def contact_parameters(
     """
     if impulse_door.is_impulse(engine):  # a rigid contact with restitution: answered at its step
         row = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
-        return impulse_door.impulse_parameters(row, law, engine, timestep, verify)
+        return impulse_door.impulse_parameters(row, law, engine, timestep, verify, contact_parameters)
     batch = _batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
     map_radius = radius
     if radius is not None and engine in STEPPER_NAMES and stepped.needs_radius(engine):
