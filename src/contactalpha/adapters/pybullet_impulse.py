@@ -110,6 +110,7 @@ class PyBulletImpulseAdapter(SteppingAdapter):
         "restitution": "1 (each body)",
         "restitutionVelocityThreshold": "m/s",
         "pair_restitution": "1",
+        "critical_speed": "m/s (the loaded contact's: below it no bounce)",
     }
 
     def version(self):

@@ -155,3 +155,37 @@ def _stacked(rows, shape):
               "continuous_maximum", "mean_error")  # fmt: skip
     stepped = replace(first.stepped, **{f: stack(lambda r, f=f: getattr(r.stepped, f)) for f in fields})
     return first.replaced(engines={first.engine: blk}, stepped=stepped)
+
+
+def impulse_lines(cp):
+    """Text lines of an impulse engine's answer (``contactalpha params --engine NAME``)."""
+    ans, blk = cp.stepped, cp.block
+    lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
+             "(drops read at the plane):"]  # fmt: skip
+    if ans.status == "ok":
+        lines += [
+            f"  restitution {ans.damping:.15g} for the pair (each body its square root: the engine "
+            "multiplies them)",
+            f"  restitutionVelocityThreshold {blk['restitutionVelocityThreshold']:.6g} m/s: the loaded "
+            f"contact stops bouncing below {blk['critical_speed']:.6g} m/s",
+            f"  mean e_N      {ans.mean:.15g}   (target {ans.target:.15g})",
+            f"  one drop      {ans.minimum:.6g} to {ans.maximum:.6g}   (std {ans.std:.3g}; "
+            f"{ans.steps_min}-{ans.steps_max} steps with an impulse)",
+        ]
+    else:
+        lines.append(
+            f"  {ans.status}: no restitution delivers it; the nearest mean e_N met is {ans.nearest:.6g}"
+        )
+    lines += [
+        f"  the target itself as the pair's restitution, at the engine's own threshold, delivers "
+        f"{ans.continuous_mean:.6g} ({ans.continuous_minimum:.6g} to {ans.continuous_maximum:.6g})",
+        "  a restitution set each step (scene.impulse_schedule.touchdown_schedule) removes the spread",
+    ]
+    if ans.verify:
+        v = ans.verify
+        lines.append(
+            f"  verified in {ans.engine} {v['version']} at {v['phases']} phases: mean {v['mean']:.6g} "
+            f"(sampling error {v['sampling_error']:.1e}), {v['minimum']:.6g} to {v['maximum']:.6g} "
+            f"({v['seconds']:.3g} s)"
+        )
+    return lines
