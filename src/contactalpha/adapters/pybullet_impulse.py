@@ -130,6 +130,10 @@ class PyBulletImpulseAdapter(SteppingAdapter):
         )
         return block(ans.restitution, settings.threshold)
 
+    def block(self, pair_restitution, threshold):
+        """The engine's block for the pair's restitution and the threshold (``block``)."""
+        return block(pair_restitution, threshold)
+
     def build_drop(self, scene, params, settings):
         """A fresh DIRECT client with the plane and the ball; touchdown states for every phase."""
         pb = _pybullet()

@@ -14,6 +14,7 @@ from contactalpha.adapters import (
     exudyn_contact,
     mujoco_soft,
     opensim_hc,
+    physx_sapien,
     pybullet_impulse,
     pybullet_kv,
 )
@@ -30,6 +31,7 @@ ADAPTERS = tuple(
         drake_point.ADAPTER,
         pybullet_kv.ADAPTER,
         pybullet_impulse.ADAPTER,
+        physx_sapien.ADAPTER,
     )
 )
 ENGINE_NAMES = tuple(a.name for a in ADAPTERS)

@@ -2,7 +2,7 @@
 
 A drop starts in free flight a fraction ``phase`` of a step before its parabola meets the
 geometric surface at ``approach_speed`` (``stepping.flight.touchdown_state``) and runs the
-engine's step (``bullet_map.step_bullet``) until
+engine's step (``kernels.step_impulse``: PyBullet's or PhysX's map) until
 
 - **separated**: a sample after the first step with an impulse moves up and the step from it is
   free; e_N is its parabola's speed at the surface over the approach speed
@@ -29,7 +29,7 @@ from numba import njit
 from contactalpha.stepping.codes import CAPTURED, DROP_STATUS, SEPARATED, STEP_LIMIT
 from contactalpha.stepping.flight import rebound_speed, touchdown_state
 
-from .bullet_map import SLOP, impulse_bullet
+from .kernels import BULLET, step_impulse, surface
 
 # A captured body's speed, as a fraction of the approach speed.
 REST_FRACTION = 1e-9
@@ -42,34 +42,41 @@ PHASES = 4096
 
 
 @njit(cache=True)
-def drop_bullet(p, h, phase, v_in, accel, max_steps=MAX_STEPS):
-    """``(e_N, steps with an impulse, status)`` of one drop through PyBullet's rigid-contact map."""
+def drop_impulse(code, p, h, phase, v_in, accel, max_steps=MAX_STEPS):
+    """``(e_N, steps with an impulse, status)`` of one drop through engine ``code``'s map (``kernels``)."""
     z, w = touchdown_state(v_in, accel, h, phase)
+    rest = surface(code, p)
     contact = 0
     run = 0
     for _ in range(max_steps):
-        lam = impulse_bullet(z, w, p, h, accel)
-        if lam == 0.0 and contact > 0 and w > 0.0:
+        z_next, w_next = step_impulse(code, z, w, p, h, accel)
+        pushed = w_next != w - h * accel
+        if not pushed and contact > 0 and w > 0.0:
             return rebound_speed(z, w, accel, h) / v_in, contact, SEPARATED
-        w = w - h * accel + lam
-        z = z + h * w
-        run = run + 1 if lam > 0.0 else 0
-        if lam > 0.0:
+        z, w = z_next, w_next
+        run = run + 1 if pushed else 0
+        if pushed:
             contact += 1
-            at_rest = abs(w) <= REST_FRACTION * v_in and abs(z + p[SLOP]) <= REST_FRACTION * v_in * h
+            at_rest = abs(w) <= REST_FRACTION * v_in and abs(z - rest) <= REST_FRACTION * v_in * h
             if at_rest or run >= CHATTER_STEPS:
                 return 0.0, contact, CAPTURED
     return np.nan, contact, STEP_LIMIT
 
 
 @njit(cache=True)
-def phase_drops(p, h, v_in, accel, n):
+def drop_bullet(p, h, phase, v_in, accel, max_steps=MAX_STEPS):
+    """``drop_impulse`` through PyBullet's map."""
+    return drop_impulse(BULLET, p, h, phase, v_in, accel, max_steps)
+
+
+@njit(cache=True)
+def phase_drops(p, h, v_in, accel, n, code=BULLET):
     """e_N, steps with an impulse and status of the drops at the ``n`` midpoint phases."""
     e = np.empty(n)
     steps = np.empty(n, dtype=np.int64)
     status = np.empty(n, dtype=np.int64)
     for i in range(n):
-        e[i], steps[i], status[i] = drop_bullet(p, h, (i + 0.5) / n, v_in, accel, MAX_STEPS)
+        e[i], steps[i], status[i] = drop_impulse(code, p, h, (i + 0.5) / n, v_in, accel, MAX_STEPS)
     return e, steps, status
 
 
@@ -93,9 +100,11 @@ class ImpulseStats:
     phase_max: float = float("nan")
 
 
-def phase_stats(p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHASES) -> ImpulseStats:
-    """``ImpulseStats`` of the drops at ``n`` midpoint phases of a step ``h`` (s)."""
-    e, steps, status = phase_drops(p, float(h), float(v_in), float(accel), int(n))
+def phase_stats(
+    p: np.ndarray, h: float, v_in: float, accel: float, n: int = PHASES, code: int = BULLET
+) -> ImpulseStats:
+    """``ImpulseStats`` of the drops at ``n`` midpoint phases of a step ``h`` (s), engine ``code``."""
+    e, steps, status = phase_drops(p, float(h), float(v_in), float(accel), int(n), int(code))
     if np.any(status == STEP_LIMIT):
         nan = float("nan")
         return ImpulseStats(

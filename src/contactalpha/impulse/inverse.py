@@ -2,8 +2,8 @@
 
 - ``restitution_for``: the pair's (combined) restitution whose phase-mean e_N at the engine's step,
   under the scene's load, is the target (Brent's method on ``delivered.phase_stats``' mean, which
-  rises with the coefficient); each body then gets ``per_body`` of it (Bullet multiplies the two
-  bodies' values);
+  rises with the coefficient); each body then gets its share (``registry.ImpulseEngine.per_body``:
+  Bullet multiplies the two bodies' values, PhysX averages them);
 - ``threshold_for``: the velocity threshold that stops the bounces at the loaded contact's critical
   speed: above it the engine bounces, below it not, as the compliant contact does (the engine
   compares the threshold with the speed of the step its contact acts in, up to ``a h`` above the
@@ -17,6 +17,7 @@ from scipy.optimize import brentq
 
 from . import bullet_map as bm
 from .delivered import PHASES, ImpulseStats, phase_stats
+from .registry import impulse_engine
 
 # The largest pair restitution searched (Bullet takes any value; above 1 the row asks for more
 # speed than came in, which the load can need).
@@ -40,8 +41,8 @@ def per_body(pair: float) -> float:
     return math.sqrt(pair)
 
 
-def _mean(e, radius, threshold, h, v, a, n):
-    return phase_stats(bm.make_params(e, radius, threshold), h, v, a, n).mean
+def _mean(eng, e, radius, threshold, h, v, a, n):
+    return phase_stats(eng.params(e, radius, threshold), h, v, a, n, eng.code).mean
 
 
 def restitution_for(
@@ -52,18 +53,24 @@ def restitution_for(
     radius: float,
     threshold: float = bm.VELOCITY_THRESHOLD,
     n: int = PHASES,
+    engine: str = "pybullet_impulse",
 ) -> RestitutionAnswer:
-    """The pair restitution whose mean e_N over ``n`` midpoint phases is ``target``.
+    """The pair restitution whose mean e_N over ``n`` midpoint phases of ``engine``'s step is ``target``.
 
     The mean rises with the coefficient, continuously except where a phase switches between
     bouncing and captured (a jump of that drop's e_N over ``n``): there the answer's mean is within
     such a jump of the target (``stats.mean`` says where it is).
     """
-    lo, hi = _mean(0.0, radius, threshold, h, v, a, n), _mean(MAX_RESTITUTION, radius, threshold, h, v, a, n)
+    eng = impulse_engine(engine)
+    lo = _mean(eng, 0.0, radius, threshold, h, v, a, n)
+    hi = _mean(eng, MAX_RESTITUTION, radius, threshold, h, v, a, n)
     if not (lo <= target <= hi):
         return RestitutionAnswer(math.nan, None, "unreachable", lo if target < lo else hi)
-    e = brentq(lambda x: _mean(x, radius, threshold, h, v, a, n) - target, 0.0, MAX_RESTITUTION, xtol=XTOL)
-    return RestitutionAnswer(e, phase_stats(bm.make_params(e, radius, threshold), h, v, a, n), "ok", math.nan)
+    e = brentq(
+        lambda x: _mean(eng, x, radius, threshold, h, v, a, n) - target, 0.0, MAX_RESTITUTION, xtol=XTOL
+    )
+    stats = phase_stats(eng.params(e, radius, threshold), h, v, a, n, eng.code)
+    return RestitutionAnswer(e, stats, "ok", math.nan)
 
 
 def threshold_for(critical: float, h: float, a: float) -> float:

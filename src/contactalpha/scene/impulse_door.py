@@ -24,9 +24,9 @@ import numpy as np
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import ADAPTERS, adapter
-from contactalpha.impulse import bullet_map
 from contactalpha.impulse.delivered import phase_stats
 from contactalpha.impulse.inverse import restitution_for, threshold_for
+from contactalpha.impulse.registry import impulse_engine
 from contactalpha.validation import check_count, check_scalar
 
 from .stepped import DEFAULT_STEP, VERIFY_RADIUS, SteppedAnswer, phase_mean_error
@@ -105,9 +105,10 @@ def _one(values, law, engine, timestep, verify, contact_parameters):
     target = float(cp.e_n) if values["e_N"] is None else float(values["e_N"])
     law_arg = None if law is None and a.law.name == "hunt_crossley" else (a.law if law is None else law)
     v_crit = float(critical_speed(max(float(cp.eps), 1e-4), m, k, acc, law=law_arg))
+    eng = impulse_engine(a.impulse)
     thr = threshold_for(v_crit, h, acc)
-    ans = restitution_for(target, h, v, acc, radius, thr)
-    raw = phase_stats(bullet_map.make_params(target, radius), h, v, acc)
+    ans = restitution_for(target, h, v, acc, radius, thr, engine=eng.name)
+    raw = phase_stats(eng.params(target, radius, eng.threshold), h, v, acc, code=eng.code)
     ok = ans.status == "ok"
     st = ans.stats
     stepped = SteppedAnswer(
@@ -120,9 +121,7 @@ def _one(values, law, engine, timestep, verify, contact_parameters):
         continuous_mean=raw.mean, continuous_minimum=raw.minimum, continuous_maximum=raw.maximum,
         mean_error=abs(st.mean - target) if ok else math.nan,
     )  # fmt: skip
-    from contactalpha.adapters.pybullet_impulse import block  # the engine's block (one home)
-
-    blk = block(ans.restitution, thr)
+    blk = a.block(ans.restitution, thr)
     blk["critical_speed"] = v_crit
     cp = cp.replaced(engines={engine: blk}, engine=engine, stepped=stepped)
     if verify is None:
@@ -160,14 +159,16 @@ def _stacked(rows, shape):
 def impulse_lines(cp):
     """Text lines of an impulse engine's answer (``contactalpha params --engine NAME``)."""
     ans, blk = cp.stepped, cp.block
+    eng = impulse_engine(adapter(ans.engine).impulse)
     lines = [f"at {ans.engine}'s step {ans.timestep:.6g} s, over a uniformly random touchdown phase "
              "(drops read at the plane):"]  # fmt: skip
     if ans.status == "ok":
+        threshold = blk.get("restitutionVelocityThreshold", blk.get("bounce_threshold"))
         lines += [
-            f"  restitution {ans.damping:.15g} for the pair (each body its square root: the engine "
-            "multiplies them)",
-            f"  restitutionVelocityThreshold {blk['restitutionVelocityThreshold']:.6g} m/s: the loaded "
-            f"contact stops bouncing below {blk['critical_speed']:.6g} m/s",
+            f"  restitution {ans.damping:.15g} for the pair, {eng.per_body(ans.damping):.15g} on each body "
+            f"(the engine's rule: {eng.combine})",
+            f"  velocity threshold {threshold:.6g} m/s: the loaded contact stops bouncing below "
+            f"{blk['critical_speed']:.6g} m/s",
             f"  mean e_N      {ans.mean:.15g}   (target {ans.target:.15g})",
             f"  one drop      {ans.minimum:.6g} to {ans.maximum:.6g}   (std {ans.std:.3g}; "
             f"{ans.steps_min}-{ans.steps_max} steps with an impulse)",
@@ -176,11 +177,10 @@ def impulse_lines(cp):
         lines.append(
             f"  {ans.status}: no restitution delivers it; the nearest mean e_N met is {ans.nearest:.6g}"
         )
-    lines += [
-        f"  the target itself as the pair's restitution, at the engine's own threshold, delivers "
-        f"{ans.continuous_mean:.6g} ({ans.continuous_minimum:.6g} to {ans.continuous_maximum:.6g})",
-        "  a restitution set each step (scene.impulse_schedule.touchdown_schedule) removes the spread",
-    ]
+    lines.append(
+        f"  the target itself as the pair's restitution, at the engine's threshold ({eng.threshold:g} m/s), "
+        f"delivers {ans.continuous_mean:.6g} ({ans.continuous_minimum:.6g} to {ans.continuous_maximum:.6g})"
+    )
     if ans.verify:
         v = ans.verify
         lines.append(
