@@ -105,7 +105,7 @@ class PyBulletImpulseAdapter(SteppingAdapter):
     module = "pybullet"
     settings = ImpulseSettings()
     # Answered only at the engine's step (no continuous block): the front door's impulse path.
-    impulse = "bullet"
+    impulse = "pybullet_impulse"
     units = {
         "restitution": "1 (each body)",
         "restitutionVelocityThreshold": "m/s",
