@@ -89,7 +89,7 @@ TARGET_SCENES = [
     # 4 cm a step, twice the contact distance: near phase 0.503 one or two steps with an impulse
     # alternate within 1e-4 of phase, and single precision lands elsewhere there (the maximum
     # read 0.9515 for 0.9536); the mean is checked, the range not
-    pytest.param(1.0, 1e8, 4.0, 0.0, 0.95, 0.05, id="fast-touchdown-range-unchecked"),
+    pytest.param((1.0, 1e8, 4.0, 0.0, 0.95, 0.05), id="fast-touchdown-range-unchecked"),
     (20.0, 1e9, 1.0, 200.0, 0.55, 0.15),
     (0.5, 1e7, 0.5, 2.0, 0.65, 0.05),
 ]
