@@ -26,6 +26,7 @@ from contactalpha.adapters.pybullet_impulse import measure_impulse
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.impulse import physx_map
 from contactalpha.impulse.inverse import restitution_for
+from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 
 INSTALL_HINT = 'PhysX through SAPIEN is an optional engine: pip install -e ".[physx]" (PyPI package "sapien")'
@@ -65,6 +66,7 @@ class _Drop:
     ball: object
     body: object
     states: list
+    material: object = None
 
 
 class PhysxAdapter(SteppingAdapter):
@@ -127,9 +129,8 @@ class PhysxAdapter(SteppingAdapter):
         body.linear_damping, body.angular_damping, body.sleep_threshold = 0.0, 0.0, 0.0
         h = settings.timestep
         phases = list((np.arange(settings.phases) + 0.5) / settings.phases) + list(settings.extra_phases)
-        return _Drop(
-            world, ball, body, [touchdown_state(scene.approach_speed, scene.accel, h, p) for p in phases]
-        )
+        states = [touchdown_state(scene.approach_speed, scene.accel, h, p) for p in phases]
+        return _Drop(world, ball, body, states, material)
 
     def run(self, model, scene, settings):
         """Step each touchdown state ``settings.steps`` times."""
@@ -178,6 +179,43 @@ class PhysxAdapter(SteppingAdapter):
     def timestep(self, settings):
         """SAPIEN's fixed step, s."""
         return settings.timestep
+
+
+def drop_sequence(scene, schedule, duration, settings=None):
+    """Per-step states of a drop from rest at the height where ``scene.approach_speed`` is reached.
+
+    ``schedule`` (``impulse.schedule.TouchdownSchedule`` for ``"physx"``) sets the restitution of
+    the one material both shapes share (so the pair's is that value) before every step through
+    ``Rebounder``; the bounce threshold is 0.  Returns ``(z, w)`` at every step from the start.
+    """
+    sapien = _sapien()
+    settings = settings or PhysxSettings(timestep=schedule.timestep, phases=1)
+    a, h = scene.accel, settings.timestep
+    model = ADAPTER.build_drop(scene, ADAPTER.block(0.0, 0.0), settings)
+    rebounder = Rebounder(schedule)
+    physx = sapien.physx
+    shapes = [
+        model.body.collision_shapes[0],
+        *(c.collision_shapes[0] for c in model.scene.physx_system.rigid_static_components),
+    ]
+    z, w = scene.approach_speed**2 / (2.0 * a), 0.5 * a * h
+    model.ball.set_pose(sapien.Pose(p=[0.0, 0.0, scene.radius + z]))
+    model.body.linear_velocity = [0.0, 0.0, w]
+    n = int(np.ceil(duration / h))
+    zs, ws = np.empty(n + 1), np.empty(n + 1)
+    zs[0], ws[0] = z, w
+    for j in range(1, n + 1):
+        # a new material each step: PxMaterial::setRestitution clamps to [0, 1], the constructor
+        # does not (a release from rest needs a coefficient of several)
+        material = physx.PhysxMaterial(0.0, 0.0, rebounder.restitution(z, w))
+        for shape in shapes:
+            shape.physical_material = material
+        if scene.force:
+            model.body.add_force_torque([0.0, 0.0, -scene.force], [0.0, 0.0, 0.0])
+        model.scene.step()
+        z, w = float(model.ball.pose.p[2]) - scene.radius, float(model.body.linear_velocity[2])
+        zs[j], ws[j] = z, w
+    return zs, ws
 
 
 ADAPTER = PhysxAdapter()

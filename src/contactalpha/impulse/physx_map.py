@@ -43,6 +43,10 @@ VELOCITY_ITERATIONS = 1
 # SAPIEN 3.0.3's build: the row bounces while the gap is below this many steps' travel (measured).
 CLOSING = 1.1
 
+# A body at rest on the plane reads as this far either side of it (the single-precision pose of a
+# ball of up to about 0.15 m radius); PhysX's own separation there takes the separated branch.
+SURFACE_TOL = 1e-8
+
 # Slots of ``p``.
 RESTITUTION = 0  # the pair's restitution (the average of the two materials')
 THRESHOLD = 1  # bounce_threshold, m/s
@@ -76,7 +80,7 @@ def step_physx(z: float, w: float, p: np.ndarray, h: float, accel: float) -> tup
     bounce = e > 0.0 and v < -p[THRESHOLD] and -v * p[CLOSING_SLOT] * h > z
     target = e * -v if bounce else 0.0
     error = z + target * (h + z / v) if bounce else z
-    coeff = 1.0 / dt if z > 0.0 else bias_scale / dt
+    coeff = 1.0 / dt if z >= -SURFACE_TOL else bias_scale / dt  # at rest SAPIEN takes the separated one
     dx, total, vn = 0.0, 0.0, v
     for k in range(n_pos):
         sep = error + dx - target * k * dt

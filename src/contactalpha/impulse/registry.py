@@ -25,6 +25,9 @@ class ImpulseEngine:
     per_body : each body's restitution for the pair's (its combining rule undone).
     combine : the combining rule, in words.
     source : where the map was read from.
+    holds : whether a body landed with restitution 0 can be sent off again from rest by the map's
+        coefficient (``schedule.Rebounder`` then holds each contact for the loaded contact's
+        duration; else it releases each touchdown at once).
     """
 
     name: str
@@ -35,6 +38,7 @@ class ImpulseEngine:
     per_body: Callable
     combine: str
     source: str
+    holds: bool = True
 
 
 ENGINES = {

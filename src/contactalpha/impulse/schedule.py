@@ -40,10 +40,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from contactalpha.stepping.flight import rebound_speed
 
-from . import bullet_map as bm
+from .inverse import MAX_RESTITUTION
+from .kernels import step_impulse
+from .registry import impulse_engine
 
 # The parts of a contact (``Rebounder.part``).
 FLIGHT, HOLD, REST = 0, 1, 2
@@ -60,8 +63,8 @@ class TouchdownSchedule:
     durations : its contact's duration at each, s.
     critical : the critical approach speed, m/s: below it e_N is 0 and the body stays.
     accel, timestep : the load's acceleration (m/s^2) and the engine's step (s).
-    radius : the sphere's radius, m (its contact breaking threshold).
-    erp : the engine's ``contactERP``.
+    radius : the sphere's radius, m (PyBullet's contact breaking threshold reads it).
+    engine : the impulse engine (``registry.ENGINES``) whose step map solves each coefficient.
     """
 
     speeds: np.ndarray
@@ -71,7 +74,7 @@ class TouchdownSchedule:
     accel: float
     timestep: float
     radius: float
-    erp: float = bm.CONTACT_ERP
+    engine: str = "pybullet_impulse"
 
     def target(self, v: float) -> tuple[float, float]:
         """``(e_N, duration)`` of the loaded contact at approach speed ``v`` (m/s); e_N 0 below critical."""
@@ -85,45 +88,59 @@ class Rebounder:
     """The per-step restitution of one body under a ``TouchdownSchedule`` (the module docstring).
 
     ``restitution(z, w)`` is called once before every step, in order; ``time`` counts the steps.
+    Each coefficient is solved on the engine's step map (``kernels.step_impulse``): the root of the
+    rebound read after the step less the speed asked for (Brent's method; a release from rest,
+    where the approach is ``a h``, takes a coefficient of several).
     """
 
     def __init__(self, schedule: TouchdownSchedule) -> None:
         self.schedule = schedule
+        self.engine = impulse_engine(schedule.engine)
         self.time = 0.0
         self.part = FLIGHT
         self.rebound = 0.0  # the speed to leave at, m/s
         self.release = 0.0  # when to let go, s: the loaded contact's release less ``late``
         self.late = 0.0  # how much later than the loaded contact's the releases so far came, s
 
+    def _step(self, z, w, e):
+        s = self.schedule
+        p = self.engine.params(e, s.radius, 0.0)
+        return step_impulse(self.engine.code, z, w, p, s.timestep, s.accel)
+
     def restitution(self, z: float, w: float) -> float:
         """The pair restitution to set for the coming step from the stored state ``(z, w)``."""
         s, t = self.schedule, self.time
         a, h = s.accel, s.timestep
         self.time += h
-        v_star = w - h * a
-        d = z + bm.LINEAR_SLOP
+        if self.part == REST:
+            return 0.0
+        z0, w0 = self._step(z, w, 0.0)
         if self.part == FLIGHT:
-            if d + h * v_star > 0.0:
-                return 0.0  # the free step ends above the solver's surface: no contact yet
+            if w0 == w - h * a:
+                return 0.0  # no impulse this step even without restitution: no contact yet
             v = rebound_speed(z, w, a, h)
             e_n, duration = s.target(v)
+            if e_n <= 0.0:
+                self.part = REST
+                return 0.0
             slope = w - 0.5 * a * h
             # when the state's parabola meets the plane (z + slope tau - a tau^2 / 2 = 0)
             touch = t + (slope + math.sqrt(max(slope * slope + 2.0 * a * z, 0.0))) / a
-            self.part, self.rebound = (HOLD, e_n * v) if e_n > 0.0 else (REST, 0.0)
-            self.release = touch + duration - self.late
-            return 0.0
-        if self.part == REST or self.rebound * self.rebound < 2.0 * a * z:
-            return 0.0
-        w_end = math.sqrt(self.rebound**2 - 2.0 * a * z) - 0.5 * a * h
-        z_end, slope = z + h * w_end, w_end - 0.5 * a * h
-        leaves = t + h + (slope - math.sqrt(max(slope * slope + 2.0 * a * z_end, 0.0))) / a
-        # Holding lands the body; below the surface the ERP then lifts it at -erp d / h, and a
-        # lift faster than a h leaves no approach for the restitution to act on.
-        can_hold = d > -bm.LINEAR_SLOP or -s.erp * d / h < h * a
+            self.part, self.rebound, self.release = HOLD, e_n * v, touch + duration - self.late
+        # Holding lands the body (restitution 0); it can go on holding only if the next step still
+        # approaches (v* < 0 there), since restitution acts only on an approach.
+        can_hold = self.engine.holds and w0 - h * a < 0.0
+        gap = lambda e: rebound_speed(*self._step(z, w, e), a, h) - self.rebound  # noqa: E731
+        # from rest the approach is only a h: the coefficient can be the rebound over it, and more
+        top = max(MAX_RESTITUTION, 4.0 * self.rebound / max(h * a - w, 1e-300))
+        if gap(0.0) > 0.0 or gap(top) < 0.0:
+            return 0.0  # no coefficient sends it off at that speed from here: land it
+        e = brentq(gap, 0.0, top, xtol=1e-14, rtol=1e-14)
+        z1, w1 = self._step(z, w, e)
+        slope = w1 - 0.5 * a * h
+        leaves = t + h + (slope - math.sqrt(max(slope * slope + 2.0 * a * z1, 0.0))) / a
         if leaves < self.release - 0.5 * h and can_hold:
             return 0.0  # hold: the loaded contact lasts on
         self.part = FLIGHT
         self.late = leaves - self.release
-        positional = -d / h if d > 0.0 else -s.erp * d / h
-        return max((w_end - positional) / -v_star, 0.0)
+        return e

@@ -63,4 +63,4 @@ def touchdown_schedule(
         )
         e_n[i] = -out[OUT_V_END] if int(out[OUT_STATE]) == SEPARATION else 0.0
         durations[i] = out[OUT_T_END] * ts
-    return TouchdownSchedule(speeds, e_n, durations, critical, float(cp.accel), h, r)
+    return TouchdownSchedule(speeds, e_n, durations, critical, float(cp.accel), h, r, engine)
