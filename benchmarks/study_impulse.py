@@ -1,6 +1,8 @@
 """Study of issue 46 for PyBullet's rigid contact: restitution and threshold at its 1/240 s step.
 
-Run: PYTHONPATH=src nice -n 10 python benchmarks/study_impulse.py [PHASES] [FIGURE.png]
+Run: PYTHONPATH=src nice -n 10 python benchmarks/study_impulse.py [PHASES] [FIGURE.png] [ENGINES]
+
+ENGINES: comma-separated, of pybullet_impulse and physx (default both; physx needs SAPIEN).
 
 1. **What users get today** (the issue's table): the three scenes (0.1 kg at 0.3 m/s; 1 kg at
    1 m/s pushed by 5 m g; 5 kg at 2 m/s; a 5 cm sphere) with the target as the pair's restitution
@@ -14,6 +16,7 @@ Run: PYTHONPATH=src nice -n 10 python benchmarks/study_impulse.py [PHASES] [FIGU
    touchdown schedule's bounces and last touchdown in PyBullet against ``predict_bounces``; and
    the constant answer (restitution and threshold of step 2) for comparison.
 4. **The figure**: delivered e_N against approach speed for one loaded contact, map only.
+5. **PhysX 5 through SAPIEN** (0.01 s): the issue's PhysX rows, and step 2's 12 scenes.
 """
 
 import math
@@ -76,8 +79,30 @@ def issue_table():
         print(f"| restitution = target as {label} | " + " | ".join(cells) + " |")
 
 
-def target_table(phases):
-    print(f"\n## 2. The answer in PyBullet ({phases} phases and the map's two extreme phases)\n")
+def physx_issue_table():
+    """The issue's PhysX rows: SAPIEN's bounce threshold (2 m/s) and 0, the target on both materials."""
+    from contactalpha.adapters.physx_sapien import ADAPTER as PHYSX
+    from contactalpha.adapters.physx_sapien import PhysxSettings
+    from contactalpha.impulse import physx_map as pm
+    from contactalpha.impulse.kernels import PHYSX as CODE
+
+    print("\n## 1b. PhysX 5 (SAPIEN 3.0.3, 0.01 s), mean over 64 phases; engine / map\n")
+    print("| what the user sets | " + " | ".join(f"target {t}" for t, *_ in ISSUE_SCENES) + " |")
+    print("|---|---|---|---|")
+    for thr in (pm.BOUNCE_THRESHOLD, 0.0):
+        cells = []
+        for t, m, v, force in ISSUE_SCENES:
+            scene = DropScene(m, 1e7, v, G, force, 0.05)
+            settings = PhysxSettings(phases=64, threshold=thr, steps=60)
+            samples = PHYSX.run(PHYSX.build_drop(scene, PHYSX.block(t, thr), settings), scene, settings)
+            PHYSX.measure(samples, scene)
+            mapped = phase_stats(pm.make_params(t, thr), pm.DEFAULT_TIMESTEP, v, scene.accel, 64, CODE).mean
+            cells.append(f"{samples.extra['e_n_phases'].mean():.3f} / {mapped:.3f}")
+        print(f"| restitution = target, bounce threshold {thr:g} m/s | " + " | ".join(cells) + " |")
+
+
+def target_table(phases, engine="pybullet_impulse"):
+    print(f"\n## 2. The answer in {engine} ({phases} phases and the map's two extreme phases)\n")
     print(
         "| m (kg) | k (N/m^1.5) | v (m/s) | push (N) | target | restitution (pair) | threshold (m/s) "
         "| predicted mean [min, max] | PyBullet mean [min, max] | mean - target | range vs predicted "
@@ -103,7 +128,7 @@ def target_table(phases):
         worst_mean, worst_range = max(worst_mean, abs(d_mean)), max(worst_range, d_range)
         print(
             f"| {m:g} | {k:.0e} | {v:g} | {force:g} | {target:g} | {st.damping:.4f} "
-            f"| {cp.block['restitutionVelocityThreshold']:.4f} "
+            f"| {cp.block.get('restitutionVelocityThreshold', cp.block.get('bounce_threshold')):.4f} "
             f"| {st.mean:.4f} [{st.minimum:.4f}, {st.maximum:.4f}] "
             f"| {ver['mean']:.4f} [{ver['minimum']:.4f}, {ver['maximum']:.4f}] "
             f"| {d_mean:+.1e} | {d_range:.1e} "
@@ -224,11 +249,16 @@ def figure(path):
 def main():
     phases = int(sys.argv[1]) if len(sys.argv) > 1 else 512
     path = sys.argv[2] if len(sys.argv) > 2 else "docs/assets/impulse_pybullet.png"
+    engines = sys.argv[3].split(",") if len(sys.argv) > 3 else ["pybullet_impulse", "physx"]
     start = time.perf_counter()
-    issue_table()
-    target_table(phases)
-    drop_table()
-    figure(path)
+    if "pybullet_impulse" in engines:
+        issue_table()
+        target_table(phases)
+        drop_table()
+        figure(path)
+    if "physx" in engines:
+        physx_issue_table()
+        target_table(phases, "physx")
     print(f"\nwhole study {time.perf_counter() - start:.1f} s (shared loaded 2-core machine)")
 
 
