@@ -105,7 +105,7 @@ def target_table(phases, engine="pybullet_impulse"):
     print(f"\n## 2. The answer in {engine} ({phases} phases and the map's two extreme phases)\n")
     print(
         "| m (kg) | k (N/m^1.5) | v (m/s) | push (N) | target | restitution (pair) | threshold (m/s) "
-        "| predicted mean [min, max] | PyBullet mean [min, max] | mean - target | range vs predicted "
+        "| predicted mean [min, max] | engine mean [min, max] | mean - target | range vs predicted "
         "| raw coefficient delivers | check (s) |"
     )
     print("|" + "---|" * 13)
@@ -118,7 +118,7 @@ def target_table(phases, engine="pybullet_impulse"):
             approach_speed=v,
             force=force + m * G,
             radius=r,
-            engine="pybullet_impulse",
+            engine=engine,
             timestep="default",
             verify=phases,
         )
