@@ -115,3 +115,18 @@ def test_the_answer_delivers_the_target_in_physx(sapien, scene):
     assert abs(st.verify["mean"] - target) < 1e-3
     if v < 2.0 * pm.CONTACT_DISTANCE / H:
         assert abs(st.verify["minimum"] - st.minimum) < 2e-3 and abs(st.verify["maximum"] - st.maximum) < 2e-3
+
+
+@pytest.mark.parametrize("approach", [0.05, 0.2, 1.0])
+@pytest.mark.parametrize("gap", [1.05, 1.15])
+def test_the_bounce_needs_the_gap_within_1_1_steps_travel(sapien, approach, gap):
+    """SAPIEN 3.0.3 bounces while the gap is below 1.1 h |v*| (its source as published: 1.0)."""
+    drop = DropScene(0.1, 1e7, 1.0, 9.81, 0.0, 0.05)
+    model = ADAPTER.build_drop(drop, ADAPTER.block(0.8, 0.0), PhysxSettings(phases=1, threshold=0.0, steps=1))
+    z, w = gap * approach * H, -approach + 9.81 * H  # v* = -approach after the step's gravity
+    model.ball.set_pose(sapien.Pose(p=[0.0, 0.0, drop.radius + z]))
+    model.body.linear_velocity = [0.0, 0.0, w]
+    model.scene.step()
+    engine_bounced = float(model.body.linear_velocity[2]) > 0.0
+    map_bounced = pm.step_physx(z, w, pm.make_params(0.8, 0.0), H, 9.81)[1] > 0.0
+    assert engine_bounced == map_bounced == (gap < pm.CLOSING)

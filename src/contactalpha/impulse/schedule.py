@@ -130,7 +130,11 @@ class Rebounder:
         # Holding lands the body (restitution 0); it can go on holding only if the next step still
         # approaches (v* < 0 there), since restitution acts only on an approach.
         can_hold = self.engine.holds and w0 - h * a < 0.0
-        gap = lambda e: rebound_speed(*self._step(z, w, e), a, h) - self.rebound  # noqa: E731
+
+        def gap(e: float) -> float:
+            z_end, w_end = self._step(z, w, e)
+            return rebound_speed(z_end, w_end, a, h) - self.rebound
+
         # from rest the approach is only a h: the coefficient can be the rebound over it, and more
         top = max(MAX_RESTITUTION, 4.0 * self.rebound / max(h * a - w, 1e-300))
         if gap(0.0) > 0.0 or gap(top) < 0.0:

@@ -24,7 +24,7 @@ import numpy as np
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import ADAPTERS, adapter
-from contactalpha.impulse.delivered import phase_stats
+from contactalpha.impulse.delivered import ImpulseStats, phase_stats
 from contactalpha.impulse.inverse import restitution_for, threshold_for
 from contactalpha.impulse.registry import impulse_engine
 from contactalpha.validation import check_count, check_scalar
@@ -34,6 +34,8 @@ from .threshold import critical_speed
 
 # Radius of the sphere when the scene gives none, m (the contact breaking threshold reads it).
 DEFAULT_RADIUS = VERIFY_RADIUS
+# The statistics of an answer that did not reach the target.
+NO_STATS = ImpulseStats(math.nan, math.nan, math.nan, math.nan, (0, 0), math.nan, "unreachable")
 _ROW = ("eps", "mass", "stiffness", "approach_speed", "e_N", "accel", "force", "radius")
 
 
@@ -109,8 +111,8 @@ def _one(values, law, engine, timestep, verify, contact_parameters):
     thr = threshold_for(v_crit, h, acc)
     ans = restitution_for(target, h, v, acc, radius, thr, engine=eng.name)
     raw = phase_stats(eng.params(target, radius, eng.threshold), h, v, acc, code=eng.code)
-    ok = ans.status == "ok"
-    st = ans.stats
+    ok = ans.status == "ok" and ans.stats is not None
+    st = ans.stats if ans.stats is not None else NO_STATS
     stepped = SteppedAnswer(
         engine=engine, timestep=h, restitution="kinematic", target=target,
         damping=float(ans.restitution), law_damping=float(cp.damping),

@@ -51,9 +51,9 @@ def touchdown_schedule(
     cp = contact_parameters(eps, mass, stiffness, approach_speed, e_N=e_N, accel=accel, force=force)
     m, k, v = float(mass), float(stiffness), float(approach_speed)
     r = DEFAULT_RADIUS if radius is None else check_scalar("radius", radius, 0.0, math.inf, lo_open=True)
-    e = float(cp.eps)
-    critical = float(critical_speed(e, m, k, cp.accel))
-    sc = Scene(mass=m, radius=r, stiffness=k, approach_speed=v, force=0.0, eps=e, gravity=cp.accel)
+    e, accel = float(cp.eps), float(cp.accel)
+    critical = float(critical_speed(e, m, k, accel))
+    sc = Scene(mass=m, radius=r, stiffness=k, approach_speed=v, force=0.0, eps=e, gravity=accel)
     speeds = np.geomspace(critical * (1.0 + 1e-9), v * SCHEDULE_HEADROOM, points)
     e_n, durations = np.empty(points), np.empty(points)
     for i, speed in enumerate(speeds):
@@ -63,4 +63,4 @@ def touchdown_schedule(
         )
         e_n[i] = -out[OUT_V_END] if int(out[OUT_STATE]) == SEPARATION else 0.0
         durations[i] = out[OUT_T_END] * ts
-    return TouchdownSchedule(speeds, e_n, durations, critical, float(cp.accel), h, r, engine)
+    return TouchdownSchedule(speeds, e_n, durations, critical, accel, h, r, engine)
