@@ -113,3 +113,31 @@ def test_front_door_refuses(kw, match):
     args = dict(e_N=0.5, mass=0.5, stiffness=1e7, approach_speed=1.0, accel=9.81, engine="pybullet_impulse")
     with pytest.raises(ValueError, match=match):
         ca.contact_parameters(**{**args, **kw})
+
+
+@pytest.mark.parametrize("engine", ["pybullet_impulse", "physx"])
+def test_cli_prints_the_front_doors_block(engine, capsys):
+    import json
+
+    from contactalpha import cli
+
+    scene = dict(e_N=0.6, mass=0.3, stiffness=1e7, approach_speed=1.2, accel=9.81, radius=0.05)
+    args = [
+        "params",
+        "--e-n",
+        "0.6",
+        "--mass",
+        "0.3",
+        "--stiffness",
+        "1e7",
+        "--speed",
+        "1.2",
+        "--accel",
+        "9.81",
+    ]
+    assert cli.main([*args, "--radius", "0.05", "--engine", engine, "--timestep", "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)["parameters"]
+    block = ca.contact_parameters(**scene, engine=engine, timestep="default").block
+    assert printed.keys() == block.keys()
+    for name, value in block.items():
+        assert printed[name] == pytest.approx(value, rel=1e-15), name
