@@ -17,15 +17,15 @@ is exact, so the coefficient for the coming step can be solved from the stored s
    body on the surface (the speculative row takes out the gap, the penetrating one the depth);
 2. **hold**: restitution 0 while the loaded contact would still last (``durations``), the body
    resting on the solver's surface (its approach ``v* = -a h`` each step keeps the row's
-   restitution able to act).  A body deep below the surface (the contact point appeared only
-   after it crossed: ``v h`` above the breaking threshold) is released at once instead: holding it
-   there would let the ERP lift it faster than ``a h`` (``v* > 0``), and restitution acts only on
-   an approach; that contact's duration is lost (the next releases make up for it);
+   restitution able to act).  A body the held step would leave with ``v* >= 0`` (deep below the
+   surface, where the contact point appeared only after it crossed, the position correction lifts
+   it faster than ``a h``) is released at once instead, since restitution acts only on an
+   approach; that contact's duration is lost (the next releases make up for it);
 3. **release**: in the step whose launch meets the plane, going up, nearest the loaded contact's
    release time (touchdown + duration), the coefficient that sends the body off at
-   ``u = e_N(v) v``: the step must end at ``w' = sqrt(u^2 - 2 a z) - a h / 2`` (the parabola
-   through ``(z + h w', w')`` meets the plane at ``u``), and the row's ``w' = e |v*| + positional``
-   gives ``e``.  Below the critical speed ``u = 0``: the body stays.
+   ``u = e_N(v) v``, solved on the engine's step map (for Bullet's row it is the closed form
+   ``w' = sqrt(u^2 - 2 a z) - a h / 2``, ``w' = e |v*| + positional``).  Below the critical speed
+   ``u = 0``: the body stays.
 
 The rebound speed is then the loaded contact's (to the table's interpolation), and each release
 within half a step of the loaded contact's: the runner keeps how late the releases so far came and
