@@ -36,7 +36,7 @@ def _require_engine(module):
 
 
 # Fixtures of the real engines: a test that uses one is an integration test (pytest -m integration).
-ENGINE_FIXTURES = ("opensim", "exudyn", "mujoco", "pydrake", "pybullet")
+ENGINE_FIXTURES = ("opensim", "exudyn", "mujoco", "pydrake", "pybullet", "sapien")
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -70,3 +70,9 @@ def pydrake():
 @pytest.fixture(scope="session")
 def pybullet():
     return _require_engine("pybullet")
+
+
+@pytest.fixture(scope="session")
+def sapien():
+    """SAPIEN (PhysX 5): the optional ``physx`` extra."""
+    return _require_engine("sapien")

@@ -19,6 +19,7 @@ RANKS = {
     "models": 2,
     "export": 2,
     "stepping": 2,  # the engines' discrete step maps (numba kernels): below scene and adapters
+    "impulse": 2,  # the impulse engines' step maps (rigid contact with restitution): beside stepping
     "baselines": 3,
     "adapters": 4,  # the engines: below scene and the front door, which iterates the adapters' registry
     "scene": 5,  # the physics of a ball under a load: bounces, the separation threshold, the advice

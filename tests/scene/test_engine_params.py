@@ -34,7 +34,7 @@ def test_cli_prints_one_engines_block(capsys):
 
 def test_cli_refuses_an_unknown_engine_on_one_line(capsys):
     # --engine takes any name; the registry refuses an unknown one with its list (one home).
-    assert main([*ARGS, "--engine", "physx"]) == 2
+    assert main([*ARGS, "--engine", "no_such_engine"]) == 2
     err = capsys.readouterr().err
-    assert "outside the valid choices ('opensim', 'exudyn', 'mujoco', 'drake', 'pybullet', 'lammps')" in err
-    assert err.count("\n") == 1 and "physx" in err
+    assert "outside the valid choices ('opensim', 'exudyn', 'mujoco', 'drake', 'pybullet'," in err
+    assert err.count("\n") == 1 and "no_such_engine" in err

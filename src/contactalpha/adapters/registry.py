@@ -15,6 +15,8 @@ from contactalpha.adapters import (
     lammps_granular,
     mujoco_soft,
     opensim_hc,
+    physx_sapien,
+    pybullet_impulse,
     pybullet_kv,
 )
 from contactalpha.adapters.contract import check_adapter
@@ -30,6 +32,8 @@ ADAPTERS = tuple(
         drake_point.ADAPTER,
         pybullet_kv.ADAPTER,
         lammps_granular.ADAPTER,
+        pybullet_impulse.ADAPTER,
+        physx_sapien.ADAPTER,
     )
 )
 ENGINE_NAMES = tuple(a.name for a in ADAPTERS)
@@ -59,7 +63,8 @@ def engine_parameters(law, damping, scene):
 
 def _of_law(law):
     name = get_law(law).name
-    return [a for a in ADAPTERS if a.law.name == name]
+    # An impulse engine (``impulse`` set) has no continuous block: it is answered at its step only.
+    return [a for a in ADAPTERS if a.law.name == name and getattr(a, "impulse", None) is None]
 
 
 def check_radius_used(law, radius):

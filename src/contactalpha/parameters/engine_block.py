@@ -13,6 +13,7 @@ from contactalpha.adapters.registry import adapter
 from contactalpha.scene.load import scene_accel
 from contactalpha.validation import check_flag
 
+from . import impulse
 from .at_step import DEFAULT_STEP, EnergyGainWarning, at_step
 from .front_door import contact_parameters
 from .reach import UnreachableTarget, unreachable_on_drops
@@ -66,6 +67,15 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
     a = adapter(engine)
     refine = check_flag("refine", refine)
     key = "e_N" if restitution == "kinematic" else "eps"
+    if impulse.is_impulse(engine):  # answered at its step only, with its own lines
+        if refine:
+            raise ValueError(
+                f"{engine} has no --refine: its answer is solved on its step map (--verify N checks it)"
+            )
+        cp = contact_parameters(mass=mass, stiffness=stiffness, approach_speed=approach_speed, accel=accel,
+                                force=force, radius=radius, engine=engine, timestep=timestep, verify=verify,
+                                **{key: target})  # fmt: skip
+        return cp.block, impulse.impulse_lines(cp), as_plain_data(cp)["stepped"]
     if timestep is not None or verify is not None:
         if refine:
             raise ValueError("give --refine or --timestep, not both: the step's answer needs no engine run")

@@ -47,6 +47,7 @@ from .checks import (
     law_reads_radius,
     require_scene,
 )
+from . import impulse
 from .one_scene import hunt_crossley_parameters, law_parameters
 from .result import ContactParameters, NoSeparationWarning, no_separation_note
 from .verify import verify_on_engine
@@ -132,6 +133,9 @@ def contact_parameters(
     RuntimeError
         If no damping is found for one scene (never a plausible wrong number).
     """
+    if impulse.is_impulse(engine):  # a rigid contact with restitution: answered at its step
+        row = (eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
+        return impulse.impulse_parameters(row, law, engine, timestep, verify, contact_parameters)
     batch = is_batch(eps, mass, stiffness, approach_speed, e_N, accel, force, radius)
     radius, map_radius = _radii(radius, law, engine, batch)
     stepped = timestep is not None or verify is not None

@@ -1,0 +1,1 @@
+"""Impulse engines (a rigid contact with a restitution coefficient): their step as a map, the inverse."""

@@ -1,0 +1,132 @@
+"""PhysX 5 (SAPIEN 3.0.3, CPU) against its TGS map, and the package's numbers in PhysX (integration).
+
+- step by step: from the same stored state, SAPIEN and ``impulse.physx_map`` agree to 2e-5 of the
+  scale (PhysX steps in single precision: measured up to 6e-6), through touchdown and rebound;
+- per phase: e_N read from SAPIEN's drops is the map's within 2e-5 (measured 1e-6) at 64 phases;
+- the issue's done-when: at 12 scenes the restitution of ``contact_parameters(...,
+  engine="physx", timestep="default")`` gives a mean e_N over 512 phases in PhysX within 1e-3 of
+  the target and a range within 2e-3 of the predicted (read there and at the map's two extremes;
+  not for a touchdown of twice the contact distance a step, see ``TARGET_SCENES``).
+"""
+
+import numpy as np
+import pytest
+
+import contactalpha as ca
+from contactalpha.adapters.contract import DropScene
+from contactalpha.adapters.physx_sapien import ADAPTER, PhysxSettings
+from contactalpha.impulse import physx_map as pm
+from contactalpha.impulse.delivered import phase_drops
+from contactalpha.impulse.kernels import PHYSX
+from contactalpha.stepping.flight import touchdown_state
+
+H = pm.DEFAULT_TIMESTEP
+
+# (pair restitution, threshold m/s, mass kg, v m/s, push N, phase)
+STEP_SCENES = [
+    (0.5, 0.0, 0.5, 1.0, 0.0, 0.3),
+    (0.8, 0.0, 0.1, 0.3, 0.0, 0.5),
+    (0.6, 0.0, 1.0, 3.0, 0.0, 0.2),
+    (0.3, 0.5, 1.0, 1.0, 20.0, 0.7),
+    (0.9, 2.0, 5.0, 2.0, 0.0, 0.05),
+    (0.7, 0.1, 0.2, 0.6, 1.0, 0.95),
+]
+
+
+@pytest.mark.parametrize("scene", STEP_SCENES)
+def test_map_is_the_engine_step_by_step(sapien, scene):
+    e, thr, m, v, force, phase = scene
+    drop = DropScene(m, 1e7, v, 9.81, force, 0.05)
+    settings = PhysxSettings(phases=1, threshold=thr, steps=1)
+    model = ADAPTER.build_drop(drop, ADAPTER.block(e, thr), settings)
+    p, a = pm.make_params(e, thr), drop.accel
+    z, w = touchdown_state(v, a, H, phase)
+    model.ball.set_pose(sapien.Pose(p=[0.0, 0.0, drop.radius + z]))
+    model.body.linear_velocity = [0.0, 0.0, w]
+    worst = 0.0
+    for _ in range(12):  # touchdown, the bounce and its first free steps
+        if force:
+            model.body.add_force_torque([0.0, 0.0, -force], [0.0, 0.0, 0.0])
+        model.scene.step()
+        z_map, w_map = pm.step_physx(z, w, p, H, a)
+        z, w = float(model.ball.pose.p[2]) - drop.radius, float(model.body.linear_velocity[2])
+        worst = max(worst, abs(z - z_map) / (v * H), abs(w - w_map) / v)
+    assert worst < 2e-5
+
+
+# (mass, v, push, pair restitution, threshold)
+PHASE_SCENES = [
+    (0.5, 1.0, 0.0, 0.5, 0.0),
+    (0.1, 0.3, 0.0, 0.8, 0.0),
+    (1.0, 1.0, 20.0, 0.3, 0.5),
+    (5.0, 2.0, 0.0, 0.9, 2.0),
+    (0.2, 0.6, 1.0, 0.7, 0.1),
+]
+
+
+@pytest.mark.parametrize("scene", PHASE_SCENES)
+def test_e_n_per_phase_is_the_maps(sapien, scene):
+    m, v, force, e, thr = scene
+    drop = DropScene(m, 1e7, v, 9.81, force, 0.05)
+    settings = PhysxSettings(phases=64, threshold=thr, steps=60)
+    samples = ADAPTER.run(ADAPTER.build_drop(drop, ADAPTER.block(e, thr), settings), drop, settings)
+    ADAPTER.measure(samples, drop)
+    mapped, _, _ = phase_drops(pm.make_params(e, thr), H, v, drop.accel, 64, PHYSX)
+    assert np.max(np.abs(samples.extra["e_n_phases"] - mapped)) < 2e-5
+
+
+# (mass kg, Hertz stiffness N/m^1.5, v m/s, push N, target e_N, radius m)
+TARGET_SCENES = [
+    (0.5, 1e7, 1.0, 0.0, 0.5, 0.05),
+    (0.1, 1e6, 2.0, 0.0, 0.8, 0.03),
+    (2.0, 1e8, 1.5, 10.0, 0.6, 0.05),
+    (1.0, 1e7, 0.8, 20.0, 0.3, 0.05),
+    (5.0, 1e8, 3.0, 0.0, 0.9, 0.1),
+    (0.05, 1e6, 0.6, 0.2, 0.7, 0.02),
+    (0.3, 1e7, 1.2, 3.0, 0.4, 0.05),
+    (10.0, 1e9, 2.5, 100.0, 0.75, 0.1),
+    (0.2, 1e6, 0.9, 0.0, 0.2, 0.05),
+    # 4 cm a step, twice the contact distance: near phase 0.503 one or two steps with an impulse
+    # alternate within 1e-4 of phase, and single precision lands elsewhere there (the maximum
+    # read 0.9515 for 0.9536); the mean is checked, the range not
+    pytest.param((1.0, 1e8, 4.0, 0.0, 0.95, 0.05), id="fast-touchdown-range-unchecked"),
+    (20.0, 1e9, 1.0, 200.0, 0.55, 0.15),
+    (0.5, 1e7, 0.5, 2.0, 0.65, 0.05),
+]
+PHASES = 512
+
+
+@pytest.mark.parametrize("scene", TARGET_SCENES)
+def test_the_answer_delivers_the_target_in_physx(sapien, scene):
+    m, k, v, force, target, r = scene
+    cp = ca.contact_parameters(
+        e_N=target,
+        mass=m,
+        stiffness=k,
+        approach_speed=v,
+        force=force + m * 9.81,
+        radius=r,
+        engine="physx",
+        timestep="default",
+        verify=PHASES,
+    )
+    st = cp.stepped
+    assert st.status == "ok"
+    assert abs(st.verify["mean"] - target) < 1e-3
+    if v < 2.0 * pm.CONTACT_DISTANCE / H:
+        assert abs(st.verify["minimum"] - st.minimum) < 2e-3 and abs(st.verify["maximum"] - st.maximum) < 2e-3
+
+
+@pytest.mark.parametrize("approach", [0.05, 0.2, 1.0])
+@pytest.mark.parametrize("gap", [1.05, 1.15])
+def test_the_bounce_needs_the_gap_within_1_1_steps_travel(sapien, approach, gap):
+    """SAPIEN 3.0.3 bounces while the gap is below 1.1 h |v*| (its source as published: 1.0)."""
+    drop = DropScene(0.1, 1e7, 1.0, 9.81, 0.0, 0.05)
+    model = ADAPTER.build_drop(drop, ADAPTER.block(0.8, 0.0), PhysxSettings(phases=1, threshold=0.0, steps=1))
+    z, w = gap * approach * H, -approach + 9.81 * H  # v* = -approach after the step's gravity
+    model.ball.set_pose(sapien.Pose(p=[0.0, 0.0, drop.radius + z]))
+    model.body.linear_velocity = [0.0, 0.0, w]
+    model.scene.step()
+    engine_bounced = float(model.body.linear_velocity[2]) > 0.0
+    map_bounced = pm.step_physx(z, w, pm.make_params(0.8, 0.0), H, 9.81)[1] > 0.0
+    assert engine_bounced == map_bounced == (gap < pm.CLOSING)
