@@ -385,7 +385,6 @@ def _print_engine(args, value, restitution):
 
 
 def _params(args, parser):
-    from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.adapters.registry import adapter
     from contactalpha.io import json_text
     from contactalpha.scene.parameters import contact_parameters
@@ -410,7 +409,9 @@ def _params(args, parser):
         **target,
     )
     data = as_plain_data(cp) | {
-        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
+        "unit_notes": {
+            name: " ".join(adapter(name).unit_notes) for name in cp.engines if adapter(name).unit_notes
+        },
         "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
     print(json_text(data, indent=1) if args.json else format_parameters(cp))

@@ -9,7 +9,6 @@ import warnings
 from contactalpha.adapters.engine_conventions import (  # noqa: F401
     EXUDYN_IMPACT_MODELS,
     EXUDYN_SWITCH,
-    UNIT_NOTES,
     exudyn_alpha,
     exudyn_restitution_input,
     opensim_alpha,
