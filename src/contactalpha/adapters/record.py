@@ -25,7 +25,7 @@ from typing import Any
 
 from contactalpha.stepping.registry import Stepper
 
-from .contract import EngineAdapter, missing_parts
+from .contract import missing_parts
 from .loader import Loader
 
 
@@ -103,7 +103,7 @@ PARTS = ("adapter", "loader", "step_map", "model_file", "batched")
 class Engine:
     """One engine: each layer's part of it (the module docstring); None where it has none."""
 
-    adapter: EngineAdapter
+    adapter: Any  # an EngineAdapter (its attributes are the engine's own types; check_engine checks it)
     loader: Loader
     step_map: Stepper | None
     model_file: ModelFile | None

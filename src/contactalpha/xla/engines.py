@@ -20,7 +20,7 @@ a - max(0, d a + b delta' + s delta)`` per unit mass, with ``s = k / m`` and ``b
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import jax.numpy as jnp
 
@@ -79,7 +79,7 @@ def genesis_block(zeta: ArrayLike, scene: EngineScene) -> dict[str, jax.Array]:
 def newton_block(zeta: ArrayLike, scene: EngineScene) -> dict[str, jax.Array]:
     """Newton's per-shape ``ke``, ``kd`` for its MuJoCo solver, and the direct pair of its raw mode."""
     m = mujoco_block(zeta, scene)
-    gain = (1.0 - scene.impedance) / scene.mass
+    gain = (1.0 - scene.impedance) / cast(Any, scene.mass)
     return {
         "shape_material_ke": m["stiffness"] / gain,
         "shape_material_kd": m["damping"] / gain,
