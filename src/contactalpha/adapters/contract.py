@@ -3,7 +3,8 @@
 An engine adapter is one module in ``contactalpha.adapters`` holding one object that implements
 ``EngineAdapter`` (usually by deriving from ``adapters.base.Adapter``, or from
 ``adapters.stepped.SteppingAdapter`` for a fixed-step engine, which write the derived parts once
-for every engine); ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
+for every engine); the engine's record (``adapters.record.Engine``) holds it, and
+``contactalpha.adapters.registry.ENGINES`` lists the records.  The front door
 (``contactalpha.scene.parameters``), the command line, the engines study and the tests iterate
 that list, so adding an engine is that module plus one line there (``docs/adding-an-engine.md``).
 
