@@ -41,11 +41,11 @@ def test_the_helps_defaults_are_the_registries():
     from contactalpha.engine.driver import ATOL, RTOL
     from contactalpha.engine.solver import EPS_TOL
     from contactalpha.laws import LAWS
-    from contactalpha.mechanism.tune import TUNER_NAMES
 
-    assert defaults.TUNER_NAMES == TUNER_NAMES
     assert defaults.STIFFNESS_UNITS == {law.name: law.stiffness_unit for law in LAWS}
     assert (defaults.RTOL, defaults.ATOL, defaults.EPS_TOL) == (RTOL, ATOL, EPS_TOL) == (1e-12, 1e-14, 1e-12)
     engine = next(a for a in cli.build_parser()._subparsers._group_actions[0].choices["params"]._actions
                   if a.dest == "engine")  # fmt: skip
     assert engine.choices is None  # any name: the registry checks it (one home; adding one is one line)
+    tune = cli.build_parser()._subparsers._group_actions[0].choices["tune"]
+    assert next(a for a in tune._actions if a.dest == "engine").choices is None  # likewise

@@ -385,7 +385,6 @@ def _print_engine(args, value, restitution):
 
 
 def _params(args, parser):
-    from contactalpha.adapters.engine_conventions import UNIT_NOTES
     from contactalpha.adapters.registry import adapter
     from contactalpha.dem.load import load_effect
     from contactalpha.io import json_text
@@ -411,7 +410,9 @@ def _params(args, parser):
         **target,
     )
     data = as_plain_data(cp) | {
-        "unit_notes": {name: " ".join(UNIT_NOTES[name]) for name in cp.engines if name in UNIT_NOTES},
+        "unit_notes": {
+            name: " ".join(adapter(name).unit_notes) for name in cp.engines if adapter(name).unit_notes
+        },
         "units": {name: getattr(adapter(name), "units", {}) for name in cp.engines},
     }
     effect = load_effect(cp.law, value, restitution, args.mass, args.stiffness, args.speed, cp.accel)

@@ -3,11 +3,10 @@
 ``contactalpha ... --help`` builds its parsers from these without importing a kernel.  Each has its
 one home here; its users import it from here, and the registries check theirs against it when
 they load: the integrator's tolerances (``engine.driver``), the alpha solver's (``engine.solver``),
-the exit status of an unreachable target (``parameters.reach``), the tuners (``mechanism.tune``),
-and each contact law's stiffness unit (``laws``; tests/scene/test_result.py keeps the help and the laws
-equal).
+the exit status of an unreachable target (``parameters.reach``), and each contact law's stiffness
+unit (``laws``; tests/scene/test_result.py keeps the help and the laws equal).
 The engines are not listed here: the registry (``adapters.registry``) is their one home, and
-``--engine`` takes any name, checked against it when the command runs.
+``--engine`` (of ``params`` and ``tune``) takes any name, checked against it when the command runs.
 """
 
 # Default tolerances: tight enough that Stronge's epsilon is good to ~1e-12
@@ -18,8 +17,6 @@ ATOL = 1e-14
 EPS_TOL = 1e-12
 # Exit status of `contactalpha params` when no damping reaches the target.
 EXIT_UNREACHABLE = 3
-# The engines `contactalpha tune` tunes a model file for.
-TUNER_NAMES = ("mujoco", "drake", "pybullet")
 # Each contact law's physical stiffness unit (``ContactLaw.stiffness_unit``), in the laws' order.
 STIFFNESS_UNITS = {
     "hunt_crossley": "N/m^1.5",

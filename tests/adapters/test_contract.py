@@ -1,7 +1,10 @@
 """Every registered engine adapter keeps the contract, and the check catches one that does not."""
 
+import importlib.util
 import inspect
+from dataclasses import replace
 
+import numpy as np
 import pytest
 
 from contactalpha.adapters.contract import (
@@ -9,12 +12,34 @@ from contactalpha.adapters.contract import (
     METHOD_PARTS,
     DropScene,
     EngineAdapter,
+    array_problem,
     check_adapter,
     missing_parts,
     signature_differs,
 )
-from contactalpha.adapters.registry import ADAPTERS, ENGINE_NAMES, adapter
+from contactalpha.adapters.loader import Loader
+from contactalpha.adapters.record import (
+    PARTS,
+    Engine,
+    ModelFile,
+    Ref,
+    Tuner,
+    check_engine,
+    record_problems,
+    resolved,
+)
+from contactalpha.adapters.registry import (
+    ADAPTERS,
+    ENGINE_NAMES,
+    ENGINES,
+    adapter,
+    batched_blocks,
+    engine,
+    model_readers,
+    tuners,
+)
 from contactalpha.laws import LAWS, get_law
+from contactalpha.stepping.registry import STEPPERS, stepper
 
 SCENE = DropScene(0.5, 1.0e4, 0.5, force=5.1)
 
@@ -109,3 +134,102 @@ def test_parameters_convert_as_documented():
     s = pb["contactStiffness"]
     assert 1 / (1 / s + 1 / s) == pytest.approx(k, rel=1e-15)
     assert 2 * pb["contactDamping"] == pytest.approx(2 * zeta * (k * m) ** 0.5, rel=1e-15)
+
+
+class _MathSqrtMuJoCo(type(adapter("mujoco"))):
+    """MuJoCo's adapter with ``parameters`` written with ``math.sqrt``: it breaks on arrays."""
+
+    def parameters(self, damping, scene, settings=None):
+        import math
+
+        omega = math.sqrt(scene.stiffness / scene.mass)
+        return {"damping": 2.0 * damping * omega}
+
+
+class _BatchMeanMuJoCo(type(adapter("mujoco"))):
+    """An adapter whose batch is not each scene's own (one shared mean)."""
+
+    def parameters(self, damping, scene, settings=None):
+        return {"damping": np.mean(2.0 * np.asarray(damping) * np.sqrt(scene.stiffness / scene.mass))}
+
+
+@pytest.mark.parametrize("broken", [_MathSqrtMuJoCo, _BatchMeanMuJoCo], ids=["math.sqrt", "batch mean"])
+def test_parameters_that_do_not_take_arrays_are_refused(broken):
+    """The batched front door passes arrays of scenes: ``parameters`` must answer each row as alone."""
+    assert array_problem(broken())
+    assert missing_parts(broken()) == ["parameters"]
+    with pytest.raises(TypeError, match=r"parameters.*(numpy arrays|not each scene's own)"):
+        check_adapter(broken())
+
+
+@pytest.mark.parametrize("e", ENGINES, ids=ENGINE_NAMES)
+def test_every_record_keeps_its_contract_and_its_refs_resolve(e):
+    assert check_engine(e) is e and record_problems(e) == []
+    assert e.adapter.module == e.loader.module and e.units == dict(e.adapter.units)
+    if e.step_map is not None:
+        assert stepper(e.name) is e.step_map  # the built-in maps are stepping's own entries
+    if e.model_file is not None:
+        if e.model_file.reader is not None:
+            assert callable(resolved(e.model_file.reader))
+        if e.model_file.tuner is not None:
+            tuner = resolved(e.model_file.tuner)
+            assert isinstance(tuner, Tuner) and tuner.name == e.name
+    for block in (e.batched or {}).values():
+        if isinstance(block, Ref) and importlib.util.find_spec("jax") is None:
+            continue  # xla's blocks need JAX to import
+        assert callable(resolved(block))
+
+
+def test_the_tables_keyed_by_engine_are_the_records():
+    """tune's readers and tuners, stepping's maps and xla's blocks: each one the records say."""
+    tune = importlib.import_module("contactalpha.mechanism.tune")
+
+    assert [r.name for r in tune.READERS] == [
+        e.name for e in ENGINES if e.model_file is not None and e.model_file.reader is not None
+    ]
+    assert [r.suffixes for r in tune.READERS] == [model_readers()[r.name][1] for r in tune.READERS]
+    assert (
+        tune.TUNER_NAMES
+        == tuple(tuners())
+        == tuple(e.name for e in ENGINES if e.model_file is not None and e.model_file.tuner is not None)
+    )
+    assert {s.name for s in STEPPERS} == {e.name for e in ENGINES if e.step_map is not None}
+    assert set(batched_blocks()) == {name for e in ENGINES for name in (e.batched or {})}
+    if importlib.util.find_spec("jax") is not None:
+        from contactalpha.xla import engines
+
+        assert engines.BLOCKS == {n: b for n, (law, b) in batched_blocks().items() if law == engines.LAW}
+
+
+@pytest.mark.parametrize("part", PARTS)
+def test_a_record_without_a_part_names_it(part):
+    given = {p: getattr(ENGINES[0], p) for p in PARTS if p != part}
+    with pytest.raises(TypeError, match=part):
+        Engine(**given)
+
+
+def test_a_record_with_a_wrong_part_names_it():
+    e = engine("mujoco")
+    with pytest.raises(TypeError, match="step_map"):
+        check_engine(replace(e, step_map=stepper("drake")))
+    with pytest.raises(TypeError, match="loader"):
+        check_engine(replace(e, loader=engine("drake").loader))
+    with pytest.raises(TypeError, match="model_file"):
+        check_engine(replace(e, model_file=ModelFile(suffixes=(), reader=e.model_file.reader, tuner=None)))
+    with pytest.raises(TypeError, match="batched"):
+        check_engine(replace(e, batched={"mjx": 1.0}))
+    with pytest.raises(TypeError, match=r"adapter: .*parameters"):
+        check_engine(replace(e, adapter=_MathSqrtMuJoCo()))
+    with pytest.raises(ImportError, match="no 'read_nothing'"):
+        Ref("contactalpha.mechanism.mujoco_model:read_nothing").get()
+
+
+def test_a_missing_engine_says_the_one_install_hint():
+    missing = Loader("Nothing", ("contactalpha_no_such_engine",), "no-such-engine")
+    assert not missing.installed()
+    with pytest.raises(ImportError, match=r"Nothing is an optional engine: pip install no-such-engine"):
+        missing.load()
+    for e in ENGINES:
+        assert e.loader.hint.startswith(
+            f"{e.loader.label} is an optional engine: pip install {e.loader.package} "
+        )

@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from contactalpha.adapters.contract import DropScene
+from contactalpha.adapters.registry import adapter
 from contactalpha.stepping import codes
 from contactalpha.stepping.affine_phase import phase_mean_affine
 from contactalpha.stepping.delivered import at_phases, over_phase, step_limit
@@ -14,7 +16,6 @@ from contactalpha.stepping.kernels import (
     MAX_BRANCHES,
     MAX_FORMS,
     MUJOCO,
-    PYBULLET,
     branches,
     step_map,
     surface,
@@ -41,14 +42,31 @@ def _pybullet_scene(rng):
     return stepper("pybullet").pack(**values), h
 
 
+def _front_door_scene(engine):
+    """Random scenes of any engine's map through its front door (5 to 80 steps per contact)."""
+
+    def scene(rng):
+        s = stepper(engine)
+        m, h = 10 ** rng.uniform(-1.5, 1.3), s.timestep
+        k = m * (math.pi / (rng.uniform(5.0, 80.0) * h)) ** 2
+        block = adapter(engine).parameters(rng.uniform(0.0, 1.0), DropScene(m, k, 1.0, radius=0.05))
+        return s.from_block(block, m, 0.05), h
+
+    return scene
+
+
+# Hand-made ranges for the maps that have them; any other affine map's scenes come through its
+# front door.
 SCENES = {"mujoco": _mujoco_scene, "pybullet": _pybullet_scene}
+AFFINE_ENGINES = [s.name for s in STEPPERS if s.affine]
 
 
 def _scenes(engine, n, seed):
     rng = np.random.default_rng(seed)
+    make = SCENES.get(engine) or _front_door_scene(engine)
     out = []
     while len(out) < n:
-        p, h = SCENES[engine](rng)
+        p, h = make(rng)
         v = 10 ** rng.uniform(-1.3, 0.5)
         a = 9.81 + (rng.uniform(0.0, 200.0) if rng.uniform() < 0.5 else 0.0)
         if v >= 0.5 * a * h:
@@ -57,13 +75,12 @@ def _scenes(engine, n, seed):
 
 
 def test_the_affine_maps_are_the_registered_ones():
-    """Exactly MuJoCo and PyBullet are piecewise affine (Drake's Hunt-Crossley step is not)."""
-    assert set(AFFINE) == {MUJOCO, PYBULLET}
-    assert {s.name for s in STEPPERS if s.affine} == {"mujoco", "pybullet"}
-    assert DRAKE not in AFFINE
+    """Each piecewise-affine kernel is a registered map's (Drake's Hunt-Crossley step is not affine)."""
+    assert set(AFFINE) == {s.code for s in STEPPERS if s.affine}
+    assert len(AFFINE_ENGINES) == len(AFFINE) and MUJOCO in AFFINE and DRAKE not in AFFINE
 
 
-@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+@pytest.mark.parametrize("engine", AFFINE_ENGINES)
 def test_each_branch_is_the_engines_step(engine):
     """At random states, the branch the forms pick, applied as its affine map, is ``step_map``
     (the forms and maps in the height above ``kernels.surface``, the map's z less it)."""
@@ -90,7 +107,7 @@ def test_each_branch_is_the_engines_step(engine):
     assert seen == set(range(AFFINE[s.code][1]))  # every branch was exercised
 
 
-@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+@pytest.mark.parametrize("engine", AFFINE_ENGINES)
 def test_the_mean_is_the_drop_by_drop_quadratures(engine):
     """Against ``phase.phase_mean`` (drops at adaptive Gauss-Lobatto nodes, jumps bisected): the mean to
     1e-11, the range one drop sees to 1e-6 (a piece's ends, jumps and kinks, are evaluated exactly; a
@@ -114,7 +131,7 @@ def test_the_mean_is_the_drop_by_drop_quadratures(engine):
         assert np.isnan(row[codes.P_EPS_MEAN])  # not computed here
 
 
-@pytest.mark.parametrize("engine", ["mujoco", "pybullet"])
+@pytest.mark.parametrize("engine", AFFINE_ENGINES)
 def test_the_mean_is_dense_samplings(engine):
     """Against 16,384 evenly spaced drops: agreement within the sample's own error at the jumps
     (each jump can move the sample's mean by its size over the count)."""

@@ -121,6 +121,9 @@ class Adapter:
     ``parameters``, ``build_drop``, ``run``, ``static_penetration`` and ``timestep``.
     """
 
+    # The parameter block's names and units in words, a line each (printed under its parameters
+    # by the front door); none by default.
+    unit_notes: tuple[str, ...] = ()
     # What a subclass sets (declared only: no class attribute here).
     name: str
     law: "ContactLaw"

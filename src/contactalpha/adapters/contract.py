@@ -3,7 +3,8 @@
 An engine adapter is one module in ``contactalpha.adapters`` holding one object that implements
 ``EngineAdapter`` (usually by deriving from ``adapters.base.Adapter``, or from
 ``adapters.stepped.SteppingAdapter`` for a fixed-step engine, which write the derived parts once
-for every engine); ``contactalpha.adapters.registry.ADAPTERS`` lists them.  The front door
+for every engine); the engine's record (``adapters.record.Engine``) holds it, and
+``contactalpha.adapters.registry.ENGINES`` lists the records.  The front door
 (``contactalpha.parameters.front_door``), the command line, the engines study and the tests iterate
 that list, so adding an engine is that module plus one line there (``docs/adding-an-engine.md``).
 
@@ -33,7 +34,8 @@ The parts of the contract:
 
 ``missing_parts`` names whatever part an object lacks or whose signature differs from the
 Protocol's (its parameters, in order, with a default where the Protocol has one; any further
-parameter needs a default); ``check_adapter`` raises on it.
+parameter needs a default), and ``parameters`` when it does not take numpy arrays of scenes
+(``array_problem``: the batched front door passes them); ``check_adapter`` raises on it.
 """
 
 import inspect
@@ -178,16 +180,72 @@ def signature_differs(method, part):
     )
 
 
+@dataclass(frozen=True)
+class _ProbeScenes:
+    """What the front door passes to ``parameters``: checked values, scalars or arrays."""
+
+    mass: object
+    stiffness: object
+    approach_speed: object
+    radius: object
+
+
+# Two scenes ``array_problem`` probes ``parameters`` with, and the law's damping of each.
+_PROBE = {
+    "mass": (0.5, 2.0),
+    "stiffness": (1.0e5, 4.0e6),
+    "approach_speed": (0.5, 1.5),
+    "radius": (0.02, 0.05),
+}
+_PROBE_DAMPING = (0.1, 0.3)
+
+
+def array_problem(adapter):
+    """Why ``adapter.parameters`` does not take numpy arrays of scenes row by row ("" when it does).
+
+    Two scenes go in as arrays; each entry of the block must be that of the scene's own call,
+    bit for bit: the row ``i`` (the leading axis) of an array, or one value for every scene.
+    """
+    scenes = [_ProbeScenes(*(v[i] for v in _PROBE.values())) for i in range(2)]
+    batch_scene = _ProbeScenes(*(np.array(v) for v in _PROBE.values()))
+    try:
+        batch = adapter.parameters(np.array(_PROBE_DAMPING), batch_scene)
+        ones = [adapter.parameters(d, s) for d, s in zip(_PROBE_DAMPING, scenes, strict=True)]
+    except Exception as err:  # what an engine's own code raises on arrays is its own
+        return f"it raises {type(err).__name__} on numpy arrays of scenes ({err})"
+    for i, one in enumerate(ones):
+        if set(one) != set(batch):
+            return f"its keys differ between one scene {sorted(one)} and a batch {sorted(batch)}"
+        for key, value in one.items():
+            got = np.asarray(batch[key])
+            row = got if got.ndim == 0 else got[i] if got.shape[0] == 2 else None
+            want = np.asarray(value)
+            if row is None or row.shape != want.shape or not _same(row, want):
+                return f"its {key!r} for a batch of 2 scenes is not each scene's own (row {i})"
+    return ""
+
+
+def _same(a, b):
+    if a.dtype.kind in "fc" or b.dtype.kind in "fc":
+        return bool(np.array_equal(a.astype(float), b.astype(float), equal_nan=True))
+    return bool(np.array_equal(a, b))
+
+
 def missing_parts(adapter):
     """Names of the contract's parts that ``adapter`` lacks.
 
-    A method must be callable with the Protocol's signature (``signature_differs``).
+    A method must be callable with the Protocol's signature (``signature_differs``), and
+    ``parameters`` must take numpy arrays of scenes (``array_problem``).
     """
     missing = [p for p in DATA_PARTS if getattr(adapter, p, None) is None]
     for p in METHOD_PARTS:
         method = getattr(adapter, p, None)
         if not callable(method) or signature_differs(method, p):
             missing.append(p)
+    # An impulse engine (``impulse`` set) is answered at its step only, from the scene's load, by
+    # ``parameters.impulse``: its ``parameters`` never sees a batch of load-free block scenes.
+    if "parameters" not in missing and getattr(adapter, "impulse", None) is None and array_problem(adapter):
+        missing.append("parameters")
     return missing
 
 
@@ -195,9 +253,15 @@ def check_adapter(adapter):
     """Return ``adapter`` if it keeps the contract; TypeError naming the missing parts otherwise."""
     missing = missing_parts(adapter)
     if missing:
+        why = (
+            array_problem(adapter)
+            if "parameters" in missing and callable(getattr(adapter, "parameters", None))
+            else ""
+        )
         raise TypeError(
             f"engine adapter {adapter!r} misses part(s) of the contract or has them with another "
             f"signature (adapters.contract.EngineAdapter): {', '.join(missing)}"
+            + (f"; parameters: {why}" if why else "")
         )
     return adapter
 

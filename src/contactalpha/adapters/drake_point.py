@@ -28,20 +28,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.loader import Loader
+from contactalpha.adapters.record import Engine, ModelFile, Ref
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.stepping.drake_map import APPROXIMATIONS, TIMESTEP
+from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
-INSTALL_HINT = 'Drake is an optional engine: pip install -e ".[engines]" (PyPI package "drake")'
+# The one import guard of Drake (its adapter, its model-file reader and drop).
+LOADER = Loader("Drake", ("pydrake.all",), "drake")
 
 
-def _drake():
-    try:
-        import pydrake.all as drake
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return drake
+_drake = LOADER.load
 
 
 @dataclass(frozen=True)
@@ -75,7 +74,7 @@ class DrakeAdapter(SteppingAdapter):
 
     name = "drake"
     law = get_law("hunt_crossley_linear")
-    module = "pydrake"
+    module = LOADER.module
     settings = DrakeSettings()
     # Units of ``parameters``.
     units = {
@@ -90,7 +89,7 @@ class DrakeAdapter(SteppingAdapter):
         import importlib.metadata
 
         _drake()
-        return importlib.metadata.version("drake")
+        return importlib.metadata.version(LOADER.package)
 
     def parameters(self, damping, scene, settings=None):
         """Each geometry's ``point_contact_stiffness`` (N/m), ``hunt_crossley_dissipation`` (s/m); the pair's.
@@ -209,3 +208,14 @@ class DrakeAdapter(SteppingAdapter):
 
 
 ADAPTER = DrakeAdapter()
+ENGINE = Engine(
+    adapter=ADAPTER,
+    loader=LOADER,
+    step_map=stepper("drake"),
+    model_file=ModelFile(
+        suffixes=(".sdf", ".urdf"),
+        reader=Ref("contactalpha.mechanism.drake_model:read_drake"),
+        tuner=Ref("contactalpha.mechanism.tune:DRAKE_TUNER"),
+    ),
+    batched=None,
+)

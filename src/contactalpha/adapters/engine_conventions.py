@@ -51,21 +51,6 @@ from contactalpha.validation import PLAIN_FLOATS, check_alpha, check_positive, c
 EXUDYN_SWITCH = 1.0 / 3.0
 # Exudyn's impact models that have a restitution -> damping mapping.
 EXUDYN_IMPACT_MODELS = (1, 2)
-# Each engine's names and units, in words (printed under its parameters by the front door).
-UNIT_NOTES = {
-    "opensim": (
-        "dissipation c in s/m: f = k delta^1.5 (1 + 1.5 c delta_dot); a constant, so it holds at",
-        "  this approach speed only",
-        "stiffness in Pa is Simbody's per-geometry modulus-like number, neither Young's modulus nor E*:",
-        "  give it to both the sphere and the half space; Simbody combines two as E_i / 2^1.5 and",
-        "  uses k = (4/3) sqrt(R) E, so E_i = 3 k / sqrt(2 R) = 2^1.5 E* (Hertz's E*, hertz_stiffness)",
-    ),
-    "exudyn": (
-        "contactStiffness in N/m^1.5 (exponent 1.5) is k itself; restitutionCoefficient feeds",
-        "  impactModel 2, which scales the damping with each impact's recorded speed",
-        "  (minimumImpactVelocity 0); contactDamping must stay 0 (a linear damper)",
-    ),
-}
 
 
 def _plain(value, lo):

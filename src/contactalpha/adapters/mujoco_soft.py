@@ -34,18 +34,35 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.contract import Samples, law_damping
+from contactalpha.adapters.loader import Loader
+from contactalpha.adapters.record import Engine, ModelFile, Ref
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.laws.law import MUJOCO_IMPEDANCE
 from contactalpha.stepping.mujoco_map import TIMESTEP
+from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
-INSTALL_HINT = 'MuJoCo is an optional engine: pip install -e ".[engines]" (PyPI package "mujoco")'
+# The one import guard of MuJoCo (its adapter, its model-file reader and drop, MJX's drop).
+LOADER = Loader("MuJoCo", ("mujoco", "mujoco.rollout"), "mujoco")
 # The law's default impedance (MuJoCo's default solimp[0]); MuJoCo's default step is the map's.
 IMPEDANCE = MUJOCO_IMPEDANCE
 # solimp's width, midpoint and power: MuJoCo's defaults; with solimp[0] = solimp[1] = d they do
 # not matter (the impedance is d at every penetration).
 SOLIMP_TAIL = (0.001, 0.5, 2.0)
+
+
+def per_unit_mass(zeta, stiffness, mass, xp=np):
+    """``(s, omega, b)``: the law's direct-mode pair per unit mass for the damping ratio ``zeta``.
+
+    ``s = k/m`` (1/s^2), ``omega = sqrt(s)`` (1/s) and ``b = 2 zeta omega`` (1/s): ``solref = (-s,
+    -b)`` on a free body.  The one home of the mapping: the adapter, a mechanism's row
+    (``mechanism.mujoco_row``) and the JAX blocks (``xla.engines``) call it.  ``xp`` is the
+    array module (NumPy, ``math`` for floats, or ``jax.numpy``).
+    """
+    s = stiffness / mass
+    omega = xp.sqrt(s)
+    return s, omega, 2.0 * zeta * omega
 
 
 def direct_mode(stiffness, damping, impedance):
@@ -66,13 +83,7 @@ def timeconst_form(zeta, omega, timestep, xp=np):
     return xp.where(ok, tc, xp.nan), xp.where(ok, zeta, xp.nan)
 
 
-def _mujoco():
-    try:
-        import mujoco
-        import mujoco.rollout
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return mujoco
+_mujoco = LOADER.load
 
 
 @dataclass(frozen=True)
@@ -125,7 +136,7 @@ class MuJoCoAdapter(SteppingAdapter):
 
     name = "mujoco"
     law = get_law("mujoco_soft", impedance=IMPEDANCE)
-    module = "mujoco"
+    module = LOADER.module
     settings = MuJoCoSettings()
     # Units of ``parameters``: per unit mass (MuJoCo's solref in direct mode).
     units = {
@@ -150,9 +161,7 @@ class MuJoCoAdapter(SteppingAdapter):
         """
         settings = self.settings if settings is None else settings
         zeta = np.asarray(check_range("damping", damping, 0.0, math.inf, hi_open=True))
-        omega2 = scene.stiffness / scene.mass
-        omega = np.sqrt(omega2)
-        b = 2.0 * zeta * omega
+        omega2, omega, b = per_unit_mass(zeta, scene.stiffness, scene.mass)
         stiffness = np.broadcast_to(omega2, b.shape)
         tc, dr = timeconst_form(zeta, omega, settings.timestep)
         solref, solimp = direct_mode(float_or_array(stiffness), float_or_array(b), settings.impedance)
@@ -222,3 +231,23 @@ class MuJoCoAdapter(SteppingAdapter):
 
 
 ADAPTER = MuJoCoAdapter()
+# The JAX block of MuJoCo's soft contact: MuJoCo, MJX and MuJoCo Warp take the same solref rows.
+_SOFT_BLOCK = Ref("contactalpha.xla.engines:mujoco_block")
+ENGINE = Engine(
+    adapter=ADAPTER,
+    loader=LOADER,
+    step_map=stepper("mujoco"),
+    model_file=ModelFile(
+        suffixes=(".xml", ".mjcf", ".urdf"),
+        reader=Ref("contactalpha.mechanism.mujoco_model:read_mujoco"),
+        tuner=Ref("contactalpha.mechanism.tune:MUJOCO_TUNER"),
+    ),
+    # The batched engines that run MuJoCo's soft contact (Genesis and Newton's MuJoCo solver too).
+    batched={
+        "mujoco": _SOFT_BLOCK,
+        "mjx": _SOFT_BLOCK,
+        "mujoco_warp": _SOFT_BLOCK,
+        "genesis": Ref("contactalpha.xla.engines:genesis_block"),
+        "newton": Ref("contactalpha.xla.engines:newton_block"),
+    },
+)

@@ -32,12 +32,17 @@ from contactalpha.adapters.engine_conventions import (
     opensim_stiffness,
     opensim_stiffness_unchecked,
 )
+from contactalpha.adapters.loader import Loader
 from contactalpha.adapters.measure import measure_impact
+from contactalpha.adapters.record import Engine
 from contactalpha.engine.scaling import time_scale
 from contactalpha.laws import get_law
 from contactalpha.validation import check_alpha, check_positive, check_range
 
-INSTALL_HINT = 'OpenSim is an optional engine: pip install -e ".[engines]" (PyPI package "opensim")'
+# The one import guard of OpenSim; it quietens OpenSim's logger to warnings.
+LOADER = Loader(
+    "OpenSim", ("opensim",), "opensim", setup=lambda opensim: opensim.Logger.setLevelString("Warn")
+)
 # Default integrator accuracy of OpenSim's Manager (relative, per step).
 ACCURACY = 1e-10
 # Report times per scaled time unit t* = delta*/v_minus (a contact lasts about 3.3 t*).
@@ -48,13 +53,7 @@ WINDOW_TSTAR = 40.0
 STATIC_BRACKET = (0.1, 10.0)
 
 
-def _opensim():
-    try:
-        import opensim
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    opensim.Logger.setLevelString("Warn")
-    return opensim
+_opensim = LOADER.load
 
 
 def version():
@@ -216,10 +215,18 @@ class OpenSimAdapter(Adapter):
 
     name = "opensim"
     law = get_law("hunt_crossley")
-    module = "opensim"
+    module = LOADER.module
     settings = OpenSimSettings()
     # Units of ``parameters``.
     units = {"dissipation": "s/m", "stiffness": "Pa"}
+    # The block's names and units in words (printed under its parameters by the front door).
+    unit_notes = (
+        "dissipation c in s/m: f = k delta^1.5 (1 + 1.5 c delta_dot); a constant, so it holds at",
+        "  this approach speed only",
+        "stiffness in Pa is Simbody's per-geometry modulus-like number, neither Young's modulus nor E*:",
+        "  give it to both the sphere and the half space; Simbody combines two as E_i / 2^1.5 and",
+        "  uses k = (4/3) sqrt(R) E, so E_i = 3 k / sqrt(2 R) = 2^1.5 E* (Hertz's E*, hertz_stiffness)",
+    )
 
     def version(self):
         """OpenSim's version string."""
@@ -263,6 +270,7 @@ class OpenSimAdapter(Adapter):
 
 
 ADAPTER = OpenSimAdapter()
+ENGINE = Engine(adapter=ADAPTER, loader=LOADER, step_map=None, model_file=None, batched=None)
 
 
 def drop_impact(

@@ -22,27 +22,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.loader import Loader
 from contactalpha.adapters.pybullet_impulse import measure_impulse
+from contactalpha.adapters.record import Engine
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.impulse import physx_map
 from contactalpha.impulse.inverse import restitution_for
 from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 
-INSTALL_HINT = 'PhysX through SAPIEN is an optional engine: pip install -e ".[physx]" (PyPI package "sapien")'
+LOADER = Loader("PhysX through SAPIEN", ("sapien", "sapien.physx"), "sapien", extra="physx")
 # A free step in single precision: the velocity changed by -a h to this fraction.
 FREE_RTOL = 1e-5
 # The plane's pose: PhysX's plane has its normal along +x; this turns it to +z.
 PLANE_QUATERNION = (0.7071068, 0.0, -0.7071068, 0.0)
 
 
-def _sapien():
-    try:
-        import sapien
-        import sapien.physx
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return sapien
+_sapien = LOADER.load
 
 
 @dataclass(frozen=True)
@@ -219,3 +215,4 @@ def drop_sequence(scene, schedule, duration, settings=None):
 
 
 ADAPTER = PhysxAdapter()
+ENGINE = Engine(adapter=ADAPTER, loader=LOADER, step_map=None, model_file=None, batched=None)

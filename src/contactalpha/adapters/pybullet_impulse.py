@@ -25,6 +25,7 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples
 from contactalpha.adapters.measure import MeasuredImpact
+from contactalpha.adapters.record import Engine
 from contactalpha.adapters.stepped import FREE_STEP_RTOL, SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
 from contactalpha.impulse import bullet_map
@@ -34,15 +35,9 @@ from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 from contactalpha.stepping.flight import rebound_speed
 
-from .pybullet_kv import INSTALL_HINT
+from .pybullet_kv import LOADER
 
-
-def _pybullet():
-    try:
-        import pybullet
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return pybullet
+_pybullet = LOADER.load
 
 
 @dataclass(frozen=True)
@@ -265,3 +260,4 @@ def block(pair_restitution, threshold):
 
 
 ADAPTER = PyBulletImpulseAdapter()
+ENGINE = Engine(adapter=ADAPTER, loader=LOADER, step_map=None, model_file=None, batched=None)

@@ -31,20 +31,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from contactalpha.adapters.contract import Samples
+from contactalpha.adapters.loader import Loader
+from contactalpha.adapters.record import Engine, ModelFile, Ref
 from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.laws import get_law
 from contactalpha.stepping.pybullet_map import LINEAR_SLOP, TIMESTEP
+from contactalpha.stepping.registry import stepper
 from contactalpha.validation import check_range
 
-INSTALL_HINT = 'PyBullet is an optional engine: pip install -e ".[engines]" (PyPI package "pybullet")'
+# The one import guard of PyBullet (its adapter and its model-file drop).
+LOADER = Loader("PyBullet", ("pybullet",), "pybullet")
 
 
-def _pybullet():
-    try:
-        import pybullet
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return pybullet
+_pybullet = LOADER.load
 
 
 @dataclass(frozen=True)
@@ -74,7 +73,7 @@ class PyBulletAdapter(SteppingAdapter):
 
     name = "pybullet"
     law = get_law("kelvin_voigt")
-    module = "pybullet"
+    module = LOADER.module
     settings = PyBulletSettings()
     # Units of ``parameters``.
     units = {
@@ -201,3 +200,11 @@ class PyBulletAdapter(SteppingAdapter):
 
 
 ADAPTER = PyBulletAdapter()
+# PyBullet reads no model file here: ``tune`` takes MuJoCo's or Drake's reading of the URDF.
+ENGINE = Engine(
+    adapter=ADAPTER,
+    loader=LOADER,
+    step_map=stepper("pybullet"),
+    model_file=ModelFile(suffixes=(), reader=None, tuner=Ref("contactalpha.mechanism.tune:PYBULLET_TUNER")),
+    batched=None,
+)

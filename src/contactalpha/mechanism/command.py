@@ -15,8 +15,6 @@ EXAMPLES = (
 
 def add_parser(make, number):
     """Add the ``tune`` subcommand: ``make(name, help)`` gives its parser, ``number`` parses floats."""
-    from contactalpha.defaults import TUNER_NAMES  # a leaf: --help imports no kernel
-
     t = make("tune", "tune a contact of an MJCF/URDF/SDF model for Newton's e_N and write it back")
     t.add_argument("model", help="the model file (MJCF .xml, URDF .urdf, SDF .sdf); never overwritten")
     t.add_argument("--pair", nargs=2, required=True, metavar=("GEOM1", "GEOM2"), help="the two geometries")
@@ -26,7 +24,8 @@ def add_parser(make, number):
         "--qvel", type=number, nargs="+", help="joint velocities at touchdown (instead of --speed)"
     )
     t.add_argument("--qpos", type=number, nargs="+", help="configuration at touchdown (default the model's)")
-    t.add_argument("--engine", choices=TUNER_NAMES, help="default: mujoco for .xml, drake for .sdf/.urdf")
+    t.add_argument("--engine", help="an engine with a tuner (mujoco, drake, pybullet: the registry checks "
+                   "it when the command runs); default: mujoco for .xml, drake for .sdf/.urdf")  # fmt: skip
     t.add_argument("--stiffness", type=number, help="contact stiffness along the normal, N/m "
                    "(MuJoCo: default the model's own; Drake and PyBullet need it)")  # fmt: skip
     t.add_argument("--impedance", type=number, help="MuJoCo's constant solimp d (default 0.9)")

@@ -30,24 +30,21 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from contactalpha.adapters.drake_point import LOADER
+
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
 from .inputs import check_link, link_inertias
 
-INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactalpha[engines])"
 # The continuous plant's integrator accuracy in drops, and samples per undamped contact period.
 ACCURACY = 1e-9
 # How a URDF's root links hang: welded to the world (as MuJoCo and PyBullet load a URDF), or free.
 BASES = ("fixed", "floating")
 
 
-def _drake():
-    try:
-        import pydrake.all as drake
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return drake
+# The engine's one import guard and install hint (its record's loader).
+_drake = LOADER.load
 
 
 class _Plant:

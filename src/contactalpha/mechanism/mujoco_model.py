@@ -25,21 +25,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contactalpha.adapters.mujoco_soft import LOADER
+
 from . import uris
 from .contact import MechanismContact, MechanismDrop, approach, pressing_accel
 from .crossing import rebound_speed
 
-INSTALL_HINT = "MuJoCo reads MJCF and URDF models: pip install mujoco (or contactalpha[engines])"
 # Margin (m) added to the pair's geometries so that MuJoCo builds their contact row at first touch.
 ROW_MARGIN = 1e-3
 
 
-def _mujoco():
-    try:
-        import mujoco
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return mujoco
+# The engine's one import guard and install hint (its record's loader).
+_mujoco = LOADER.load
 
 
 def mujoco_module():

@@ -25,20 +25,17 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from contactalpha.adapters.pybullet_kv import LOADER
+
 from .contact import MechanismDrop
 from .crossing import rebound_speed
 
-INSTALL_HINT = "dropping a model in PyBullet needs pybullet: pip install pybullet (or contactalpha[engines])"
 # Joint types PyBullet reports for one-degree-of-freedom joints (JOINT_REVOLUTE, JOINT_PRISMATIC).
 MOVABLE = (0, 1)
 
 
-def _pybullet():
-    try:
-        import pybullet
-    except ImportError as err:  # pragma: no cover - depends on the machine
-        raise ImportError(INSTALL_HINT) from err
-    return pybullet
+# The engine's one import guard and install hint (its record's loader).
+_pybullet = LOADER.load
 
 
 def collision_links(urdf: str | Path, pair: tuple[str, str]) -> tuple[str | None, ...]:

@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from contactalpha import defaults
 from contactalpha.adapters.base import refine as secant
 from contactalpha.adapters.mujoco_soft import IMPEDANCE
-from contactalpha.adapters.registry import adapter
+from contactalpha.adapters.record import Tuner
+from contactalpha.adapters.registry import adapter, model_readers, tuners
 from contactalpha.parameters.block_scene import BlockScene
 from contactalpha.parameters.front_door import contact_parameters
 from contactalpha.stepping.registry import stepper
@@ -30,10 +30,10 @@ from contactalpha.validation import check_range
 
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
-from .drake_model import drake_drop, read_drake
+from .drake_model import drake_drop
 from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
-from .mujoco_model import load_model, mujoco_drop, read_mujoco
+from .mujoco_model import load_model, mujoco_drop
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
 
@@ -71,10 +71,8 @@ class Reader:
     read: Callable[..., Any]
 
 
-READERS = (
-    Reader("mujoco", "mujoco", (".xml", ".mjcf", ".urdf"), read_mujoco),
-    Reader("drake", "pydrake", (".sdf", ".urdf"), read_drake),
-)
+# The engines' model-file readers, from their records (``adapters.registry``).
+READERS = tuple(Reader(name, *reader) for name, reader in model_readers().items())
 
 
 def read_contact(model, pair, *, reader=None, qpos=None, qvel=None, speed=None, forces=None, base=None):
@@ -329,26 +327,14 @@ def _need(stiffness, engine):
     return float(check_range("stiffness", stiffness, 0.0, math.inf, lo_open=True, hi_open=True))
 
 
-@dataclass(frozen=True)
-class Tuner:
-    """An engine ``tune`` can write for: its ``reader``, output ``suffix``, ``solve`` and ``write`` calls."""
-
-    name: str
-    reader: str | None
-    suffix: str
-    solve: Callable[..., Any]
-    write: Callable[..., Any]
-    drop: bool
-
-
-TUNERS = (
-    Tuner("mujoco", "mujoco", ".xml", _mujoco_tune, lambda c, o, p, n: _write_mujoco(c, o, p), True),
-    Tuner("drake", "drake", ".sdf", _drake_tune, lambda c, o, p, n: _write_drake(c, o, p), True),
-    Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, True),
+# The engines' tuners: their records (``adapters.registry``) name these.
+MUJOCO_TUNER = Tuner(
+    "mujoco", "mujoco", ".xml", _mujoco_tune, lambda c, o, p, n: _write_mujoco(c, o, p), True
 )
+DRAKE_TUNER = Tuner("drake", "drake", ".sdf", _drake_tune, lambda c, o, p, n: _write_drake(c, o, p), True)
+PYBULLET_TUNER = Tuner("pybullet", None, ".py", _pybullet_tune, _write_pybullet, True)
+TUNERS = tuple(tuners().values())
 TUNER_NAMES = tuple(t.name for t in TUNERS)
-if TUNER_NAMES != defaults.TUNER_NAMES:  # what `tune --help` lists without importing us
-    raise ImportError(f"contactalpha.defaults.TUNER_NAMES is not {TUNER_NAMES}: update it")
 
 
 def _tuner(engine, model):

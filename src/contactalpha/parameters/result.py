@@ -24,7 +24,6 @@ from typing import Any
 
 import numpy as np
 
-from contactalpha.adapters.engine_conventions import UNIT_NOTES
 from contactalpha.adapters.registry import adapter
 from contactalpha.laws import get_law
 from contactalpha.stepping.registry import stepper
@@ -158,7 +157,7 @@ def format_parameters(cp: ContactParameters) -> str:
     ]
     for engine, values in cp.engines.items():
         lines.extend(block_lines(engine, values))
-        lines.extend(f"  {line}" for line in UNIT_NOTES.get(engine, ()))
+        lines.extend(f"  {line}" for line in adapter(engine).unit_notes)
     if cp.stepped is not None:
         lines.extend(stepped_lines(cp.stepped))
     return "\n".join(lines)

@@ -1,7 +1,9 @@
 """The batched engines' parameters as JAX arrays, keyed by engine as ``contact_parameters`` keys them.
 
-All five run MuJoCo's soft contact (law ``mujoco_soft``): ``delta'' = a - max(0, d a + b delta' +
-s delta)`` per unit mass, with ``s = k / m`` and ``b = 2 zeta sqrt(s)`` (docs/engines/batched.md).
+The engine records (``adapters.registry``) name these blocks; ``BLOCKS`` and ``blocks_of`` are
+derived from them.  The five here run MuJoCo's soft contact (law ``mujoco_soft``): ``delta'' =
+a - max(0, d a + b delta' + s delta)`` per unit mass, with ``s = k / m`` and ``b = 2 zeta sqrt(s)``
+(``adapters.mujoco_soft.per_unit_mass``; docs/engines/batched.md).
 
 - ``mujoco``, ``mjx``, ``mujoco_warp``: direct mode ``solref = (-s, -b)`` and ``solimp = (d, d, ...)``
   per world (MJX: a batched ``Model.geom_solref``; MuJoCo Warp: ``geom_solref`` with a world axis),
@@ -18,11 +20,19 @@ s delta)`` per unit mass, with ``s = k / m`` and ``b = 2 zeta sqrt(s)`` (docs/en
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import jax.numpy as jnp
 
-from contactalpha.adapters.mujoco_soft import IMPEDANCE, SOLIMP_TAIL, TIMESTEP, direct_mode, timeconst_form
+from contactalpha.adapters.mujoco_soft import (
+    IMPEDANCE,
+    SOLIMP_TAIL,
+    TIMESTEP,
+    direct_mode,
+    per_unit_mass,
+    timeconst_form,
+)
+from contactalpha.adapters.registry import batched_blocks
 
 if TYPE_CHECKING:
     import jax
@@ -39,10 +49,9 @@ class EngineScene:
     impedance: float = IMPEDANCE
 
 
-def _mujoco(zeta, scene):
-    s = scene.stiffness / scene.mass
-    omega = jnp.sqrt(s)
-    b = 2.0 * zeta * omega
+def mujoco_block(zeta: ArrayLike, scene: EngineScene) -> dict[str, jax.Array]:
+    """MuJoCo's, MJX's and MuJoCo Warp's block: direct-mode ``solref``/``solimp`` rows, the timeconst form."""
+    s, omega, b = per_unit_mass(zeta, scene.stiffness, scene.mass, xp=jnp)
     solref, solimp = direct_mode(s, b, scene.impedance)
     tc, dr = timeconst_form(zeta, omega, scene.timestep, xp=jnp)
     solimp = jnp.broadcast_to(jnp.asarray(solimp), (*jnp.shape(b), len(solimp)))
@@ -56,8 +65,9 @@ def _mujoco(zeta, scene):
     }
 
 
-def _genesis(zeta, scene):
-    m = _mujoco(zeta, scene)
+def genesis_block(zeta: ArrayLike, scene: EngineScene) -> dict[str, jax.Array]:
+    """Genesis's ``sol_params`` (the timeconst form only; ``needs_direct`` where it does not exist)."""
+    m = mujoco_block(zeta, scene)
     d = jnp.full(jnp.shape(m["timeconst"]), scene.impedance)
     tail = [jnp.full(jnp.shape(d), x) for x in SOLIMP_TAIL]
     return {
@@ -66,9 +76,10 @@ def _genesis(zeta, scene):
     }
 
 
-def _newton(zeta, scene):
-    m = _mujoco(zeta, scene)
-    gain = (1.0 - scene.impedance) / scene.mass
+def newton_block(zeta: ArrayLike, scene: EngineScene) -> dict[str, jax.Array]:
+    """Newton's per-shape ``ke``, ``kd`` for its MuJoCo solver, and the direct pair of its raw mode."""
+    m = mujoco_block(zeta, scene)
+    gain = (1.0 - scene.impedance) / cast(Any, scene.mass)
     return {
         "shape_material_ke": m["stiffness"] / gain,
         "shape_material_kd": m["damping"] / gain,
@@ -78,18 +89,17 @@ def _newton(zeta, scene):
     }
 
 
-# Engine name -> its block of ``zeta`` (the law's damping ratio) and an ``EngineScene``.
-BLOCKS = {
-    "mujoco": _mujoco,
-    "mjx": _mujoco,
-    "mujoco_warp": _mujoco,
-    "genesis": _genesis,
-    "newton": _newton,
-}
-# The law all of them run.
+def blocks_of(law: str) -> dict:
+    """``{batched engine: block(zeta, EngineScene)}`` of the engine records whose law is ``law``."""
+    return {name: block for name, (of, block) in batched_blocks().items() if of == law}
+
+
+# The law MuJoCo's soft contact's blocks run, and engine name -> its block of ``zeta`` (the law's
+# damping ratio) and an ``EngineScene`` (from the engine records).
 LAW = "mujoco_soft"
+BLOCKS = blocks_of(LAW)
 
 
-def engine_blocks(zeta: ArrayLike, scene: EngineScene) -> dict[str, dict[str, jax.Array]]:
-    """Every batched engine's parameters for the law's damping ratio ``zeta`` (arrays broadcast)."""
-    return {name: block(zeta, scene) for name, block in BLOCKS.items()}
+def engine_blocks(zeta: ArrayLike, scene: EngineScene, law: str = LAW) -> dict[str, dict[str, jax.Array]]:
+    """Every batched engine's parameters of ``law`` for its damping ``zeta`` (arrays broadcast)."""
+    return {name: block(zeta, scene) for name, block in blocks_of(law).items()}

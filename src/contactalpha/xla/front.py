@@ -58,8 +58,9 @@ def contact_parameters(
     -------
     dict
         ``xi`` (load factor), ``damping`` (the law's dimensionless damping), ``physical_damping``
-        (the law's engine damping, ``ContactLaw.physical_damping``), ``ok`` and, for MuJoCo's law,
-        ``engines`` keyed ``mujoco``, ``mjx``, ``mujoco_warp``, ``newton``, ``genesis``.
+        (the law's engine damping, ``ContactLaw.physical_damping``), ``ok`` and, for a law whose
+        engine records have batched blocks (MuJoCo's: ``mujoco``, ``mjx``, ``mujoco_warp``,
+        ``newton``, ``genesis``), ``engines`` keyed by batched engine (``engines.blocks_of``).
     """
     chosen = get_law(law) if impedance is None else get_law(law, impedance=impedance)
     m, k, v, a, e = jnp.broadcast_arrays(
@@ -72,7 +73,7 @@ def contact_parameters(
     p = jnp.where(ok, p, jnp.nan)
     factor, pm, pk, pv = chosen.damping_unit
     out = {"xi": xi, "damping": p, "ok": ok, "physical_damping": p * factor * m**pm * k**pk * v**pv}
-    if chosen.name == engines.LAW:
+    if engines.blocks_of(chosen.name):  # the engine records' batched blocks of this law
         scene = engines.EngineScene(m, k, timestep, chosen.impedance)
-        out["engines"] = engines.engine_blocks(p, scene)
+        out["engines"] = engines.engine_blocks(p, scene, chosen.name)
     return out
