@@ -30,9 +30,11 @@ from contactalpha.validation import check_range
 
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
-from .drake_model import drake_drop, read_drake
+from .drake_loop import DRAKE_STEP
+from .drake_model import BASES, drake_drop, read_drake
 from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
+from .loops import LOOPS, run_loop
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
@@ -370,7 +372,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
-    engine_loop=False, force_write=False,
+    engine_loop=False, force_write=False, base=None,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -405,8 +407,12 @@ def tune(
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
     engine_loop : solve the damping on the engine's own drops of the whole model at its step, over
         the touchdown phase, from the reduced model's answer (``engine_loop``; MuJoCo), and name
-        what the reduced model leaves out with each part's share.  ``contactalpha tune`` runs it
-        by default; here it is off, for callers that tune many contacts.
+        what the reduced model leaves out with each part's share.  MuJoCo (``engine_loop``),
+        PyBullet (a URDF, ``pybullet_loop``) and Drake (its discrete plant at ``timestep``,
+        default ``drake_loop.DRAKE_STEP``; ``drake_loop``).  ``contactalpha tune`` runs it by
+        default; here it is off, for callers that tune many contacts.
+    base : a URDF's root link: "fixed" (default in every engine: welded to the world) or
+        "floating" (Drake only; ``drake_model.BASES``).
 
     Returns
     -------
@@ -415,10 +421,18 @@ def tune(
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
     timestep = check_timestep(timestep)
     t = _tuner(engine, model)
+    if base is not None and base not in BASES:
+        raise ValueError(f"base = {base!r} is outside the valid choices {BASES}")
+    if base == "floating" and t.name != "drake":
+        raise ValueError(f"base = 'floating': {t.name} loads a URDF with its root link fixed; a floating "
+                         "robot is an MJCF with a <freejoint>, or Drake's (engine='drake')")  # fmt: skip
     if output is not None:
         write.check_output(model, output)
+    if engine_loop and t.name == "drake" and timestep is None:
+        timestep = DRAKE_STEP  # the loop runs Drake's discrete plant: its own default step
     reader = t.reader if t.reader is not None else None
-    contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
+    contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces,
+                           base=base if t.name == "drake" else None)  # fmt: skip
     params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
     miss = _unreachable(step, target, discrete)
     if not contact.at_touch:
@@ -449,7 +463,7 @@ def tune(
     result = Tuning(contact, t.name, params, notes, None, details=details, discrete=step, timestep=h,
                     reached=not miss, unreachable=miss)  # fmt: skip
     if engine_loop:
-        result = _looped(result, target)
+        result = _looped(result, target, base)
     if result.loop is None or result.loop.status != "ok":  # the loop's drops include every setting
         for setting in contact.engine_row.get("unmodelled", ()) if t.name == "mujoco" else ():
             warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
@@ -468,11 +482,15 @@ def tune(
     return result
 
 
-def _looped(result, target):
-    """``result`` with the engine loop's answer (MuJoCo), run in memory: ``tune`` writes the file after."""
-    if result.engine != "mujoco":
-        note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
-        return replace(result, notes=[*result.notes, note])
+def _looped(result, target, base=None):
+    """``result`` with the engine loop's answer, run in memory: ``tune`` writes the file after."""
+    if result.engine in LOOPS:
+        answer, params, lines = run_loop(result.engine, result.contact, result.parameters, target,
+                                         result.timestep, base)  # fmt: skip
+        ok = answer.status == "ok"
+        why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
+        return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
+                       unreachable=why)  # fmt: skip
     source = _in_memory_mjcf(result)
     answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
     params = result.parameters

@@ -1,0 +1,104 @@
+"""The engine loops of PyBullet and Drake as ``tune`` runs them: one record per engine.
+
+Each ``EngineLoop`` says how the engine's loop is built from a contact (``build``), which of the
+tuned parameters it starts from (``start``: the reduced model's, in the loop's form) and how its
+answer goes back into the parameters ``tune`` writes (``written``).  MuJoCo's loop
+(``engine_loop.in_engine``) runs on the MJCF ``tune`` writes in memory.
+"""
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .engine_loop import LoopAnswer, loop_notes, solve_damping
+
+
+@dataclass(frozen=True)
+class EngineLoop:
+    """An engine's loop as ``tune`` runs it.
+
+    ``build(contact, timestep, base) -> PhaseSampler``; ``start(params) -> (k, c)``;
+    ``written(params, answer params) -> params``; ``suffixes`` of the model files it drops.
+    """
+
+    name: str
+    build: Callable[..., Any]
+    start: Callable[[dict], tuple]
+    written: Callable[[dict, tuple], dict]
+    suffixes: tuple
+
+
+def _pybullet_loop(contact, timestep, base):
+    from .pybullet_loop import PybulletLoop
+    from .tune import _joint_names
+
+    return PybulletLoop(contact.model, contact.pair, contact.qpos, contact.qvel, timestep=timestep,
+                        joint_names=_joint_names(contact), forces=contact.forces,
+                        speed=contact.approach_speed, base=base or "fixed")  # fmt: skip
+
+
+def _drake_loop(contact, timestep, base):
+    from .drake_loop import DrakeLoop
+
+    return DrakeLoop(contact.model, contact.pair, contact.qpos, contact.qvel, timestep=timestep,
+                     forces=contact.forces, base=base or "fixed")  # fmt: skip
+
+
+LOOPS = {
+    "pybullet": EngineLoop(
+        "pybullet", _pybullet_loop,
+        lambda p: (float(p["contactStiffness"]), float(p["contactDamping"])),
+        lambda p, x: {**p, "contactDamping": float(x[1]), "pair_damping": 2.0 * float(x[1])},
+        (".urdf",),
+    ),
+    "drake": EngineLoop(
+        "drake", _drake_loop,
+        lambda p: (float(p["point_contact_stiffness"]), float(p["hunt_crossley_dissipation"])),
+        lambda p, x: {**p, "hunt_crossley_dissipation": float(x[1]), "pair_dissipation": float(x[1])},
+        (".urdf", ".sdf"),
+    ),
+}  # fmt: skip
+
+
+def run_loop(engine: str, contact, params: dict, target: float, timestep: float,
+             base: str | None = None) -> tuple[LoopAnswer, dict, list]:  # fmt: skip
+    """``(LoopAnswer, the parameters to write, note lines)`` of ``engine``'s loop on ``contact``.
+
+    ValueError where the pair is not at first touch (the drops start there) or the model file
+    is not one the engine's loop drops.
+    """
+    rec = LOOPS[engine]
+    if not contact.at_touch:
+        raise ValueError(
+            f"the engine loop starts its drops at first touch; the pair is {contact.gap:.3g} m apart at "
+            "this configuration: give the configuration of touch (qpos)"
+        )
+    if Path(contact.model).suffix.lower() not in rec.suffixes:
+        raise ValueError(
+            f"{engine}'s engine loop drops {'/'.join(rec.suffixes)} models, not {contact.model!r}"
+        )
+    loop = rec.build(contact, timestep, base)
+    try:
+        answer = solve_damping(loop, target, rec.start(params))
+    finally:
+        close = getattr(loop, "close", None)
+        if close is not None:
+            close()
+    out = rec.written(params, answer.solref) if answer.status == "ok" else params
+    lines = loop_notes(answer, (), target, loop.timestep, [_base_line(contact, base)], loop.engine,
+                       loop.damping_name)  # fmt: skip
+    if math.isfinite(answer.reduced.mean):
+        lines.append(
+            "the parts' shares (joint damping, friction, ...) are isolated in MuJoCo's loop only "
+            f"(contactalpha tune --engine mujoco); {loop.engine}'s loop runs the whole model as it is"
+        )
+    return answer, out, lines
+
+
+def _base_line(contact, base):
+    text = contact.engine_row.get("base")
+    if text:
+        return str(text)
+    return f"{base or 'fixed'}: the URDF's root link fixed to the world (the same default in every engine)"

@@ -1,0 +1,168 @@
+"""PyBullet's and Drake's engine loops (``pybullet_loop``, ``drake_loop``) through ``tune``.
+
+The model is a damped pendulum URDF striking a table fixed to its base: the joint's damping takes
+energy during the contact, so the reduced model (m_eff, the free load, the engine's one-contact
+map) misses the target.  The loop's answer is checked by drop loops written here on the raw
+engines: the table lowered by two to three steps' travel (a random touchdown phase),
+the pendulum started at the touching pose with its touchdown velocity, and e_N read as the gap's
+exit rate over its entry rate, each the slope of a parabola through the three samples around
+the crossing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from contactalpha.mechanism.tune import tune
+
+URDF = """<robot name="pendulum">
+  <link name="base"/>
+  <link name="arm">
+    <inertial><origin xyz="0.25 0 0"/><mass value="1.0"/>
+      <inertia ixx="0.001" iyy="0.0208333" izz="0.0208333" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision name="tip"><origin xyz="0.5 0 0"/><geometry><sphere radius="0.02"/></geometry></collision>
+  </link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="100" velocity="100"/>
+    <dynamics damping="0.3"/></joint>
+  <link name="table">
+    <collision name="table"><origin xyz="0.5 0 {z}"/>
+      <geometry><box size="0.2 0.2 0.04"/></geometry></collision>
+  </link>
+  <joint name="table_joint" type="fixed"><parent link="base"/><child link="table"/></joint>
+</robot>
+"""
+PAIR = ("table", "tip")
+SPEED = 1.0  # m/s at the tip: the hinge's rate 2 rad/s
+STEP = 2.5e-4
+STIFFNESS = 2e3
+TOP = -0.04  # the table box's centre at touch (its top at the sphere's bottom)
+
+
+def _urdf(tmp_path, drop=0.0, name="pendulum.urdf"):
+    path = tmp_path / name
+    path.write_text(URDF.format(z=TOP - drop))
+    return path
+
+
+def _rates(gaps, h):
+    """``-exit rate / entry rate`` of a sampled gap (parabolas through three samples)."""
+    gaps = np.asarray(gaps)
+    t = np.arange(gaps.size) * h
+    rates = []
+    for k in (int(np.flatnonzero(gaps < 0)[0]), gaps.size - 1):
+        c = np.polyfit(t[k - 2 : k + 1] - t[k], gaps[k - 2 : k + 1], 2)
+        r = [x.real for x in np.roots(c) if abs(x.imag) < 1e-12 and -h - 1e-12 <= x.real <= 1e-12]
+        rates.append(2 * c[0] * r[0] + c[1])
+    return -rates[1] / rates[0]
+
+
+def _raw_pybullet(pybullet, tmp_path, stiffness, damping, n=24, seed=3):
+    pb = pybullet
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        path = _urdf(tmp_path, (2.0 + rng.random()) * SPEED * STEP, f"raw{i}.urdf")
+        c = pb.connect(pb.DIRECT)
+        pb.setGravity(0, 0, -9.81, physicsClientId=c)
+        pb.setTimeStep(STEP, physicsClientId=c)
+        flags = pb.URDF_USE_SELF_COLLISION | pb.URDF_USE_INERTIA_FROM_FILE
+        body = pb.loadURDF(str(path), useFixedBase=True, flags=flags, physicsClientId=c)
+        for link in (0, 1):
+            pb.changeDynamics(
+                body, link, contactStiffness=stiffness, contactDamping=damping, physicsClientId=c
+            )
+        pb.setJointMotorControl2(body, 0, pb.VELOCITY_CONTROL, force=0.0, physicsClientId=c)
+        pb.resetJointState(body, 0, 0.0, SPEED / 0.5, physicsClientId=c)
+        gaps = []
+        for _ in range(4000):
+            pts = pb.getClosestPoints(body, body, 1.0, 0, 1, physicsClientId=c)
+            gaps.append(min(p[8] for p in pts))
+            if len(gaps) > 3 and gaps[-1] > 0 and min(gaps) < 0:
+                break
+            pb.stepSimulation(physicsClientId=c)
+        pb.disconnect(c)
+        out.append(_rates(gaps, STEP))
+    return float(np.mean(out)), float(np.std(out) / math.sqrt(n))
+
+
+def test_pybullet_loop_delivers_in_raw_pybullet(pybullet, mujoco, tmp_path):
+    src = _urdf(tmp_path)
+    target = 0.6
+    kwargs = dict(qpos=[0.0], qvel=[SPEED / 0.5], engine="pybullet", stiffness=STIFFNESS, timestep=STEP)
+    reduced = tune(src, PAIR, target, **kwargs)
+    looped = tune(src, PAIR, target, engine_loop=True, output=tmp_path / "tuned.py", **kwargs)
+    ans = looped.loop
+    assert ans.status == "ok" and looped.reached
+    assert abs(ans.delivered.mean - target) <= 1.2e-4 and ans.delivered.error <= 1e-4
+    k = looped.parameters["contactStiffness"]
+    assert looped.parameters["contactDamping"] == pytest.approx(ans.solref[1], rel=1e-12)
+    raw, stderr = _raw_pybullet(pybullet, tmp_path, k, looped.parameters["contactDamping"])
+    assert abs(raw - target) <= 4 * stderr + 2e-3, (raw, stderr)
+    # The reduced model's answer (what tune wrote for PyBullet before) misses in raw PyBullet.
+    miss, _ = _raw_pybullet(pybullet, tmp_path, k, reduced.parameters["contactDamping"], n=8)
+    assert abs(miss - target) > 5e-3, miss
+    assert any(line.startswith("engine loop (PyBullet") for line in looped.notes)
+    assert repr(looped.parameters["contactDamping"])[:8] in looped.output.read_text()
+
+
+def _raw_drake(pydrake, path, n=12, seed=5):
+    """Raw Drake: the tuned URDF's table lowered by a random fraction of a step's travel."""
+    import pydrake.all as dk
+
+    text = path.read_text()
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        drop = (2.0 + rng.random()) * SPEED * STEP
+        moved = path.with_name(f"raw{i}.urdf")
+        moved.write_text(text.replace(f'xyz="0.5 0 {TOP}"', f'xyz="0.5 0 {TOP - drop!r}"'))
+        builder = dk.DiagramBuilder()
+        plant, sg = dk.AddMultibodyPlantSceneGraph(builder, STEP)
+        plant.set_contact_model(dk.ContactModel.kPoint)
+        plant.set_discrete_contact_approximation(dk.DiscreteContactApproximation.kLagged)
+        dk.Parser(plant).AddModels(str(moved))
+        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName("base"))
+        plant.Finalize()
+        diagram = builder.Build()
+        sim = dk.Simulator(diagram)
+        root = sim.get_mutable_context()
+        ctx = plant.GetMyMutableContextFromRoot(root)
+        plant.SetVelocities(ctx, [SPEED / 0.5])
+        sim.Initialize()
+        sgc = sg.GetMyContextFromRoot(root)
+        qo = sg.get_query_output_port().Eval(sgc)
+        ids = {sg.model_inspector().GetName(g).split("::")[-1]: g
+               for g in sg.model_inspector().GetAllGeometryIds()}  # fmt: skip
+        gaps = []
+        for j in range(1, 4000):
+            qo = sg.get_query_output_port().Eval(sgc)
+            gaps.append(qo.ComputeSignedDistancePairClosestPoints(ids["table"], ids["tip"]).distance)
+            if len(gaps) > 3 and gaps[-1] > 0 and min(gaps) < 0:
+                break
+            sim.AdvanceTo(j * STEP)
+        out.append(_rates(gaps, STEP))
+    return float(np.mean(out)), float(np.std(out) / math.sqrt(n))
+
+
+def test_drake_loop_delivers_in_raw_drake(pydrake, tmp_path):
+    src = _urdf(tmp_path)
+    target = 0.6
+    kwargs = dict(qpos=[0.0], qvel=[SPEED / 0.5], engine="drake", stiffness=STIFFNESS, timestep=STEP)
+    reduced = tune(src, PAIR, target, output=tmp_path / "reduced.urdf", **kwargs)
+    looped = tune(src, PAIR, target, engine_loop=True, output=tmp_path / "tuned.urdf", **kwargs)
+    ans = looped.loop
+    assert ans.status == "ok" and looped.reached
+    assert abs(ans.delivered.mean - target) <= 1.2e-4 and ans.delivered.error <= 1e-4
+    raw, stderr = _raw_drake(pydrake, looped.output)
+    assert abs(raw - target) <= 4 * stderr + 2e-3, (raw, stderr)
+    miss, _ = _raw_drake(pydrake, reduced.output, n=4)
+    assert abs(miss - target) > 5e-3, miss
+    assert any("welded to the world" in line for line in looped.notes)
+
+
+def test_pybullet_loop_refuses_a_floating_base(pybullet, tmp_path):
+    with pytest.raises(ValueError, match="base = 'floating'"):
+        tune(_urdf(tmp_path), PAIR, 0.6, qpos=[0.0], qvel=[2.0], engine="pybullet", stiffness=STIFFNESS,
+             engine_loop=True, base="floating")  # fmt: skip
