@@ -102,3 +102,80 @@ def _base_line(contact, base):
     if text:
         return str(text)
     return f"{base or 'fixed'}: the URDF's root link fixed to the world (the same default in every engine)"
+
+
+@dataclass(frozen=True)
+class Verified:
+    """The tuned model dropped in its engine at ``phases`` phases: mean, standard error, range.
+
+    The phases are ``REPLICATES`` even grids, each shifted by a uniform draw (a randomized
+    rectangle rule, unbiased for a uniform touchdown phase, none of them the loop's midpoints);
+    ``stderr`` is the replicates' spread over sqrt(``REPLICATES``).
+    """
+
+    mean: float
+    stderr: float
+    minimum: float
+    maximum: float
+    phases: int
+
+
+REPLICATES = 4
+
+
+def measuring_loop(result) -> Any:
+    """The engine's loop on ``result``'s tuned model (its written file where the engine has one)."""
+    from .engine_loop import MujocoLoop
+
+    c = result.contact
+    if result.engine == "mujoco":
+        return MujocoLoop(
+            str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces
+        )
+    if result.engine == "pybullet":
+        return _pybullet_loop(c, result.timestep, None)
+    from .drake_loop import DrakeLoop
+
+    return DrakeLoop(str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces)
+
+
+def engine_params(result) -> tuple:
+    """The tuned parameters of ``result`` in its loop's form."""
+    if result.engine == "mujoco":
+        return tuple(result.parameters["solref"])
+    return LOOPS[result.engine].start(result.parameters)
+
+
+def verify(result, phases: int, seed: int = 0) -> Verified:
+    """``Verified``: ``result``'s tuned model dropped in its engine at ``phases`` touchdown phases."""
+    import numpy as np
+
+    if int(phases) < 2 * REPLICATES:
+        raise ValueError(f"verify = {phases!r} phases must be at least {2 * REPLICATES}")
+    if result.output is None:
+        raise ValueError("verify drops the written file: nothing was written")
+    loop = measuring_loop(result)
+    params = engine_params(result)
+    n = int(phases) // REPLICATES
+    means, lo, hi = [], math.inf, -math.inf
+    try:
+        for shift in np.random.default_rng(seed).random(REPLICATES):
+            grid = (np.arange(n) + shift) / n
+            if result.engine == "mujoco":
+                e = np.array([d.e_n if math.isfinite(d.e_n) else 0.0 for d in loop.drops_at(params, grid)])
+            else:
+                e = loop.values_at(params, grid)
+            means.append(float(np.mean(e)))
+            lo, hi = min(lo, float(np.min(e))), max(hi, float(np.max(e)))
+    finally:
+        if hasattr(loop, "close"):
+            loop.close()
+    m = np.array(means)
+    return Verified(float(m.mean()), float(m.std(ddof=1) / math.sqrt(REPLICATES)), lo, hi, n * REPLICATES)
+
+
+def verify_line(v: Verified, predicted: float, engine: str) -> str:
+    """One line: the measured mean and range beside the predicted, with the sampling error."""
+    return (f"verify ({engine}, the written file, {v.phases} touchdown phases on shifted grids): mean e_N "
+            f"{v.mean:.6g} ± {v.stderr:.1g} (standard error), one drop {v.minimum:.6g} to {v.maximum:.6g}; "
+            f"predicted {predicted:.6g} (measured − predicted {v.mean - predicted:+.2g})")  # fmt: skip

@@ -34,10 +34,13 @@ from .drake_loop import DRAKE_STEP
 from .drake_model import BASES, drake_drop, read_drake
 from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
-from .loops import LOOPS, run_loop
+from .loops import LOOPS, run_loop, verify_line
+from .loops import verify as verify_tuning
 from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
+from .robot_files import engine_for, needs_preparing, prepared_urdf
+from .touch import first_touch, joint_limit_problems
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
@@ -54,6 +57,10 @@ class OtherContactsWarning(UserWarning):
 
 class MassChangeWarning(UserWarning):
     """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
+
+
+class JointLimitWarning(UserWarning):
+    """The configuration has a joint outside its limits."""
 
 
 class UnmodelledSettingWarning(UserWarning):
@@ -151,6 +158,7 @@ class Tuning:
     loop: Any = None
     reached: bool = True
     unreachable: str = ""
+    verified: Any = None
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
@@ -355,11 +363,15 @@ if TUNER_NAMES != defaults.TUNER_NAMES:  # what `tune --help` lists without impo
 
 def _tuner(engine, model):
     if engine is None:
-        engine = "drake" if Path(model).suffix.lower() in (".sdf", ".urdf") else "mujoco"
+        engine = engine_for(model)[0] if Path(model).is_file() else _by_suffix(model)
     for t in TUNERS:
         if t.name == engine:
             return t
     raise ValueError(f"engine = {engine!r} is outside the valid choices {TUNER_NAMES}")
+
+
+def _by_suffix(model):
+    return "drake" if Path(model).suffix.lower() in (".sdf", ".urdf") else "mujoco"
 
 
 def default_output(model, engine=None):
@@ -372,7 +384,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
-    engine_loop=False, force_write=False, base=None,
+    engine_loop=False, force_write=False, base=None, ground=False, verify=None,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -413,6 +425,16 @@ def tune(
         default; here it is off, for callers that tune many contacts.
     base : a URDF's root link: "fixed" (default in every engine: welded to the world) or
         "floating" (Drake only; ``drake_model.BASES``).
+    ground : add a floor to a URDF that has none (``robot_files.prepared_urdf``: a box link
+        ``ground``, its top at z = 0, fixed to the root link).
+    verify : drop the written file in its engine at this many touchdown phases (shifted grids,
+        ``loops.verify``) and report the measured mean, its standard error and range beside the
+        predicted (``Tuning.verified``).
+
+    A URDF's unnamed ``<collision>`` elements are named ``LINK/collisionN`` (``robot_files``).
+    A pair apart (or overlapping) at ``qpos`` is moved to first touch along the approach (the
+    joint velocity), where the coordinates add (no free joint); otherwise refused.  A
+    configuration outside a joint's limits warns (``JointLimitWarning``).
 
     Returns
     -------
@@ -421,6 +443,14 @@ def tune(
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
     timestep = check_timestep(timestep)
     t = _tuner(engine, model)
+    if verify is not None and (int(verify) != verify or verify < 8):
+        raise ValueError(f"verify = {verify!r} must be a whole number of phases >= 8")
+    if verify is not None and output is None:
+        raise ValueError("verify drops the written file: give output")
+    chosen = []
+    if engine is None and Path(model).is_file():
+        why = engine_for(model)[1]
+        chosen.append(f"engine: {t.name} (not given: {why})")
     if base is not None and base not in BASES:
         raise ValueError(f"base = {base!r} is outside the valid choices {BASES}")
     if base == "floating" and t.name != "drake":
@@ -428,18 +458,34 @@ def tune(
                          "robot is an MJCF with a <freejoint>, or Drake's (engine='drake')")  # fmt: skip
     if output is not None:
         write.check_output(model, output)
+    if ground and Path(model).suffix.lower() != ".urdf":
+        raise ValueError(
+            f"ground: adds a floor to a URDF; {str(model)!r} is not one (an MJCF or SDF adds its own)"
+        )
+    if ground and base == "floating":
+        raise ValueError("ground with base = 'floating': the floor is fixed to the root link; fix the base")
+    if needs_preparing(model, pair, ground):
+        model = prepared_urdf(model, ground)
+        chosen.append(f"the model read: {model} (the URDF with its unnamed collisions named LINK/collisionN"
+                      + (", a floor 'ground' added" if ground else "") + ")")  # fmt: skip
     if engine_loop and t.name == "drake" and timestep is None:
         timestep = DRAKE_STEP  # the loop runs Drake's discrete plant: its own default step
     reader = t.reader if t.reader is not None else None
-    contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces,
-                           base=base if t.name == "drake" else None)  # fmt: skip
-    params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
-    miss = _unreachable(step, target, discrete)
+
+    def read(q):
+        return read_contact(model, pair, reader=reader, qpos=q, qvel=qvel, speed=speed, forces=forces,
+                            base=base if t.name == "drake" else None)  # fmt: skip
+
+    contact = read(qpos)
     if not contact.at_touch:
-        notes.append(
-            f"the pair is {contact.gap:.3g} m apart at this configuration: "
-            "values are at it, not at first touch"
-        )
+        contact, moved = first_touch(read, contact)
+        chosen.append(moved)
+    for line in joint_limit_problems(contact, base):
+        warnings.warn(line, JointLimitWarning, stacklevel=2)
+        chosen.append(line)
+    params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
+    notes = [*chosen, *notes]
+    miss = _unreachable(step, target, discrete)
     points = contact.engine_row.get("pair_points", 1)
     if points > 1:
         notes.append(
@@ -479,6 +525,10 @@ def tune(
         result = _refined(result, target, timestep)
     if check and t.drop and (result.reached or result.output is not None or t.name == "mujoco"):
         result = _checked(result, timestep, refined=refine)  # unreached and unwritten: nothing to drop
+    if verify is not None and result.output is not None:
+        v = verify_tuning(result, int(verify))
+        predicted = result.loop.delivered.mean if result.loop is not None else target
+        result = replace(result, verified=v, notes=[*result.notes, verify_line(v, predicted, t.name)])
     return result
 
 
