@@ -96,7 +96,9 @@ def prepared_urdf(path: str | Path, ground: bool = False, folder: str | Path | N
         if GROUND in names:
             raise ValueError(f"model = {str(path)!r} has a link {GROUND!r} already: --ground adds one")
         children = {c.get("link") for j in root.iter("joint") for c in j.findall("child")}
-        base = next(link.get("name") for link in root.findall("link") if link.get("name") not in children)
+        base = str(
+            next(link.get("name") for link in root.findall("link") if link.get("name") not in children)
+        )
         link = ET.SubElement(root, "link", name=GROUND)
         col = ET.SubElement(link, "collision", name=GROUND)
         ET.SubElement(col, "origin", xyz=f"0 0 {-GROUND_SIZE[2] / 2!r}", rpy="0 0 0")

@@ -17,6 +17,13 @@ from .contact import TOUCH_TOLERANCE, MechanismContact
 
 # Secant steps of ``first_touch`` on the gap.
 TOUCH_ITER = 40
+# A pair landing on several points is one contact mode while its points' height spread is at most
+# this fraction of the maximum compression (issue 43's MuJoCo box: e_N moves < 2e-3 up to 0.2,
+# by -0.014 at 1 and -0.30 at 4, rocking).
+LANDING_SPREAD = 0.2
+# Points higher than this many maximum compressions above the first are not reached in the
+# landing's first contact: the pair's e_N is then the first point's.
+LANDING_REACH = 10.0
 
 
 def _refuse(contact, why):
@@ -95,3 +102,39 @@ def _drake_limits(contact, base):
         if np.isfinite(lo) or np.isfinite(hi):
             rows.append((joint.name(), int(joint.position_start()), lo, hi))
     return rows
+
+
+def max_compression(contact: MechanismContact, stiffness: float) -> float:
+    """The undamped, unloaded maximum compression v sqrt(m_eff / k), m."""
+    return float(contact.approach_speed) * float(np.sqrt(contact.effective_mass / float(stiffness)))
+
+
+def landing_check(contact: MechanismContact, stiffness: float) -> str:
+    """A note on a pair that touches at several points; ValueError where they do not land as one.
+
+    The heights are the reader's (``mujoco_model.pair_heights``: MuJoCo's contact points of the
+    pair within a look above touch).  Within ``LANDING_SPREAD`` of the maximum compression the
+    landing is one contact mode (a flat box); between that and ``LANDING_REACH`` compressions the
+    other points land during the first one's contact (rocking) and e_N is not one contact's: the
+    pair is refused with the reason.  "" for a single point.
+    """
+    heights = sorted(contact.engine_row.get("pair_heights", ()))
+    if len(heights) < 2:
+        return ""
+    delta = max_compression(contact, stiffness)
+    spread = [h - heights[0] for h in heights[1:]]
+    together = [s for s in spread if s <= LANDING_SPREAD * delta]
+    rocking = [s for s in spread if LANDING_SPREAD * delta < s <= LANDING_REACH * delta]
+    if rocking:
+        raise ValueError(
+            f"the pair lands on {len(heights)} points whose heights spread by {max(rocking):.3g} m = "
+            f"{max(rocking) / delta:.3g} x the maximum compression {delta:.3g} m (one contact mode up to "
+            f"{LANDING_SPREAD:g}; its first points rebound while the others land, rocking): its e_N is "
+            "not one contact's; tune it landing flat (qpos), or tune the points as separate pairs"
+        )
+    far = len(spread) - len(together)
+    first = (f"the pair touches at {len(together) + 1} points within {LANDING_SPREAD:g} of the maximum "
+             f"compression {delta:.3g} m (one contact mode: a simultaneous landing)" if together
+             else f"the pair's lowest point lands alone (maximum compression {delta:.3g} m)")  # fmt: skip
+    return first + (f"; {far} more points lie above {LANDING_REACH:g} compressions, not reached in this "
+                    "contact" if far else "")  # fmt: skip

@@ -40,7 +40,7 @@ from .mujoco_model import load_model, mujoco_drop, read_mujoco
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
 from .robot_files import engine_for, needs_preparing, prepared_urdf
-from .touch import first_touch, joint_limit_problems
+from .touch import first_touch, joint_limit_problems, landing_check
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
@@ -483,8 +483,11 @@ def tune(
     for line in joint_limit_problems(contact, base):
         warnings.warn(line, JointLimitWarning, stacklevel=2)
         chosen.append(line)
+    k_landing = stiffness if stiffness is not None else (
+        current_stiffness(contact) if contact.engine == "mujoco" else None)  # fmt: skip
+    landing = landing_check(contact, k_landing) if k_landing is not None else ""
     params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
-    notes = [*chosen, *notes]
+    notes = [*chosen, *([landing] if landing else []), *notes]
     miss = _unreachable(step, target, discrete)
     points = contact.engine_row.get("pair_points", 1)
     if points > 1:
