@@ -92,7 +92,7 @@ def test_pybullet_loop_delivers_in_raw_pybullet(pybullet, mujoco, tmp_path):
     target = 0.6
     kwargs = dict(qpos=[0.0], qvel=[SPEED / 0.5], engine="pybullet", stiffness=STIFFNESS, timestep=STEP)
     reduced = tune(src, PAIR, target, **kwargs)
-    looped = tune(src, PAIR, target, engine_loop=True, output=tmp_path / "tuned.py", **kwargs)
+    looped = tune(src, PAIR, target, engine_loop=True, output=tmp_path / "tuned.py", verify=32, **kwargs)
     ans = looped.loop
     assert ans.status == "ok" and looped.reached
     assert abs(ans.delivered.mean - target) <= 1.2e-4 and ans.delivered.error <= 1e-4
@@ -100,6 +100,10 @@ def test_pybullet_loop_delivers_in_raw_pybullet(pybullet, mujoco, tmp_path):
     assert looped.parameters["contactDamping"] == pytest.approx(ans.solref[1], rel=1e-12)
     raw, stderr = _raw_pybullet(pybullet, tmp_path, k, looped.parameters["contactDamping"])
     assert abs(raw - target) <= 4 * stderr + 2e-3, (raw, stderr)
+    # verify's measurement (shifted phase grids in the loop's drops) agrees with the raw drops.
+    v = looped.verified
+    assert v.phases == 32 and abs(v.mean - raw) <= 4 * (stderr + v.stderr) + 2e-3
+    assert any(line.startswith("verify (pybullet") for line in looped.notes)
     # The reduced model's answer (what tune wrote for PyBullet before) misses in raw PyBullet.
     miss, _ = _raw_pybullet(pybullet, tmp_path, k, reduced.parameters["contactDamping"], n=8)
     assert abs(miss - target) > 5e-3, miss

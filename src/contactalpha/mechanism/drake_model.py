@@ -68,8 +68,14 @@ class _Plant:
         try:
             instances = dk.Parser(self.plant).AddModels(str(model_path))
         except RuntimeError as err:
+            text = " ".join(str(err).split())
+            fix = ""
+            if "unsupported extension" in text:
+                fix = ("; Drake reads .obj, .vtk and .gltf meshes: convert the mesh (pybullet_data ships "
+                       ".obj twins beside its .stl files), or tune with --engine mujoco or pybullet, "
+                       "whose readers take .stl")  # fmt: skip
             raise ValueError(
-                f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}"
+                f"model = {str(model_path)!r}: Drake cannot parse it: {text[:300]}{fix}"
             ) from None
         self.welded = ()
         if base == "fixed" and str(model_path).lower().endswith(".urdf"):
