@@ -83,6 +83,7 @@ class DrakeLoop(PhaseSampler):
             pushes.append(push)
         if pushes:
             p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
+        self.clean = p.root.Clone()  # the state before any drop: the plant keeps more than q and v
         self.sim = dk.Simulator(p.diagram, p.root)
         self.sg_context = p.scene_graph.GetMyMutableContextFromRoot(p.root)
         self.drops = 0
@@ -110,12 +111,15 @@ class DrakeLoop(PhaseSampler):
 
         NaN e_N: never touched; 0: touched and not back within ``DURATION``.
         """
-        self._set(params)
         p, h = self.p, self.timestep
-        p.root.SetTime(0.0)
+        # A discrete plant's state holds more than q and v (the previous step's contact results):
+        # every drop starts from the state before any drop, and the pair's values are set again.
+        p.root.SetTimeStateAndParametersFrom(self.clean)
+        self._params = None
+        self._set(params)
         p.plant.SetPositions(p.context, self.q0)
         p.plant.SetVelocities(p.context, self.v0)
-        _back_in_time(p, float(phase) * h, h, self.forces)
+        _back_in_time(p, float(phase) * h, h, self.forces, with_contacts=True)
         self.sim.Initialize()
         gaps, inv = [p.closest(*self.g)[2]], []
         for i in range(1, int(math.ceil(DURATION / h)) + 1):

@@ -40,6 +40,9 @@ INSTALL_HINT = "Drake reads SDF and URDF models: pip install drake (or contactal
 ACCURACY = 1e-9
 # How a URDF's root links hang: welded to the world (as MuJoCo and PyBullet load a URDF), or free.
 BASES = ("fixed", "floating")
+# Steps back along the approach at which ``_back_in_time`` reads the plant's acceleration with the
+# other contacts acting: the discrete solver already pushes a pair one or two steps from touch.
+PROBE_STEPS = 10.0
 
 
 def _drake():
@@ -311,16 +314,28 @@ def _generalized_forces(p, forces):
     return tau
 
 
-def _back_in_time(p, tc, h, forces):
+def _back_in_time(p, tc, h, forces, with_contacts=False):
     """Move the plant's state back by ``tc`` on its free motion (second order).
 
     The velocity stored is that of half a step earlier, as the discrete plant's semi-implicit
-    update stores it (``stepping.flight``).
+    update stores it (``stepping.flight``).  ``with_contacts``: the motion's acceleration is the
+    discrete plant's own at the state (its generalized-acceleration port: every other contact
+    acting, the named forces fixed on its input port), read at the configuration PROBE_STEPS steps
+    earlier, where the pair is apart: a body resting on a support (the stack's lower sphere)
+    stays at rest, and the pair's own implicit contact impulse is not in it.
     """
     plant, ctx = p.plant, p.context
     v = np.array(plant.GetVelocities(ctx))
-    tau = plant.CalcGravityGeneralizedForces(ctx) + _generalized_forces(p, forces) - plant.CalcBiasTerm(ctx)
-    vdot = np.linalg.solve(plant.CalcMassMatrix(ctx), tau)
+    if with_contacts:  # read PROBE_STEPS steps earlier: the pair (closing at v) is apart, pushes nothing
+        q = np.array(plant.GetPositions(ctx))
+        plant.SetPositions(ctx, q + plant.MapVelocityToQDot(ctx, -PROBE_STEPS * h * v))
+        vdot = np.array(plant.get_generalized_acceleration_output_port().Eval(ctx))
+        plant.SetPositions(ctx, q)
+    else:
+        tau = (
+            plant.CalcGravityGeneralizedForces(ctx) + _generalized_forces(p, forces) - plant.CalcBiasTerm(ctx)
+        )
+        vdot = np.linalg.solve(plant.CalcMassMatrix(ctx), tau)
     qdot = plant.MapVelocityToQDot(ctx, -tc * v + 0.5 * tc * tc * vdot)
     plant.SetPositions(ctx, np.array(plant.GetPositions(ctx)) + qdot)
     plant.SetVelocities(ctx, v - (tc + 0.5 * h) * vdot)
