@@ -87,14 +87,33 @@ def run_loop(engine: str, contact, params: dict, target: float, timestep: float,
         if close is not None:
             close()
     out = rec.written(params, answer.solref) if answer.status == "ok" else params
-    lines = loop_notes(answer, (), target, loop.timestep, [_base_line(contact, base)], loop.engine,
+    shares = _shares(engine, contact, timestep, base, answer) if math.isfinite(answer.reduced.mean) else ()
+    lines = loop_notes(answer, shares, target, loop.timestep, [_base_line(contact, base)], loop.engine,
                        loop.damping_name)  # fmt: skip
-    if math.isfinite(answer.reduced.mean):
-        lines.append(
-            "the parts' shares (joint damping, friction, ...) are isolated in MuJoCo's loop only "
-            f"(contactalpha tune --engine mujoco); {loop.engine}'s loop runs the whole model as it is"
-        )
     return answer, out, lines
+
+
+# The parts PyBullet's loop can switch off (the loop's method, which says what there was).
+PYBULLET_PARTS = (("friction", "switch_off_friction"), ("joint and link damping", "switch_off_damping"))
+
+
+def _shares(engine, contact, timestep, base, answer):
+    """``engine_loop.Share`` of each part the engine's loop can switch off, at the reduced answer."""
+    from .engine_loop import Share
+
+    if engine != "pybullet":
+        return ()
+    out = []
+    for name, method in PYBULLET_PARTS:
+        loop = LOOPS[engine].build(contact, timestep, base)
+        try:
+            present = getattr(loop, method)()
+            if present:
+                pm = loop.phase_mean(answer.reduced_solref, answer.reduced.phases)
+                out.append(Share(name, present, float(answer.reduced.mean - pm.mean)))
+        finally:
+            loop.close()
+    return tuple(out)
 
 
 def _base_line(contact, base):

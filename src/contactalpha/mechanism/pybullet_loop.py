@@ -109,6 +109,32 @@ class PybulletLoop(PhaseSampler):
         except Exception:  # noqa: BLE001 - PyBullet may be gone at interpreter exit
             pass
 
+    def switch_off_friction(self) -> str:
+        """Make the pair frictionless; what it had ("" where it had none)."""
+        pb, c = self.pb, self.client
+        had = [float(pb.getDynamicsInfo(self.body, link, physicsClientId=c)[1]) for link in self.links]
+        for link in self.links:
+            pb.changeDynamics(self.body, link, lateralFriction=0.0, physicsClientId=c)
+        self.saved = pb.saveState(physicsClientId=c)
+        return f"lateralFriction {max(had):g}" if max(had) > 0.0 else ""
+
+    def switch_off_damping(self) -> str:
+        """Zero every joint's damping and every link's velocity damping; what there was.
+
+        PyBullet does not report a link's velocity damping: its default (0.04) is named.
+        """
+        pb, c = self.pb, self.client
+        joints = [float(pb.getJointInfo(self.body, j, physicsClientId=c)[6]) for j in self.joints]
+        for k in range(-1, pb.getNumJoints(self.body, physicsClientId=c)):
+            pb.changeDynamics(self.body, k, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0,
+                              physicsClientId=c)  # fmt: skip
+        self.saved = pb.saveState(physicsClientId=c)
+        parts = []
+        if max(joints, default=0.0) > 0.0:
+            parts.append(f"{sum(x > 0 for x in joints)} joints' damping up to {max(joints):g}")
+        parts.append("the links' velocity damping (PyBullet's, 0.04 by default)")
+        return ", ".join(parts)
+
     def _set(self, params):
         k, c = (float(x) for x in params)
         for link in self.links:
