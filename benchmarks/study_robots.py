@@ -319,8 +319,8 @@ def engines_page(rows, phases):
         lines += [
             "",
             "What takes the energy where no contact damping reaches the target is the pair's friction",
-            "(measured once by hand, not by this script): at zero contact damping Drake delivers 0.747",
-            "with its default friction and 0.905 with the pair frictionless; at the reduced answer for",
+            "(measured once by hand, not by this script): at zero contact damping Drake delivers 0.750",
+            "with its default friction and 0.908 with the pair frictionless; at the reduced answer for",
             "0.6 PyBullet delivers 0.474 with its default lateralFriction 0.5 and 0.571 without. The tip",
             "sticks while the arm's inertia couples the normal to the tangent; MuJoCo's soft cone lets",
             "it slip (its friction share is under 1e-3). A frictionless pair reaches 0.9 in Drake.",
