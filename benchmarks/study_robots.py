@@ -217,11 +217,11 @@ def _engine_loop_of(engine, r, out):
     if engine == "mujoco":
         return MujocoLoop(str(out), c.pair, c.qpos, c.qvel, timestep=r.timestep)
     if engine == "pybullet":
+        from contactalpha.mechanism.mujoco_model import reader_joint_names
         from contactalpha.mechanism.pybullet_loop import PybulletLoop
-        from contactalpha.mechanism.tune import _joint_names
 
-        return PybulletLoop(c.model, c.pair, c.qpos, c.qvel, timestep=r.timestep, joint_names=_joint_names(c),
-                            speed=c.approach_speed)  # fmt: skip
+        return PybulletLoop(c.model, c.pair, c.qpos, c.qvel, timestep=r.timestep,
+                            joint_names=reader_joint_names(c), speed=c.approach_speed)  # fmt: skip
     from contactalpha.mechanism.drake_loop import DrakeLoop
 
     return DrakeLoop(str(out), c.pair, c.qpos, c.qvel, timestep=r.timestep)

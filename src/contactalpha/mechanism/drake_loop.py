@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 
 from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
-from .drake_model import _back_in_time, _drake, _Plant, _set
+from .drake_model import ParsedPlant, back_in_time, drake_module, set_coordinates
 from .engine_loop import PhaseSampler
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
@@ -61,17 +61,17 @@ class DrakeLoop(PhaseSampler):
             raise ValueError(
                 f"approximation = {approximation!r} is outside the valid choices {DRAKE_APPROXIMATIONS}"
             )
-        dk = _drake()
+        dk = drake_module()
         self.timestep = DRAKE_STEP if timestep is None else float(timestep)
         self.pair = tuple(pair)
         self.forces = dict(forces or {})
-        p = self.p = _Plant(model, point_contact=True, time_step=self.timestep, approximation=approximation,
-                            base=base)  # fmt: skip
+        p = self.p = ParsedPlant(model, point_contact=True, time_step=self.timestep,
+                                 approximation=approximation, base=base)  # fmt: skip
         self.g = tuple(p.geometry(name) for name in self.pair)
         self.q0 = np.asarray(qpos, dtype=float)
         self.v0 = np.asarray(qvel, dtype=float)
-        _set(p.plant, p.context, "qpos", self.q0, p.plant.num_positions())
-        _set(p.plant, p.context, "qvel", self.v0, p.plant.num_velocities())
+        set_coordinates(p.plant, p.context, "qpos", self.q0, p.plant.num_positions())
+        set_coordinates(p.plant, p.context, "qvel", self.v0, p.plant.num_velocities())
         self.speed = -float(p.gap_row(*self.g)[3] @ self.v0)
         pushes = []
         for name, force in self.forces.items():
@@ -89,10 +89,10 @@ class DrakeLoop(PhaseSampler):
         self.drops = 0
         self._params: tuple | None = None
 
-    def _set(self, params):
+    def _set_pair(self, params):
         if self._params == tuple(params):
             return
-        dk = _drake()
+        dk = drake_module()
         k, d = (float(x) for x in params)
         inspector = self.p.scene_graph.model_inspector()
         source = self.p.plant.get_source_id()
@@ -116,10 +116,10 @@ class DrakeLoop(PhaseSampler):
         # every drop starts from the state before any drop, and the pair's values are set again.
         p.root.SetTimeStateAndParametersFrom(self.clean)
         self._params = None
-        self._set(params)
+        self._set_pair(params)
         p.plant.SetPositions(p.context, self.q0)
         p.plant.SetVelocities(p.context, self.v0)
-        _back_in_time(p, float(phase) * h, h, self.forces, with_contacts=True)
+        back_in_time(p, float(phase) * h, h, self.forces, with_contacts=True)
         self.sim.Initialize()
         gaps, inv = [p.closest(*self.g)[2]], []
         for i in range(1, int(math.ceil(DURATION / h)) + 1):

@@ -31,11 +31,11 @@ class EngineLoop:
 
 
 def _pybullet_loop(contact, timestep, base):
+    from .mujoco_model import reader_joint_names
     from .pybullet_loop import PybulletLoop
-    from .tune import _joint_names
 
     return PybulletLoop(contact.model, contact.pair, contact.qpos, contact.qvel, timestep=timestep,
-                        joint_names=_joint_names(contact), forces=contact.forces,
+                        joint_names=reader_joint_names(contact), forces=contact.forces,
                         speed=contact.approach_speed, base=base or "fixed")  # fmt: skip
 
 

@@ -469,3 +469,11 @@ def _gap_rate_at_start(m, qpos, qvel, g1, g2):
     set_state(m, d, qpos, qvel)
     point, normal, _, _ = contact_row(m, d, g1, g2)
     return float(_gap_jacobian(m, d, g1, g2, point, normal) @ d.qvel)
+
+
+def reader_joint_names(contact) -> list[str] | None:
+    """The joints of the reader's coordinates, by name (MuJoCo's reader; None for Drake's: URDF order)."""
+    if contact.engine != "mujoco":
+        return None
+    m = load_model(contact.model)
+    return [m.joint(i).name for i in range(m.njnt)]

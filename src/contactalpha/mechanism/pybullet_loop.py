@@ -27,17 +27,17 @@ from numpy.typing import ArrayLike
 from .crossing import rebound_speed
 from .engine_loop import PhaseSampler
 from .pybullet_model import (
-    _free_qacc,
-    _gap,
-    _inv_mass,
-    _ordered,
-    _push,
-    _pybullet,
-    _state,
-    _touchdown_rate,
     collision_links,
+    free_qacc,
+    in_pybullet_order,
+    inverse_mass,
     link_indices,
     movable_joints,
+    pair_gap,
+    push_forces,
+    pybullet_module,
+    set_joint_state,
+    touchdown_rate,
 )
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
@@ -75,7 +75,7 @@ class PybulletLoop(PhaseSampler):
                 f"base = {base!r}: PyBullet's engine loop drops a URDF with its base fixed {BASES}; "
                 "a floating URDF robot is tuned in MuJoCo (an MJCF with a <freejoint>) or Drake"
             )
-        pb = self.pb = _pybullet()
+        pb = self.pb = pybullet_module()
         self.client = c = pb.connect(pb.DIRECT)
         self.pair: tuple[str, str] = (str(pair[0]), str(pair[1]))
         self.timestep = h = float(timestep)
@@ -87,13 +87,13 @@ class PybulletLoop(PhaseSampler):
         self.joints, names = movable_joints(self.body, c)
         pb.setJointMotorControlArray(self.body, self.joints, pb.VELOCITY_CONTROL,
                                      forces=[0.0] * len(self.joints), physicsClientId=c)  # fmt: skip
-        self.q0, self.v0 = (_ordered(x, joint_names, names) for x in (qpos, qvel))
+        self.q0, self.v0 = (in_pybullet_order(x, joint_names, names) for x in (qpos, qvel))
         forces = dict(forces or {})
         self.pushes = dict(zip(link_indices(self.body, list(forces), c), forces.values(), strict=True))
-        self.speed = float(_touchdown_rate(pb, self.body, self.links, self.joints, self.q0, self.v0, c)
+        self.speed = float(touchdown_rate(pb, self.body, self.links, self.joints, self.q0, self.v0, c)
                            if speed is None else speed)  # fmt: skip
-        _state(pb, self.body, self.joints, self.q0, self.v0, c)
-        self.qacc = _free_qacc(pb, self.body, self.q0, self.v0, c, self.pushes)
+        set_joint_state(pb, self.body, self.joints, self.q0, self.v0, c)
+        self.qacc = free_qacc(pb, self.body, self.q0, self.v0, c, self.pushes)
         self.saved = pb.saveState(physicsClientId=c)
         self.drops = 0
 
@@ -151,15 +151,15 @@ class PybulletLoop(PhaseSampler):
         pb.restoreState(self.saved, physicsClientId=c)
         tc = float(phase) * h
         q = self.q0 - tc * self.v0 + 0.5 * tc * tc * self.qacc
-        _state(pb, self.body, self.joints, q, self.v0 - (tc + 0.5 * h) * self.qacc, c)
+        set_joint_state(pb, self.body, self.joints, q, self.v0 - (tc + 0.5 * h) * self.qacc, c)
         gaps, inv = [], []
         for _ in range(int(math.ceil(DURATION / h))):
-            gaps.append(_gap(pb, self.body, self.links, c))
+            gaps.append(pair_gap(pb, self.body, self.links, c))
             if mass and gaps[-1] < 0.0:
-                inv.append(_inv_mass(pb, self.body, self.links, self.joints, c))
+                inv.append(inverse_mass(pb, self.body, self.links, self.joints, c))
             if len(gaps) > 3 and gaps[-1] > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
                 break
-            _push(pb, self.body, self.pushes, c)
+            push_forces(pb, self.body, self.pushes, c)
             pb.stepSimulation(physicsClientId=c)
         self.drops += 1
         change = (max(inv) - min(inv)) / min(inv) if len(inv) > 1 else math.nan

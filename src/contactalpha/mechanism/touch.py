@@ -89,9 +89,9 @@ def _mujoco_limits(contact):
 
 
 def _drake_limits(contact, base):
-    from .drake_model import _Plant
+    from .drake_model import ParsedPlant
 
-    p = _Plant(contact.model, base=base or "fixed")
+    p = ParsedPlant(contact.model, base=base or "fixed")
     plant = p.plant
     rows = []
     for j in plant.GetJointIndices():

@@ -36,7 +36,7 @@ from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
 from .loops import LOOPS, run_loop, verify_line
 from .loops import verify as verify_tuning
-from .mujoco_model import load_model, mujoco_drop, read_mujoco
+from .mujoco_model import load_model, mujoco_drop, read_mujoco, reader_joint_names
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
 from .robot_files import engine_for, needs_preparing, prepared_urdf
@@ -586,7 +586,7 @@ def _checked(result, timestep, refined=False):
         if Path(c.model).suffix.lower() != ".urdf":
             raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
         drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
-                             speed=c.approach_speed, joint_names=_joint_names(c),
+                             speed=c.approach_speed, joint_names=reader_joint_names(c),
                              forces=c.forces)  # fmt: skip
     else:
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
@@ -613,14 +613,6 @@ def _checked(result, timestep, refined=False):
                 MassChangeWarning, stacklevel=3,
             )  # fmt: skip
     return replace(result, notes=notes, delivered=delivered, mass_change=change, drop=drop)
-
-
-def _joint_names(contact):
-    """The joints of the reader's coordinates, by name (MuJoCo's reader; None for Drake's: URDF order)."""
-    if contact.engine != "mujoco":
-        return None
-    m = load_model(contact.model)
-    return [m.joint(i).name for i in range(m.njnt)]
 
 
 def _step_of(engine, contact, timestep):
