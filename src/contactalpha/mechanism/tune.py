@@ -396,7 +396,9 @@ def tune(
     speed, qvel : the approach (one of them): closing speed of the contact point (m/s), or joint
         velocities (the engine's coordinates).
     qpos : configuration at touchdown (default the model's).
-    engine : "mujoco", "drake" or "pybullet" (default: mujoco for MJCF, drake for SDF/URDF).
+    engine : "mujoco", "drake" or "pybullet" (default: the first installed engine that reads the
+        file, ``robot_files.engine_for``: drake for SDF and for URDF whose meshes it reads, else
+        mujoco; the choice is in ``notes``).
     stiffness : contact stiffness along the normal, N/m (MuJoCo's default: the model's own, seen
         through its contact row; required for the others).
     forces : {body: (fx, fy, fz)} constant forces, N, at bodies' centres of mass, world axes.
