@@ -31,9 +31,9 @@ from contactalpha.adapters.pybullet_impulse import ADAPTER, ImpulseSettings, blo
 from contactalpha.impulse import bullet_map as bm
 from contactalpha.impulse.delivered import phase_drops, phase_stats, read_bounces
 from contactalpha.impulse.inverse import restitution_for, threshold_for
+from contactalpha.parameters.impulse_schedule import touchdown_schedule
 from contactalpha.scene.ball import Scene
 from contactalpha.scene.bounces import predict_bounces
-from contactalpha.parameters.impulse_schedule import touchdown_schedule
 
 H = bm.DEFAULT_TIMESTEP
 G = 9.81

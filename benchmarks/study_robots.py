@@ -1,6 +1,7 @@
 """Issue 43's study: robot models nobody here wrote, tuned in MuJoCo's loop, measured in MuJoCo.
 
-Run: PYTHONPATH=src nice -n 10 python benchmarks/study_robots.py [PHASES] [OUT.json]
+Run: PYTHONPATH=src nice -n 10 python benchmarks/study_robots.py [--engines] [PHASES] [OUT.json]
+(``--engines``: only the three-engine Kuka rows, at PHASES, keeping the last run's MuJoCo rows.)
 Needs ``pip install -e ".[engines,robots]"`` (MuJoCo, pybullet_data's files, dm_control's suite).
 
 Six models that ship inside pip packages, one contact each, at the model's own step:
@@ -20,6 +21,7 @@ record beside it.
 """
 
 import importlib.util
+import json
 import math
 import sys
 import tempfile
@@ -165,6 +167,166 @@ def _panda(tmp):
 
 CASES = (_hopper, _walker, _cheetah, _humanoid, _kuka, _panda)
 
+# One URDF, every engine: pybullet_data's Kuka iiwa with the tip sphere and the table of the
+# MuJoCo rows, tuned and measured in MuJoCo, PyBullet and Drake at one step and stiffness.
+ENGINES = ("mujoco", "pybullet", "drake")
+ENGINE_STEP = 2.5e-4
+ENGINE_STIFFNESS = 2e4
+ENGINE_SPEED = 1.0
+KUKA_POSE = (0.0, 0.7, 0.0, -1.3, 0.0, 1.0, 0.0)
+
+
+def _kuka_urdf(tmp):
+    """The Kuka URDF with a 2 cm tip sphere on link 7 and a table (fixed to link 0) under it.
+
+    Its meshes are the ``.obj`` twins pybullet_data ships beside the ``.stl`` ones (Drake reads
+    no ``.stl``), by absolute path; the table's top touches the tip at ``KUKA_POSE``.
+    """
+    import mujoco
+
+    src = _package_dir("pybullet_data") / "kuka_iiwa"
+    root = ET.parse(src / "model.urdf").getroot()
+    for mesh in root.iter("mesh"):
+        mesh.set("filename", str(src / mesh.get("filename").replace(".stl", ".obj")))
+    link7 = next(link for link in root.iter("link") if link.get("name") == "lbr_iiwa_link_7")
+    tip = ET.SubElement(link7, "collision", name="tip")
+    ET.SubElement(tip, "origin", xyz="0 0 0.08", rpy="0 0 0")
+    ET.SubElement(ET.SubElement(tip, "geometry"), "sphere", radius="0.02")
+    table = ET.SubElement(root, "link", name="table")
+    top = ET.SubElement(table, "collision", name="table")
+    origin = ET.SubElement(top, "origin", xyz="0.5 0 -1", rpy="0 0 0")
+    ET.SubElement(ET.SubElement(top, "geometry"), "box", size="0.8 0.8 0.04")
+    joint = ET.SubElement(root, "joint", name="table_joint", type="fixed")
+    ET.SubElement(joint, "parent", link="lbr_iiwa_link_0")
+    ET.SubElement(joint, "child", link="table")
+    path = tmp / "kuka_tip_table.urdf"
+    ET.ElementTree(root).write(path)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    d.qpos[:] = KUKA_POSE
+    mujoco.mj_forward(m, d)
+    x = d.geom_xpos[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "tip")]
+    origin.set("xyz", f"{float(x[0])!r} {float(x[1])!r} {float(x[2]) - 0.04!r}")
+    ET.ElementTree(root).write(path)
+    return path
+
+
+def _engine_loop_of(engine, r, out):
+    """The engine's loop on the tuned model, to measure with (the written file where there is one)."""
+    c = r.contact
+    if engine == "mujoco":
+        return MujocoLoop(str(out), c.pair, c.qpos, c.qvel, timestep=r.timestep)
+    if engine == "pybullet":
+        from contactalpha.mechanism.mujoco_model import reader_joint_names
+        from contactalpha.mechanism.pybullet_loop import PybulletLoop
+
+        return PybulletLoop(c.model, c.pair, c.qpos, c.qvel, timestep=r.timestep,
+                            joint_names=reader_joint_names(c), speed=c.approach_speed)  # fmt: skip
+    from contactalpha.mechanism.drake_loop import DrakeLoop
+
+    return DrakeLoop(str(out), c.pair, c.qpos, c.qvel, timestep=r.timestep)
+
+
+def _values(loop, params, phases):
+    if isinstance(loop, MujocoLoop):
+        return np.array([d.e_n if math.isfinite(d.e_n) else 0.0 for d in loop.drops_at(params, phases)])
+    return loop.values_at(params, phases)
+
+
+def run_engines(phases, tmp):
+    """The Kuka URDF tuned in each engine's loop and measured in that engine (``_measured``'s grids)."""
+    path = _kuka_urdf(tmp)
+    suffix = {"mujoco": ".xml", "pybullet": ".py", "drake": ".urdf"}
+    rows = []
+    for engine in ENGINES:
+        for i, target in enumerate(TARGETS):
+            out = tmp / f"kuka_{engine}_{target}{suffix[engine]}"
+            t0 = time.process_time()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                r = tune(path, ("table", "tip"), target, qpos=list(KUKA_POSE), speed=ENGINE_SPEED,
+                         engine=engine,
+                         stiffness=ENGINE_STIFFNESS, timestep=ENGINE_STEP, output=out, engine_loop=True,
+                         force_write=True)  # fmt: skip
+            cpu = time.process_time() - t0
+            ans = r.loop
+            loop = _engine_loop_of(engine, r, out)
+            rng = np.random.default_rng(100 + i)
+            n = phases // REPLICATES
+            means, lo, hi = [], math.inf, -math.inf
+            for shift in rng.random(REPLICATES):
+                # at the loop's answer (where unreachable: its nearest, no contact damping)
+                e = _values(loop, tuple(ans.solref), (np.arange(n) + shift) / n)
+                means.append(e.mean())
+                lo, hi = min(lo, e.min()), max(hi, e.max())
+            if hasattr(loop, "close"):
+                loop.close()
+            means = np.array(means)
+            rows.append({
+                "engine": engine, "target": target, "timestep": r.timestep, "stiffness": ENGINE_STIFFNESS,
+                "reduced": ans.reduced.mean, "loop": ans.delivered.mean, "status": ans.status,
+                "measured": float(means.mean()),
+                "measured_stderr": float(means.std(ddof=1) / math.sqrt(REPLICATES)),
+                "measured_min": float(lo), "measured_max": float(hi), "cpu_s": cpu, "loop_cpu_s": ans.seconds,
+                "drops": ans.drops, "effective_mass": r.contact.effective_mass, "accel": r.contact.accel,
+                "damping": ans.solref[1],
+                "base": next(x for x in r.notes if x.startswith("base:")).split(": ", 1)[1],
+            })  # fmt: skip
+            row = rows[-1]
+            print(f"kuka {engine:9s} {target:4.2f} reduced {row['reduced']:.4f} loop {row['loop']:.5f} "
+                  f"measured {row['measured']:.5f} +- {row['measured_stderr']:.1e} {cpu:5.1f} s {ans.status}",
+                  flush=True)  # fmt: skip
+    return rows
+
+
+def engines_page(rows, phases):
+    """The three-engine table's lines."""
+    lines = [
+        "",
+        "## One URDF, three engines",
+        "",
+        "pybullet_data's Kuka iiwa URDF (its `.obj` meshes: Drake reads no `.stl`) with the 2 cm tip",
+        "sphere and the table of the rows above, read as one file by every engine with its base fixed",
+        "(the root link welded to the world: the same default in MuJoCo, PyBullet and Drake), the tip",
+        f"striking the table at {ENGINE_SPEED:g} m/s, contact stiffness {ENGINE_STIFFNESS:g} N/m, every",
+        f"engine at a step of {ENGINE_STEP:g} s (Drake's discrete plant, point contact, `lagged`).",
+        "Each row is tuned with that engine's loop and measured in that engine at",
+        f"{phases} touchdown phases (4 shifted grids, not the loop's midpoints). The damping column is",
+        "the engine's own parameter: MuJoCo's solref[1], PyBullet's contactDamping of each link,",
+        "Drake's hunt_crossley_dissipation of each geometry (s/m).",
+        "",
+        "| engine | target | reduced | loop | measured | range | damping | CPU (s) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]  # fmt: skip
+    for r in rows:
+        lines.append(
+            f"| {r['engine']} | {r['target']} | {r['reduced']:.4f} | {r['loop']:.5f} | {r['measured']:.5f} ± "
+            f"{r['measured_stderr']:.1e} | {r['measured_min']:.3f}–{r['measured_max']:.3f} | "
+            f"{r['damping']:.6g} | "
+            f"{r['cpu_s']:.1f} ({r['loop_cpu_s']:.1f}) |"
+        )
+    ok = [r for r in rows if r["status"] == "ok"]
+    worst = max(abs(r["measured"] - r["target"]) for r in ok)
+    missed = [r for r in rows if r["status"] != "ok"]
+    lines += [
+        "",
+        f"Largest |measured − target| over the {len(ok)} reachable tunings: {worst:.2e} (done when "
+        f"≤ {TOL:g}); unreachable (the loop's nearest, no contact damping): "
+        + (", ".join(f"{r['engine']} {r['target']} ({r['loop']:.4f})" for r in missed) or "none")
+        + ".",
+    ]
+    if missed:
+        lines += [
+            "",
+            "What takes the energy where no contact damping reaches the target is the pair's friction",
+            "(measured once by hand, not by this script): at zero contact damping Drake delivers 0.750",
+            "with its default friction and 0.908 with the pair frictionless; at the reduced answer for",
+            "0.6 PyBullet delivers 0.474 with its default lateralFriction 0.5 and 0.571 without. The tip",
+            "sticks while the arm's inertia couples the normal to the tangent; MuJoCo's soft cone lets",
+            "it slip (its friction share is under 1e-3). A frictionless pair reaches 0.9 in Drake.",
+        ]
+    return lines
+
 
 def _measured(out, pair, contact, solref, phases, seed):
     """Mean, its standard error and range over ``phases`` drops: 4 replicates of a shifted grid.
@@ -220,7 +382,7 @@ def run_case(case, phases, tmp):
     return rows
 
 
-def page(rows, phases):
+def page(rows, phases, engine_rows=(), engine_phases=0):
     lines = [
         "# Robot models from pip packages, tuned in MuJoCo's loop",
         "",
@@ -255,6 +417,8 @@ def page(rows, phases):
               f"(done when ≤ {TOL:g}); unreachable (the loop's nearest, no contact damping): "
               + (", ".join(f"{r['model']} {r['target']} ({r['loop']:.4f})" for r in rows
                            if r["status"] != "ok") or "none") + "."]  # fmt: skip
+    if engine_rows:
+        lines += engines_page(engine_rows, engine_phases)
     return "\n".join(lines) + "\n"
 
 
@@ -269,20 +433,35 @@ def verdict(rows):
 
 
 def main(argv):
+    engines_only = "--engines" in argv
+    argv = [a for a in argv if a != "--engines"]
     phases = int(argv[1]) if len(argv) > 1 else 2048
     out = Path(argv[2]) if len(argv) > 2 else ROOT / "docs" / "robots-study.json"
     clock = time.time()
-    rows = []
+    rows, engine_rows = [], []
+    record = json.loads(out.read_text()) if engines_only and out.is_file() else {}
     with tempfile.TemporaryDirectory() as tmp:
-        for case in CASES:
-            rows += run_case(case, phases, Path(tmp))
+        if not engines_only:
+            for case in CASES:
+                rows += run_case(case, phases, Path(tmp))
+        engine_rows = run_engines(min(phases, 256) if not engines_only else phases, Path(tmp))
+    if engines_only:  # the MuJoCo rows of the last full run are kept
+        rows, mujoco_phases = record["rows"], record["phases"]
+    else:
+        mujoco_phases = phases
+        record = {}
+    engine_phases = min(phases, 256) if not engines_only else phases
     worst, honest = verdict(rows)
-    record = {"rows": rows, "phases": phases, "tolerance": TOL, "worst": worst, "unreachable_honest": honest,
-              "run_time_s": time.time() - clock,
-              "attrs": result_attrs({"phases": phases, "targets": TARGETS}, "study_robots")}  # fmt: skip
+    engines_worst = max(abs(r["measured"] - r["target"]) for r in engine_rows if r["status"] == "ok")
+    engines_honest = all(r["measured"] < r["target"] for r in engine_rows if r["status"] != "ok")
+    record.update({"rows": rows, "phases": mujoco_phases, "tolerance": TOL, "worst": worst,
+                   "unreachable_honest": honest, "engine_rows": engine_rows, "engine_phases": engine_phases,
+                   "engines_worst": engines_worst, "run_time_s": time.time() - clock,
+                   "attrs": result_attrs({"phases": mujoco_phases, "engine_phases": engine_phases,
+                                          "targets": TARGETS}, "study_robots")})  # fmt: skip
     write_json_atomic(out, record)
-    write_text_atomic(out.with_suffix(".md"), page(rows, phases))
-    done = worst <= TOL and honest
+    write_text_atomic(out.with_suffix(".md"), page(rows, mujoco_phases, engine_rows, engine_phases))
+    done = worst <= TOL and honest and engines_worst <= TOL and engines_honest
     verdict_text = "done" if done else "NOT done"
     print(f"worst |measured - target| {worst:.2e}; unreachable honest: {honest} ({verdict_text})")
     return 0 if done else 1

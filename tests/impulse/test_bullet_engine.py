@@ -23,9 +23,9 @@ from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.pybullet_impulse import ADAPTER, ImpulseSettings, block, drop_sequence
 from contactalpha.impulse import bullet_map as bm
 from contactalpha.impulse.delivered import phase_drops, read_bounces
+from contactalpha.parameters.impulse_schedule import touchdown_schedule
 from contactalpha.scene.ball import Scene
 from contactalpha.scene.bounces import predict_bounces
-from contactalpha.parameters.impulse_schedule import touchdown_schedule
 from contactalpha.stepping.flight import touchdown_state
 
 H = 1.0 / 240.0

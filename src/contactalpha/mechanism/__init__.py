@@ -6,9 +6,17 @@ and writes the parameters beside the model (``docs/models-from-files.md``).
 """
 
 from .contact import MechanismContact
-from .tune import MASS_CHANGE_WARN, MassChangeWarning, Tuning, UnmodelledSettingWarning, read_contact, tune
+from .tune import (
+    MASS_CHANGE_WARN,
+    JointLimitWarning,
+    MassChangeWarning,
+    Tuning,
+    UnmodelledSettingWarning,
+    read_contact,
+    tune,
+)  # fmt: skip
 
 __all__ = [
-    "MASS_CHANGE_WARN", "MassChangeWarning", "MechanismContact", "Tuning", "UnmodelledSettingWarning",
-    "read_contact", "tune",
+    "MASS_CHANGE_WARN", "JointLimitWarning", "MassChangeWarning", "MechanismContact", "Tuning",
+    "UnmodelledSettingWarning", "read_contact", "tune",
 ]  # fmt: skip

@@ -25,7 +25,8 @@ def add_parser(make, number):
     )
     t.add_argument("--qpos", type=number, nargs="+", help="configuration at touchdown (default the model's)")
     t.add_argument("--engine", help="an engine with a tuner (mujoco, drake, pybullet: the registry checks "
-                   "it when the command runs); default: mujoco for .xml, drake for .sdf/.urdf")  # fmt: skip
+                   "it when the command runs); default: the first installed engine that reads the file "
+                   "(drake for .sdf, and .urdf whose meshes it reads; mujoco for .xml; printed)")  # fmt: skip
     t.add_argument("--stiffness", type=number, help="contact stiffness along the normal, N/m "
                    "(MuJoCo: default the model's own; Drake and PyBullet need it)")  # fmt: skip
     t.add_argument("--impedance", type=number, help="MuJoCo's constant solimp d (default 0.9)")
@@ -45,13 +46,30 @@ def add_parser(make, number):
                    help="the step map's phase-mean answer: where the law's misses by more than 1e-3 "
                    "(auto), always, or never")  # fmt: skip
     t.add_argument("--no-engine-loop", action="store_true",
-                   help="MuJoCo: write the reduced model's answer without solving on the engine's own "
+                   help="write the reduced model's answer without solving on the engine's own "
                    "drops of the whole model (the default solves there)")  # fmt: skip
     t.add_argument("--package-path", action="append", metavar="NAME=DIR",
                    help="the folder of package NAME for package:// URIs (repeat; else ROS_PACKAGE_PATH, "
                    "else beside the file)")  # fmt: skip
     t.add_argument("--refine", action="store_true",
                    help="MuJoCo: refine the damping on the engine's own drop from touchdown")  # fmt: skip
+    t.add_argument(
+        "--ground",
+        action="store_true",
+        help="a URDF without a floor: add one (a box link 'ground', its top at z = 0)",
+    )
+    t.add_argument(
+        "--base",
+        choices=("fixed", "floating"),
+        help="a URDF's root link: fixed to the world (default, in every engine) or floating (drake)",
+    )
+    t.add_argument(
+        "--verify",
+        type=int,
+        metavar="N",
+        help="drop the written file in the engine at N touchdown phases and print the measured "
+        "mean and range beside the predicted",
+    )
     t.add_argument("--force-write", action="store_true",
                    help="write the law's answer even where no damping reaches the target at the step "
                    "(the exit status is still the unreachable one, 3)")  # fmt: skip
@@ -88,7 +106,7 @@ def run(args, parser):
                 impedance=IMPEDANCE if args.impedance is None else args.impedance, output=output,
                 check=args.check, timestep=args.timestep, refine=args.refine,
                 discrete=DISCRETE_CHOICES[args.discrete], engine_loop=not args.no_engine_loop,
-                force_write=args.force_write,
+                force_write=args.force_write, ground=args.ground, base=args.base, verify=args.verify,
             )  # fmt: skip
         except ImportError as exc:
             raise ValueError(str(exc)) from None

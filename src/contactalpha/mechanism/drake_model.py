@@ -41,19 +41,22 @@ from .inputs import check_link, link_inertias
 ACCURACY = 1e-9
 # How a URDF's root links hang: welded to the world (as MuJoCo and PyBullet load a URDF), or free.
 BASES = ("fixed", "floating")
+# Steps back along the approach at which ``back_in_time`` reads the plant's acceleration with the
+# other contacts acting: the discrete solver already pushes a pair one or two steps from touch.
+PROBE_STEPS = 10.0
 
 
-# The engine's one import guard and install hint (its record's loader).
-_drake = LOADER.load
+# The engine's one import guard and install hint (its record's loader): ``pydrake.all``.
+drake_module = LOADER.load
 
 
-class _Plant:
+class ParsedPlant:
     """A parsed model: diagram, plant, scene graph, root and plant contexts."""
 
     def __init__(self, model_path, point_contact=False, time_step=0.0, approximation=None, base="fixed"):
         if base not in BASES:
             raise ValueError(f"base = {base!r} is outside the valid choices {BASES}")
-        dk = _drake()
+        dk = drake_module()
         builder = dk.DiagramBuilder()
         self.plant, self.scene_graph = dk.AddMultibodyPlantSceneGraph(builder, float(time_step))
         if point_contact:
@@ -65,8 +68,14 @@ class _Plant:
         try:
             instances = dk.Parser(self.plant).AddModels(str(model_path))
         except RuntimeError as err:
+            text = " ".join(str(err).split())
+            fix = ""
+            if "unsupported extension" in text:
+                fix = ("; Drake reads .obj, .vtk and .gltf meshes: convert the mesh (pybullet_data ships "
+                       ".obj twins beside its .stl files), or tune with --engine mujoco or pybullet, "
+                       "whose readers take .stl")  # fmt: skip
             raise ValueError(
-                f"model = {str(model_path)!r}: Drake cannot parse it: {' '.join(str(err).split())[:300]}"
+                f"model = {str(model_path)!r}: Drake cannot parse it: {text[:300]}{fix}"
             ) from None
         self.welded = ()
         if base == "fixed" and str(model_path).lower().endswith(".urdf"):
@@ -77,7 +86,8 @@ class _Plant:
         self.context = self.plant.GetMyContextFromRoot(self.root)
 
     def geometry(self, name):
-        dk = _drake()
+        """The proximity geometry id called ``name``; ValueError listing the model's otherwise."""
+        dk = drake_module()
         inspector = self.scene_graph.model_inspector()
         ids = inspector.GetAllGeometryIds(dk.Role.kProximity)
         names = {gid: inspector.GetName(gid) for gid in ids}
@@ -90,6 +100,7 @@ class _Plant:
         return hits[0]
 
     def body(self, gid):
+        """The body that carries geometry ``gid``."""
         return self.plant.GetBodyFromFrameId(self.scene_graph.model_inspector().GetFrameId(gid))
 
     def closest(self, g1, g2):
@@ -118,7 +129,8 @@ class _Plant:
         raise ValueError("Drake gives no normal at the contact point of the touching pair")
 
     def point_jacobian(self, body, point):
-        dk = _drake()
+        """(3, nv) translational Jacobian of the world ``point`` fixed to ``body``."""
+        dk = drake_module()
         frame = body.body_frame()
         p_B = frame.CalcPoseInWorld(self.context).inverse() @ np.asarray(point)
         world = self.plant.world_frame()
@@ -127,12 +139,14 @@ class _Plant:
         )
 
     def gap_row(self, g1, g2):
+        """``(point, normal, gap, J)``: the pair's closest points and the gap's row."""
         point, normal, gap = self.closest(g1, g2)
         J = normal @ (self.point_jacobian(self.body(g2), point) - self.point_jacobian(self.body(g1), point))
         return point, normal, gap, J
 
 
-def _set(plant, context, name, value, size):
+def set_coordinates(plant, context, name, value, size):
+    """Set ``qpos`` or ``qvel`` (``name``) of ``context``; ValueError unless it has ``size`` values."""
     arr = np.asarray(value, dtype=float).ravel()
     if arr.size != size:
         raise ValueError(f"{name} has {arr.size} values; the model has {size}")
@@ -159,11 +173,11 @@ def read_drake(
     base: str = "fixed",
 ) -> MechanismContact:
     """``MechanismContact`` of ``pair`` in the SDF/URDF ``model_path`` (see the module doc)."""
-    p = _Plant(model_path, base=base)
+    p = ParsedPlant(model_path, base=base)
     plant, ctx = p.plant, p.context
     _check_links(plant, model_path)
     if qpos is not None:
-        _set(plant, ctx, "qpos", qpos, plant.num_positions())
+        set_coordinates(plant, ctx, "qpos", qpos, plant.num_positions())
     g1, g2 = (p.geometry(name) for name in pair)
     point, normal, gap, J = p.gap_row(g1, g2)
     M = plant.CalcMassMatrix(ctx)
@@ -175,12 +189,12 @@ def read_drake(
         f = np.asarray(force, dtype=float)
         com = body.CalcCenterOfMassInBodyFrame(ctx)
         world = plant.world_frame()
-        _drk = _drake()
+        _drk = drake_module()
         Jc = plant.CalcJacobianTranslationalVelocity(
             ctx, _drk.JacobianWrtVariable.kV, body.body_frame(), com, world, world
         )
         tau_f += Jc.T @ f
-    _set(plant, ctx, "qvel", qv, plant.num_velocities())
+    set_coordinates(plant, ctx, "qvel", qv, plant.num_velocities())
     tau_v = -plant.CalcBiasTerm(ctx)
     parts = [pressing_accel(J, M, tau) for tau in (tau_g, tau_f, tau_v)]
     return MechanismContact(
@@ -206,7 +220,7 @@ def _check_links(plant, model_path):
     A moving link with links welded to it (fixed joints) moves as one body with them: the group's
     mass must be above 0 (each link's own values physical), as MuJoCo fuses such links.
     """
-    dk = _drake()
+    dk = drake_module()
     joints = [plant.get_joint(dk.JointIndex(j)) for j in range(plant.num_joints())]
     moving = {j.child_body().name() for j in joints if j.num_velocities() > 0}
     welded: dict = {}
@@ -241,22 +255,24 @@ def drake_drop(
     axes, at the bodies' centres of mass.  ``time_step`` > 0 runs the discrete plant with the
     discrete contact ``approximation`` (``DRAKE_APPROXIMATIONS``), sampled at every step
     (``report`` is then the step), and ``phase`` in [0, 1) starts it that fraction of a step
-    before touchdown on the free motion (``_back_in_time``).
+    before touchdown on the free motion (``back_in_time``).
     """
-    dk = _drake()
+    dk = drake_module()
     if time_step > 0.0 and approximation not in DRAKE_APPROXIMATIONS:
         raise ValueError(
             f"approximation = {approximation!r} is outside the valid choices {DRAKE_APPROXIMATIONS}"
         )
-    p = _Plant(model_path, point_contact=True, time_step=time_step, approximation=approximation, base=base)
+    p = ParsedPlant(
+        model_path, point_contact=True, time_step=time_step, approximation=approximation, base=base
+    )
     g1, g2 = (p.geometry(name) for name in pair)
     if qpos is not None:
-        _set(p.plant, p.context, "qpos", qpos, p.plant.num_positions())
-    _set(p.plant, p.context, "qvel", qvel, p.plant.num_velocities())
+        set_coordinates(p.plant, p.context, "qpos", qpos, p.plant.num_positions())
+    set_coordinates(p.plant, p.context, "qvel", qvel, p.plant.num_velocities())
     speed0 = -float(p.gap_row(g1, g2)[3] @ np.asarray(qvel, dtype=float))
     if time_step > 0.0:
         report = float(time_step)
-        _back_in_time(p, float(phase) * report, report, forces)
+        back_in_time(p, float(phase) * report, report, forces)
     sim = dk.Simulator(p.diagram, p.root)
     pushes = []
     for name, force in (forces or {}).items():
@@ -289,7 +305,7 @@ def drake_drop(
 
 def _generalized_forces(p, forces):
     """``J_com^T F`` summed over the named constant forces."""
-    dk = _drake()
+    dk = drake_module()
     tau = np.zeros(p.plant.num_velocities())
     world = p.plant.world_frame()
     for name, force in (forces or {}).items():
@@ -302,16 +318,28 @@ def _generalized_forces(p, forces):
     return tau
 
 
-def _back_in_time(p, tc, h, forces):
+def back_in_time(p, tc, h, forces, with_contacts=False):
     """Move the plant's state back by ``tc`` on its free motion (second order).
 
     The velocity stored is that of half a step earlier, as the discrete plant's semi-implicit
-    update stores it (``stepping.flight``).
+    update stores it (``stepping.flight``).  ``with_contacts``: the motion's acceleration is the
+    discrete plant's own at the state (its generalized-acceleration port: every other contact
+    acting, the named forces fixed on its input port), read at the configuration PROBE_STEPS steps
+    earlier, where the pair is apart: a body resting on a support (the stack's lower sphere)
+    stays at rest, and the pair's own implicit contact impulse is not in it.
     """
     plant, ctx = p.plant, p.context
     v = np.array(plant.GetVelocities(ctx))
-    tau = plant.CalcGravityGeneralizedForces(ctx) + _generalized_forces(p, forces) - plant.CalcBiasTerm(ctx)
-    vdot = np.linalg.solve(plant.CalcMassMatrix(ctx), tau)
+    if with_contacts:  # read PROBE_STEPS steps earlier: the pair (closing at v) is apart, pushes nothing
+        q = np.array(plant.GetPositions(ctx))
+        plant.SetPositions(ctx, q + plant.MapVelocityToQDot(ctx, -PROBE_STEPS * h * v))
+        vdot = np.array(plant.get_generalized_acceleration_output_port().Eval(ctx))
+        plant.SetPositions(ctx, q)
+    else:
+        tau = (
+            plant.CalcGravityGeneralizedForces(ctx) + _generalized_forces(p, forces) - plant.CalcBiasTerm(ctx)
+        )
+        vdot = np.linalg.solve(plant.CalcMassMatrix(ctx), tau)
     qdot = plant.MapVelocityToQDot(ctx, -tc * v + 0.5 * tc * tc * vdot)
     plant.SetPositions(ctx, np.array(plant.GetPositions(ctx)) + qdot)
     plant.SetVelocities(ctx, v - (tc + 0.5 * h) * vdot)

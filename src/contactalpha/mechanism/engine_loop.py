@@ -80,6 +80,65 @@ def phase_grid(n):
     return (np.arange(int(n)) + 0.5) / int(n)
 
 
+class PhaseSampler:
+    """The phase means of an engine loop; a subclass gives ``e_n_values(params, phases)``.
+
+    ``e_n_values`` returns ``(e_N of each phase, the largest relative change of the effective mass
+    over a drop's contact)``; ``damping(params)`` and ``with_damping(params, b)`` read and set the
+    engine's damping (``b`` >= 0, the engine's own unit); ``check_start(params)`` refuses a start
+    the loop cannot solve from.  ``engine`` names the engine in notes, ``damping_name`` its
+    damping parameter.
+    """
+
+    engine = ""
+    damping_name = ""
+    drops = 0
+
+    def e_n_values(self, params, phases):  # pragma: no cover - every loop has its own
+        """``(e_N of each phase, the effective mass's relative change over a drop)``."""
+        raise NotImplementedError
+
+    def damping(self, params) -> float:
+        """The damping (>= 0) of ``params``."""
+        return float(params[1])
+
+    def with_damping(self, params, b) -> tuple:
+        """``params`` with the damping ``b``."""
+        return (float(params[0]), float(b))
+
+    def check_start(self, params) -> tuple:
+        """``params`` as a start of the secant; ValueError where the loop cannot start there."""
+        start = (float(params[0]), float(params[1]))
+        if not (start[0] > 0.0 and start[1] >= 0.0):
+            raise ValueError(f"params = {start!r}: the engine loop needs a stiffness > 0 and a damping >= 0")
+        return start
+
+    def phase_mean(self, params, phases=None):
+        """``PhaseMean`` of the pair's e_N with ``params`` at ``phases`` midpoint phases.
+
+        A drop that touched and did not come back through the surface within its second is
+        captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
+        drop that never touched makes the mean NaN: ``failed`` counts them.
+        """
+        phases = PHASES if phases is None else int(phases)
+        values, change = self.e_n_values(params, phase_grid(phases))
+        failed = int(np.sum(~np.isfinite(values)))
+        if failed:
+            return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
+        half = phase_mean_error(values)
+        return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
+                         int(phases), values, float(change))  # fmt: skip
+
+    def converged_mean(self, params, phases=PHASES, tol=PHASE_TOL):
+        """``phase_mean`` with N doubled from ``phases`` until its error estimate is within ``tol``."""
+        n = int(phases)
+        while True:
+            pm = self.phase_mean(params, n)
+            if not math.isfinite(pm.mean) or pm.error <= tol or n >= MAX_PHASES:
+                return pm
+            n *= 2
+
+
 def _with_gap_sensor(model, pair):
     """The model (path or MJCF text) compiled with a geometry-distance sensor on the pair, last."""
     mj = mujoco_module()
@@ -106,7 +165,7 @@ def _pair_rows(m, pair):
     return rows
 
 
-class MujocoLoop:
+class MujocoLoop(PhaseSampler):
     """The user's tuned MJCF loaded once in MuJoCo, dropped at many phases with any pair solref.
 
     Parameters
@@ -133,6 +192,9 @@ class MujocoLoop:
         self.forces = dict(forces or {})
         self.solref = tuple(float(x) for x in self.model.pair_solref[self.rows[0]])
         self.drops = 0
+
+    engine = "MuJoCo"
+    damping_name = "solref[1]"
 
     def drops_at(self, solref, phases):
         """The ``MechanismDrop`` of each phase with the pair's ``solref`` (``mujoco_drop``, one by one)."""
@@ -195,30 +257,25 @@ class MujocoLoop:
         self.drops += len(states)
         return out, probe
 
-    def phase_mean(self, solref, phases=PHASES):
-        """``PhaseMean`` of the pair's e_N with ``solref`` at ``phases`` midpoint phases.
+    def e_n_values(self, params, phases):
+        """``(e_N of each phase, the effective mass's change over the drop at phase 1/2)``."""
+        values, probe = self.e_n_at(params, phases)
+        return values, (probe.mass_change if probe.steps else math.nan)
 
-        A drop that touched and did not come back through the surface within its second is
-        captured, e_N = 0, as a user measures it (so is a mechanism that fell over on the pair); a
-        drop that never touched makes the mean NaN: ``failed`` counts them.
-        """
-        values, probe = self.e_n_at(solref, phase_grid(phases))
-        change = probe.mass_change if probe.steps else math.nan
-        failed = int(np.sum(~np.isfinite(values)))
-        if failed:
-            return PhaseMean(math.nan, math.nan, math.nan, math.nan, int(phases), values, change, failed)
-        half = phase_mean_error(values)
-        return PhaseMean(float(values.mean()), float(values.min()), float(values.max()), float(half),
-                         int(phases), values, float(change))  # fmt: skip
+    def damping(self, params) -> float:
+        """The damping ``b`` >= 0 of a direct-form solref ``(-k, -b)``."""
+        return -float(params[1])
 
-    def converged_mean(self, solref, phases=PHASES, tol=PHASE_TOL):
-        """``phase_mean`` with N doubled from ``phases`` until its error estimate is within ``tol``."""
-        n = int(phases)
-        while True:
-            pm = self.phase_mean(solref, n)
-            if not math.isfinite(pm.mean) or pm.error <= tol or n >= MAX_PHASES:
-                return pm
-            n *= 2
+    def with_damping(self, params, b) -> tuple:
+        """The solref with damping ``b``."""
+        return (float(params[0]), -float(b))
+
+    def check_start(self, params) -> tuple:
+        """The solref; ValueError unless it is the direct form (both slots <= 0)."""
+        start = (float(params[0]), float(params[1]))
+        if not (start[0] < 0.0 and start[1] <= 0.0):
+            raise ValueError(f"solref = {start!r}: the engine loop solves the direct form (both slots <= 0)")
+        return start
 
 
 @dataclass(frozen=True)
@@ -243,46 +300,47 @@ class LoopAnswer:
 
 
 def solve_damping(loop, target, start, *, phases=PHASES, tol=PHASE_TOL, solve_tol=SOLVE_TOL):
-    """``LoopAnswer``: the pair's solref damping whose engine phase mean is ``target``.
+    """``LoopAnswer``: the pair's damping whose engine phase mean is ``target``.
 
     Parameters
     ----------
-    loop : MujocoLoop.
+    loop : a ``PhaseSampler`` (``MujocoLoop``, ``pybullet_loop.PybulletLoop``,
+        ``drake_loop.DrakeLoop``).
     target : e_N in (0, 1).
-    start : the reduced model's solref (stiffness, damping slots; direct form, both <= 0).
-    phases, tol : the phase sampling (``MujocoLoop.converged_mean``).
+    start : the reduced model's parameters in the loop's form (MuJoCo: the solref, direct form,
+        both slots <= 0; PyBullet: each link's contactStiffness and contactDamping; Drake: each
+        geometry's point_contact_stiffness and hunt_crossley_dissipation).
+    phases, tol : the phase sampling (``PhaseSampler.converged_mean``).
     solve_tol : |phase mean - target| at which the secant stops.
     """
     clock = time.process_time()
-    start = (float(start[0]), float(start[1]))
-    if not (start[0] < 0.0 and start[1] <= 0.0):
-        raise ValueError(f"solref = {start!r}: the engine loop solves the direct form (both slots <= 0)")
+    start = loop.check_start(start)
     reduced = loop.converged_mean(start, phases, tol)
     if not math.isfinite(reduced.mean):
         return LoopAnswer(start, reduced, start, reduced, "failed", 0, loop.drops,
                           time.process_time() - clock)  # fmt: skip
-    n, k = reduced.phases, start[0]
-    means = {-start[1]: reduced}
+    n = reduced.phases
+    means = {loop.damping(start): reduced}
 
     def e_n_of(b):
         if b not in means:
-            means[b] = loop.phase_mean((k, -b), n)
+            means[b] = loop.phase_mean(loop.with_damping(start, b), n)
         return means[b].mean
 
-    ref = refine(e_n_of, target, -start[1], solve_tol, refine_tol=solve_tol)
+    ref = refine(e_n_of, target, loop.damping(start), solve_tol, refine_tol=solve_tol)
     b = ref.damping if math.isfinite(ref.damping) else 0.0
-    delivered = loop.converged_mean((k, -b), n, tol)
+    delivered = loop.converged_mean(loop.with_damping(start, b), n, tol)
     if delivered.phases > n and ref.status in ("ok", "unchanged"):  # the root needs more phases
         n = delivered.phases
         means = {}
         ref = refine(e_n_of, target, b, solve_tol, refine_tol=solve_tol)
         b = ref.damping if math.isfinite(ref.damping) else 0.0
-        delivered = loop.converged_mean((k, -b), n, tol)
+        delivered = loop.converged_mean(loop.with_damping(start, b), n, tol)
     status = "ok" if ref.status == "unchanged" else ref.status  # the start already delivered
     if status == "ok" and not abs(delivered.mean - target) <= solve_tol + tol:
         status = "not_converged"
-    return LoopAnswer((k, -b), delivered, start, reduced, status, len(means), loop.drops,
-                      time.process_time() - clock)  # fmt: skip
+    return LoopAnswer(loop.with_damping(start, b), delivered, start, reduced, status, len(means),
+                      loop.drops, time.process_time() - clock)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -395,19 +453,26 @@ def base_of(model, geom):
     kinds = [int(m.jnt_type[int(m.body_jntadr[root]) + i]) for i in range(n)]
     if 0 in kinds:  # mjJNT_FREE
         return "floating (free joint)"
-    return f"floating on {n} root joints (slide and hinge)"
+    if 2 in kinds:  # mjJNT_SLIDE: a planar robot's root
+        return f"floating on {n} root joints (slide and hinge)"
+    return f"fixed (its root body turns on {n} hinge or ball joint(s) to the world)"
 
 
-def loop_notes(answer, shares, target, timestep, bases):
-    """Text lines of an engine loop's answer and of what the reduced model leaves out."""
+def loop_notes(answer, shares, target, timestep, bases, engine="MuJoCo", damping_name="solref[1]"):
+    """Text lines of an engine loop's answer and of what the reduced model leaves out.
+
+    ``answer.solref`` is the loop's parameters (``solve_damping``'s ``start`` form): slot 1 is
+    ``damping_name``'s value.
+    """
     d, r = answer.delivered, answer.reduced
     lines = [
-        f"engine loop (MuJoCo, the whole model at its step {timestep:g} s, {d.phases} touchdown phases): "
-        f"{answer.status}; solref[1] = {answer.solref[1]:.9g}; mean e_N {d.mean:.6g} (sampling error "
+        f"engine loop ({engine}, the whole model at its step {timestep:g} s, {d.phases} touchdown phases): "
+        f"{answer.status}; {damping_name} = {answer.solref[1]:.9g}; mean e_N {d.mean:.6g} (sampling error "
         f"estimate {d.error:.2g}), one drop {d.minimum:.6g} to {d.maximum:.6g}; {answer.iterations} phase "
         f"means, {answer.drops} drops, {answer.seconds:.1f} s of CPU",
-        f"reduced model (m_eff, free load, the one-contact map) solref[1] = {answer.reduced_solref[1]:.9g} "
-        f"for {target:g}: MuJoCo delivers {r.mean:.6g} with it (gap {r.mean - target:+.4f})",
+        f"reduced model (m_eff, free load, the one-contact map) {damping_name} = "
+        f"{answer.reduced_solref[1]:.9g} for {target:g}: {engine} delivers {r.mean:.6g} with it "
+        f"(gap {r.mean - target:+.4f})",
         f"base: {' / '.join(dict.fromkeys(bases))}",
     ]
     if shares:
@@ -419,7 +484,7 @@ def loop_notes(answer, shares, target, timestep, bases):
             "contact, the parts' interactions)"
         )
     if answer.status == "unreachable":
-        lines.append(f"no damping >= 0 reaches e_N {target:g} in MuJoCo: the nearest mean is {d.mean:.6g}")
+        lines.append(f"no damping >= 0 reaches e_N {target:g} in {engine}: the nearest mean is {d.mean:.6g}")
     elif answer.status != "ok":
         lines.append(f"the engine loop did not converge ({answer.status}): the reduced model's answer kept")
     return lines

@@ -289,6 +289,31 @@ def other_contacts(model, data, g1, g2, margin=ROW_MARGIN):
         mj.mj_forward(model, data)
 
 
+# How far (m) above the lowest point ``pair_heights`` looks for the pair's other points.
+HEIGHT_LOOK = 0.05
+
+
+def pair_heights(model, data, g1, g2, look=HEIGHT_LOOK):
+    """The signed distances (m, ascending) of the pair's contact points within ``look`` of touch.
+
+    A box over a floor gives its corners' heights (a flat box: four equal values); a single
+    point one value.  The two geometries' margins are raised by ``look`` in memory for the look.
+    """
+    mj = _mujoco()
+    saved = model.geom_margin.copy(), model.pair_margin.copy()
+    model.geom_margin[[g1, g2]] = saved[0][[g1, g2]] + look
+    model.pair_margin[:] = saved[1] + look
+    try:
+        mj.mj_forward(model, data)
+        out = [float(data.contact[i].dist) for i in range(data.ncon)
+               if {int(x) for x in data.contact[i].geom} == {g1, g2}]  # fmt: skip
+        return tuple(sorted(out))
+    finally:
+        model.geom_margin[:] = saved[0]
+        model.pair_margin[:] = saved[1]
+        mj.mj_forward(model, data)
+
+
 def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None):
     """``MechanismContact`` of ``pair`` in the MJCF/URDF ``model_path`` (see the module doc)."""
     mj = _mujoco()
@@ -301,6 +326,7 @@ def read_mujoco(model_path, pair, qpos=None, qvel=None, speed=None, forces=None)
     set_state(model, data, qpos, None)
     point, normal, gap, row = contact_row(model, data, g1, g2)
     row["other_contacts"], row["pair_points"] = other_contacts(model, data, g1, g2)
+    row["pair_heights"] = pair_heights(model, data, g1, g2)
     J = _gap_jacobian(model, data, g1, g2, point, normal)
     M = mass_matrix(model, data)
     m_eff, v, qv = approach(J, M, qvel, speed)
@@ -440,3 +466,11 @@ def _gap_rate_at_start(m, qpos, qvel, g1, g2):
     set_state(m, d, qpos, qvel)
     point, normal, _, _ = contact_row(m, d, g1, g2)
     return float(_gap_jacobian(m, d, g1, g2, point, normal) @ d.qvel)
+
+
+def reader_joint_names(contact) -> list[str] | None:
+    """The joints of the reader's coordinates, by name (MuJoCo's reader; None for Drake's: URDF order)."""
+    if contact.engine != "mujoco":
+        return None
+    m = load_model(contact.model)
+    return [m.joint(i).name for i in range(m.njnt)]

@@ -35,7 +35,7 @@ MOVABLE = (0, 1)
 
 
 # The engine's one import guard and install hint (its record's loader).
-_pybullet = LOADER.load
+pybullet_module = LOADER.load
 
 
 def collision_links(urdf: str | Path, pair: tuple[str, str]) -> tuple[str | None, ...]:
@@ -53,7 +53,7 @@ def collision_links(urdf: str | Path, pair: tuple[str, str]) -> tuple[str | None
 
 def link_indices(body: int, names: Sequence[str | None], client: int) -> tuple[int, ...]:
     """PyBullet's link index of each link name of ``body`` (-1 for the base)."""
-    pb = _pybullet()
+    pb = pybullet_module()
     index = {pb.getBodyInfo(body, physicsClientId=client)[0].decode(): -1}
     for j in range(pb.getNumJoints(body, physicsClientId=client)):
         index[pb.getJointInfo(body, j, physicsClientId=client)[12].decode()] = j
@@ -65,7 +65,7 @@ def link_indices(body: int, names: Sequence[str | None], client: int) -> tuple[i
 
 def movable_joints(body: int, client: int) -> tuple[list[int], list[str]]:
     """``(indices, names)`` of ``body``'s joints with one degree of freedom, in PyBullet's order."""
-    pb = _pybullet()
+    pb = pybullet_module()
     idx, names = [], []
     for j in range(pb.getNumJoints(body, physicsClientId=client)):
         info = pb.getJointInfo(body, j, physicsClientId=client)
@@ -77,12 +77,14 @@ def movable_joints(body: int, client: int) -> tuple[list[int], list[str]]:
     return idx, names
 
 
-def _state(pb, body, joints, q, v, client):
+def set_joint_state(pb, body, joints, q, v, client):
+    """Reset the ``joints`` of ``body`` to positions ``q`` and velocities ``v``."""
     for j, qj, vj in zip(joints, q, v, strict=True):
         pb.resetJointState(body, j, float(qj), float(vj), physicsClientId=client)
 
 
-def _gap(pb, body, links, client):
+def pair_gap(pb, body, links, client):
+    """The signed distance between the two ``links`` of ``body`` (inf beyond 1 m)."""
     pts = pb.getClosestPoints(body, body, 1.0, links[0], links[1], physicsClientId=client)
     return min(p[8] for p in pts) if pts else math.inf
 
@@ -99,7 +101,7 @@ def _point_jacobian(pb, body, link, point, q, client):
     return np.array(lin)
 
 
-def _inv_mass(pb, body, links, joints, client):
+def inverse_mass(pb, body, links, joints, client):
     """``J M^-1 J^T`` of the gap row at the current state (PyBullet's mass matrix and Jacobians)."""
     q = [s[0] for s in pb.getJointStates(body, joints, physicsClientId=client)]
     pt = pb.getClosestPoints(body, body, 1.0, links[0], links[1], physicsClientId=client)[0]
@@ -115,14 +117,14 @@ def _com(pb, body, link, client):
     return np.asarray(pb.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=client)[0])
 
 
-def _push(pb, body, pushes, client):
+def push_forces(pb, body, pushes, client):
     """The constant forces at the links' centres of mass, for the next step (PyBullet clears them)."""
     for link, force in pushes.items():
         pb.applyExternalForce(body, link, list(map(float, force)), list(_com(pb, body, link, client)),
                               pb.WORLD_FRAME, physicsClientId=client)  # fmt: skip
 
 
-def _free_qacc(pb, body, q, v, client, pushes):
+def free_qacc(pb, body, q, v, client, pushes):
     """Joint accelerations without contact: ``M^-1 (tau_gravity + J_com^T F - C v)`` from PyBullet."""
     M = np.array(pb.calculateMassMatrix(body, list(q), physicsClientId=client))
     tau = np.zeros(len(q))
@@ -165,7 +167,7 @@ def pybullet_drop(
     """
     if (script is None) == (stiffness is None or damping is None):
         raise ValueError("give either script= (the tuned script) or both stiffness= and damping=")
-    pb = _pybullet()
+    pb = pybullet_module()
     client = pb.connect(pb.DIRECT)
     try:
         pb.setGravity(0.0, 0.0, -9.81, physicsClientId=client)
@@ -189,25 +191,27 @@ def pybullet_drop(
         # PyBullet drives every joint by a velocity motor (target 0) unless told otherwise: free them.
         pb.setJointMotorControlArray(body, joints, pb.VELOCITY_CONTROL, forces=[0.0] * len(joints),
                                      physicsClientId=client)  # fmt: skip
-        q0, v0 = (_ordered(x, joint_names, names) for x in (qpos, qvel))
+        q0, v0 = (in_pybullet_order(x, joint_names, names) for x in (qpos, qvel))
         h = float(timestep)
         if speed is None:
-            speed = _touchdown_rate(pb, body, links, joints, q0, v0, client)
+            speed = touchdown_rate(pb, body, links, joints, q0, v0, client)
         pushes = dict(
             zip(link_indices(body, list(forces or {}), client), (forces or {}).values(), strict=True)
         )
-        _state(pb, body, joints, q0, v0, client)
-        qacc = _free_qacc(pb, body, q0, v0, client, pushes)
+        set_joint_state(pb, body, joints, q0, v0, client)
+        qacc = free_qacc(pb, body, q0, v0, client, pushes)
         tc = float(phase) * h
-        _state(pb, body, joints, q0 - tc * v0 + 0.5 * tc * tc * qacc, v0 - (tc + 0.5 * h) * qacc, client)
+        set_joint_state(
+            pb, body, joints, q0 - tc * v0 + 0.5 * tc * tc * qacc, v0 - (tc + 0.5 * h) * qacc, client
+        )
         gaps, inv_masses = [], []
         for _ in range(int(math.ceil(duration / h))):
-            gaps.append(_gap(pb, body, links, client))
+            gaps.append(pair_gap(pb, body, links, client))
             if gaps[-1] < 0.0:
-                inv_masses.append(_inv_mass(pb, body, links, joints, client))
+                inv_masses.append(inverse_mass(pb, body, links, joints, client))
             if len(gaps) > 3 and gaps[-1] > 0.0 and min(gaps) < 0.0 and gaps[-2] >= 0.0:
                 break
-            _push(pb, body, pushes, client)
+            push_forces(pb, body, pushes, client)
             pb.stepSimulation(physicsClientId=client)
         exit_speed, t_exit = rebound_speed(np.arange(len(gaps)) * h, gaps)
         return MechanismDrop.of(exit_speed / float(speed), exit_speed, t_exit, inv_masses, h)
@@ -215,7 +219,7 @@ def pybullet_drop(
         pb.disconnect(client)
 
 
-def _ordered(values, given, names):
+def in_pybullet_order(values, given, names):
     """``values`` (ordered by the joint names ``given``, or PyBullet's) in PyBullet's joint order."""
     x = np.asarray(values, dtype=float).ravel()
     if x.size != len(names):
@@ -228,10 +232,10 @@ def _ordered(values, given, names):
     return np.array([x[given.index(n)] for n in names])
 
 
-def _touchdown_rate(pb, body, links, joints, q, v, client, dt=1e-7):
+def touchdown_rate(pb, body, links, joints, q, v, client, dt=1e-7):
     """The gap's rate at ``(q, v)`` by a central difference along the joint velocity (m/s, > 0 closing)."""
-    _state(pb, body, joints, q + dt * v, v, client)
-    up = _gap(pb, body, links, client)
-    _state(pb, body, joints, q - dt * v, v, client)
-    down = _gap(pb, body, links, client)
+    set_joint_state(pb, body, joints, q + dt * v, v, client)
+    up = pair_gap(pb, body, links, client)
+    set_joint_state(pb, body, joints, q - dt * v, v, client)
+    down = pair_gap(pb, body, links, client)
     return -(up - down) / (2.0 * dt)

@@ -30,12 +30,17 @@ from contactalpha.validation import check_range
 
 from . import write
 from .discrete import ENGINE_STEPS, step_answer
-from .drake_model import drake_drop
+from .drake_loop import DRAKE_STEP
+from .drake_model import BASES, drake_drop
 from .engine_loop import in_engine
 from .inputs import check_coordinates, check_model_size, check_step_resolves, check_timestep
-from .mujoco_model import load_model, mujoco_drop
+from .loops import LOOPS, run_loop, verify_line
+from .loops import verify as verify_tuning
+from .mujoco_model import load_model, mujoco_drop, reader_joint_names
 from .mujoco_row import DISCRETE_TOL, current_stiffness, discrete_answer, law_scene, mujoco_tuning, solref_for
 from .pybullet_model import collision_links, pybullet_drop
+from .robot_files import engine_for, needs_preparing, prepared_urdf
+from .touch import first_touch, joint_limit_problems, landing_check
 
 # Relative change of the effective mass over the contact above which ``tune`` warns: the law is
 # solved at touchdown's m_eff, and the load factor and MuJoCo's effective impedance move with it.
@@ -52,6 +57,10 @@ class OtherContactsWarning(UserWarning):
 
 class MassChangeWarning(UserWarning):
     """The effective mass moves by more than ``MASS_CHANGE_WARN`` over the engine's contact."""
+
+
+class JointLimitWarning(UserWarning):
+    """The configuration has a joint outside its limits."""
 
 
 class UnmodelledSettingWarning(UserWarning):
@@ -147,6 +156,7 @@ class Tuning:
     loop: Any = None
     reached: bool = True
     unreachable: str = ""
+    verified: Any = None
 
 
 def _mujoco_tune(contact, target, stiffness, impedance, timestep, discrete):
@@ -339,11 +349,15 @@ TUNER_NAMES = tuple(t.name for t in TUNERS)
 
 def _tuner(engine, model):
     if engine is None:
-        engine = "drake" if Path(model).suffix.lower() in (".sdf", ".urdf") else "mujoco"
+        engine = engine_for(model)[0] if Path(model).is_file() else _by_suffix(model)
     for t in TUNERS:
         if t.name == engine:
             return t
     raise ValueError(f"engine = {engine!r} is outside the valid choices {TUNER_NAMES}")
+
+
+def _by_suffix(model):
+    return "drake" if Path(model).suffix.lower() in (".sdf", ".urdf") else "mujoco"
 
 
 def default_output(model, engine=None):
@@ -356,7 +370,7 @@ def default_output(model, engine=None):
 def tune(
     model, pair, e_n, *, speed=None, qvel=None, qpos=None, engine=None, stiffness=None, forces=None,
     impedance=IMPEDANCE, output=None, check=False, timestep=None, refine=False, discrete=None,
-    engine_loop=False, force_write=False,
+    engine_loop=False, force_write=False, base=None, ground=False, verify=None,
 ):  # fmt: skip
     """Parameters that give ``pair`` of ``model`` Newton's restitution ``e_n`` in ``engine``.
 
@@ -368,7 +382,9 @@ def tune(
     speed, qvel : the approach (one of them): closing speed of the contact point (m/s), or joint
         velocities (the engine's coordinates).
     qpos : configuration at touchdown (default the model's).
-    engine : "mujoco", "drake" or "pybullet" (default: mujoco for MJCF, drake for SDF/URDF).
+    engine : "mujoco", "drake" or "pybullet" (default: the first installed engine that reads the
+        file, ``robot_files.engine_for``: drake for SDF and for URDF whose meshes it reads, else
+        mujoco; the choice is in ``notes``).
     stiffness : contact stiffness along the normal, N/m (MuJoCo's default: the model's own, seen
         through its contact row; required for the others).
     forces : {body: (fx, fy, fz)} constant forces, N, at bodies' centres of mass, world axes.
@@ -391,8 +407,22 @@ def tune(
         leaves out (the effective mass moving over the contact, the step).  Needs ``output``.
     engine_loop : solve the damping on the engine's own drops of the whole model at its step, over
         the touchdown phase, from the reduced model's answer (``engine_loop``; MuJoCo), and name
-        what the reduced model leaves out with each part's share.  ``contactalpha tune`` runs it
-        by default; here it is off, for callers that tune many contacts.
+        what the reduced model leaves out with each part's share.  MuJoCo (``engine_loop``),
+        PyBullet (a URDF, ``pybullet_loop``) and Drake (its discrete plant at ``timestep``,
+        default ``drake_loop.DRAKE_STEP``; ``drake_loop``).  ``contactalpha tune`` runs it by
+        default; here it is off, for callers that tune many contacts.
+    base : a URDF's root link: "fixed" (default in every engine: welded to the world) or
+        "floating" (Drake only; ``drake_model.BASES``).
+    ground : add a floor to a URDF that has none (``robot_files.prepared_urdf``: a box link
+        ``ground``, its top at z = 0, fixed to the root link).
+    verify : drop the written file in its engine at this many touchdown phases (shifted grids,
+        ``loops.verify``) and report the measured mean, its standard error and range beside the
+        predicted (``Tuning.verified``).
+
+    A URDF's unnamed ``<collision>`` elements are named ``LINK/collisionN`` (``robot_files``).
+    A pair apart (or overlapping) at ``qpos`` is moved to first touch along the approach (the
+    joint velocity), where the coordinates add (no free joint); otherwise refused.  A
+    configuration outside a joint's limits warns (``JointLimitWarning``).
 
     Returns
     -------
@@ -401,17 +431,52 @@ def tune(
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
     timestep = check_timestep(timestep)
     t = _tuner(engine, model)
+    if verify is not None and (int(verify) != verify or verify < 8):
+        raise ValueError(f"verify = {verify!r} must be a whole number of phases >= 8")
+    if verify is not None and output is None:
+        raise ValueError("verify drops the written file: give output")
+    chosen = []
+    if engine is None and Path(model).is_file():
+        why = engine_for(model)[1]
+        chosen.append(f"engine: {t.name} (not given: {why})")
+    if base is not None and base not in BASES:
+        raise ValueError(f"base = {base!r} is outside the valid choices {BASES}")
+    if base == "floating" and t.name != "drake":
+        raise ValueError(f"base = 'floating': {t.name} loads a URDF with its root link fixed; a floating "
+                         "robot is an MJCF with a <freejoint>, or Drake's (engine='drake')")  # fmt: skip
     if output is not None:
         write.check_output(model, output)
-    reader = t.reader if t.reader is not None else None
-    contact = read_contact(model, pair, reader=reader, qpos=qpos, qvel=qvel, speed=speed, forces=forces)
-    params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
-    miss = _unreachable(step, target, discrete)
-    if not contact.at_touch:
-        notes.append(
-            f"the pair is {contact.gap:.3g} m apart at this configuration: "
-            "values are at it, not at first touch"
+    if ground and Path(model).suffix.lower() != ".urdf":
+        raise ValueError(
+            f"ground: adds a floor to a URDF; {str(model)!r} is not one (an MJCF or SDF adds its own)"
         )
+    if ground and base == "floating":
+        raise ValueError("ground with base = 'floating': the floor is fixed to the root link; fix the base")
+    if needs_preparing(model, pair, ground):
+        model = prepared_urdf(model, ground)
+        chosen.append(f"the model read: {model} (the URDF with its unnamed collisions named LINK/collisionN"
+                      + (", a floor 'ground' added" if ground else "") + ")")  # fmt: skip
+    if engine_loop and t.name == "drake" and timestep is None:
+        timestep = DRAKE_STEP  # the loop runs Drake's discrete plant: its own default step
+    reader = t.reader if t.reader is not None else None
+
+    def read(q):
+        return read_contact(model, pair, reader=reader, qpos=q, qvel=qvel, speed=speed, forces=forces,
+                            base=base if t.name == "drake" else None)  # fmt: skip
+
+    contact = read(qpos)
+    if not contact.at_touch:
+        contact, moved = first_touch(read, contact)
+        chosen.append(moved)
+    for line in joint_limit_problems(contact, base):
+        warnings.warn(line, JointLimitWarning, stacklevel=2)
+        chosen.append(line)
+    k_landing = stiffness if stiffness is not None else (
+        current_stiffness(contact) if contact.engine == "mujoco" else None)  # fmt: skip
+    landing = landing_check(contact, k_landing) if k_landing is not None else ""
+    params, notes, details, step = t.solve(contact, target, stiffness, impedance, timestep, discrete)
+    notes = [*chosen, *([landing] if landing else []), *notes]
+    miss = _unreachable(step, target, discrete)
     points = contact.engine_row.get("pair_points", 1)
     if points > 1:
         notes.append(
@@ -435,7 +500,7 @@ def tune(
     result = Tuning(contact, t.name, params, notes, None, details=details, discrete=step, timestep=h,
                     reached=not miss, unreachable=miss)  # fmt: skip
     if engine_loop:
-        result = _looped(result, target)
+        result = _looped(result, target, base)
     if result.loop is None or result.loop.status != "ok":  # the loop's drops include every setting
         for setting in contact.engine_row.get("unmodelled", ()) if t.name == "mujoco" else ():
             warnings.warn(f"MuJoCo model setting not in the answer: {setting}", UnmodelledSettingWarning,
@@ -451,14 +516,22 @@ def tune(
         result = _refined(result, target, timestep)
     if check and t.drop and (result.reached or result.output is not None or t.name == "mujoco"):
         result = _checked(result, timestep, refined=refine)  # unreached and unwritten: nothing to drop
+    if verify is not None and result.output is not None:
+        v = verify_tuning(result, int(verify))
+        predicted = result.loop.delivered.mean if result.loop is not None else target
+        result = replace(result, verified=v, notes=[*result.notes, verify_line(v, predicted, t.name)])
     return result
 
 
-def _looped(result, target):
-    """``result`` with the engine loop's answer (MuJoCo), run in memory: ``tune`` writes the file after."""
-    if result.engine != "mujoco":
-        note = f"engine loop: not available for {result.engine} yet; the reduced model's answer is written"
-        return replace(result, notes=[*result.notes, note])
+def _looped(result, target, base=None):
+    """``result`` with the engine loop's answer, run in memory: ``tune`` writes the file after."""
+    if result.engine in LOOPS:
+        answer, params, lines = run_loop(result.engine, result.contact, result.parameters, target,
+                                         result.timestep, base)  # fmt: skip
+        ok = answer.status == "ok"
+        why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
+        return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
+                       unreachable=why)  # fmt: skip
     source = _in_memory_mjcf(result)
     answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
     params = result.parameters
@@ -501,7 +574,7 @@ def _checked(result, timestep, refined=False):
         if Path(c.model).suffix.lower() != ".urdf":
             raise ValueError("check with engine 'pybullet' drops a URDF model; this one is not")
         drop = pybullet_drop(c.model, c.pair, c.qpos, c.qvel, script=result.output, timestep=result.timestep,
-                             speed=c.approach_speed, joint_names=_joint_names(c),
+                             speed=c.approach_speed, joint_names=reader_joint_names(c),
                              forces=c.forces)  # fmt: skip
     else:
         period = math.pi * math.sqrt(c.effective_mass / float(result.parameters["pair_stiffness"]))
@@ -528,14 +601,6 @@ def _checked(result, timestep, refined=False):
                 MassChangeWarning, stacklevel=3,
             )  # fmt: skip
     return replace(result, notes=notes, delivered=delivered, mass_change=change, drop=drop)
-
-
-def _joint_names(contact):
-    """The joints of the reader's coordinates, by name (MuJoCo's reader; None for Drake's: URDF order)."""
-    if contact.engine != "mujoco":
-        return None
-    m = load_model(contact.model)
-    return [m.joint(i).name for i in range(m.njnt)]
 
 
 def _step_of(engine, contact, timestep):

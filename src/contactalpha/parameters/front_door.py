@@ -33,6 +33,7 @@ from contactalpha.scene.load import checked_load, positive
 from contactalpha.stepping.registry import STEPPER_NAMES
 from contactalpha.validation import check_scalar
 
+from . import impulse
 from .at_step import at_step, needs_radius
 from .at_step_batch import at_step_batch
 from .batch import batched_parameters
@@ -47,7 +48,6 @@ from .checks import (
     law_reads_radius,
     require_scene,
 )
-from . import impulse
 from .one_scene import hunt_crossley_parameters, law_parameters
 from .result import ContactParameters, NoSeparationWarning, no_separation_note
 from .verify import verify_on_engine

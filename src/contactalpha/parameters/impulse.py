@@ -27,9 +27,8 @@ from contactalpha.adapters.registry import ADAPTERS, adapter
 from contactalpha.impulse.delivered import ImpulseStats, phase_stats
 from contactalpha.impulse.inverse import restitution_for, threshold_for
 from contactalpha.impulse.registry import impulse_engine
-from contactalpha.validation import check_count, check_scalar
-
 from contactalpha.scene.threshold import critical_speed
+from contactalpha.validation import check_count, check_scalar
 
 from .at_step import DEFAULT_STEP, SteppedAnswer
 from .verify import VERIFY_RADIUS, phase_mean_error

@@ -14,10 +14,9 @@ from contactalpha.engine.codes import OUT_STATE, OUT_T_END, OUT_V_END, SEPARATIO
 from contactalpha.engine.driver import ATOL, RTOL
 from contactalpha.engine.table import XI_MAX
 from contactalpha.impulse.schedule import TouchdownSchedule
-from contactalpha.validation import check_count, check_scalar
-
 from contactalpha.scene.ball import Scene, contact_alpha, run_contact
 from contactalpha.scene.threshold import critical_speed
+from contactalpha.validation import check_count, check_scalar
 
 from .front_door import contact_parameters
 from .impulse import DEFAULT_RADIUS, impulse_engines, is_impulse, resolve_timestep

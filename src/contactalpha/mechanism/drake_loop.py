@@ -1,0 +1,150 @@
+"""Drake's engine loop: a contact of an SDF or URDF solved on Drake's own drops of the whole model.
+
+The design is ``engine_loop``'s (MuJoCo): the contact's e_N is the pair's signed gap's rate where
+it first comes back through zero over its closing rate at touchdown; the drops start ``phase`` of
+a step before touchdown at the midpoint phases; the mean's error estimate and the secant are
+``engine_loop.PhaseSampler`` and ``engine_loop.solve_damping``.
+
+The plant is Drake's discrete ``MultibodyPlant`` at its step with point contact and a discrete
+approximation that honours ``hunt_crossley_dissipation`` (``lagged``, Drake's default, or
+``tamsi``).  It is built once; the pair's parameters are each geometry's
+``point_contact_stiffness`` and ``hunt_crossley_dissipation`` (Drake combines them to k1 k2 /
+(k1 + k2) and (k2 d1 + k1 d2) / (k1 + k2): equal values give k/2 and d), replaced in the scene
+graph's context before each phase mean (``SceneGraph.AssignRole`` with ``RoleAssign.kReplace``),
+the geometries' other properties (friction) kept.  A URDF's root links are welded to the world
+(``base="fixed"``, as MuJoCo and PyBullet load a URDF) unless ``base="floating"``.
+
+Importing this module does not need Drake.
+"""
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .crossing import rebound_speed
+from .discrete import DRAKE_APPROXIMATIONS
+from .drake_model import ParsedPlant, back_in_time, drake_module, set_coordinates
+from .engine_loop import PhaseSampler
+
+# The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
+DURATION = 1.0
+# Drake's discrete MultibodyPlant's own default step (MultibodyPlantConfig.time_step), s.
+DRAKE_STEP = 1e-3
+
+
+class DrakeLoop(PhaseSampler):
+    """An SDF/URDF built once as Drake's discrete plant, dropped at many phases with any ``(k, d)``.
+
+    Parameters
+    ----------
+    model : path of the SDF or URDF.
+    pair : (geometry 1, geometry 2) collision names.
+    qpos, qvel : touchdown positions and velocities (Drake's coordinates).
+    timestep : the plant's step, s (default ``DRAKE_STEP``).
+    approximation : ``DRAKE_APPROXIMATIONS`` (default "lagged").
+    forces : {body: (fx, fy, fz)} constant forces at bodies' centres of mass, N, world axes.
+    base : "fixed" or "floating" (``drake_model.BASES``).
+    """
+
+    engine = "Drake"
+    damping_name = "hunt_crossley_dissipation (each geometry)"
+
+    def __init__(
+        self, model: str | Path, pair: Sequence[str], qpos: ArrayLike, qvel: ArrayLike, *,
+        timestep: float | None = None, approximation: str = "lagged", forces: dict | None = None,
+        base: str = "fixed",
+    ) -> None:  # fmt: skip
+        if approximation not in DRAKE_APPROXIMATIONS:
+            raise ValueError(
+                f"approximation = {approximation!r} is outside the valid choices {DRAKE_APPROXIMATIONS}"
+            )
+        dk = drake_module()
+        self.timestep = DRAKE_STEP if timestep is None else float(timestep)
+        self.pair = tuple(pair)
+        self.forces = dict(forces or {})
+        p = self.p = ParsedPlant(model, point_contact=True, time_step=self.timestep,
+                                 approximation=approximation, base=base)  # fmt: skip
+        self.g = tuple(p.geometry(name) for name in self.pair)
+        self.q0 = np.asarray(qpos, dtype=float)
+        self.v0 = np.asarray(qvel, dtype=float)
+        set_coordinates(p.plant, p.context, "qpos", self.q0, p.plant.num_positions())
+        set_coordinates(p.plant, p.context, "qvel", self.v0, p.plant.num_velocities())
+        self.speed = -float(p.gap_row(*self.g)[3] @ self.v0)
+        pushes = []
+        for name, force in self.forces.items():
+            body = p.plant.GetBodyByName(str(name))
+            push = dk.ExternallyAppliedSpatialForce()
+            push.body_index = body.index()
+            push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
+            push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
+            pushes.append(push)
+        if pushes:
+            p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
+        self.clean = p.root.Clone()  # the state before any drop: the plant keeps more than q and v
+        self.sim = dk.Simulator(p.diagram, p.root)
+        self.sg_context = p.scene_graph.GetMyMutableContextFromRoot(p.root)
+        self.drops = 0
+        self._params: tuple | None = None
+
+    def _set_pair(self, params):
+        if self._params == tuple(params):
+            return
+        dk = drake_module()
+        k, d = (float(x) for x in params)
+        inspector = self.p.scene_graph.model_inspector()
+        source = self.p.plant.get_source_id()
+        for gid in self.g:
+            props = dk.ProximityProperties(inspector.GetProximityProperties(gid))
+            for name, value in (("point_contact_stiffness", k), ("hunt_crossley_dissipation", d)):
+                if props.HasProperty("material", name):
+                    props.UpdateProperty("material", name, value)
+                else:
+                    props.AddProperty("material", name, value)
+            self.p.scene_graph.AssignRole(self.sg_context, source, gid, props, dk.RoleAssign.kReplace)
+        self._params = tuple(params)
+
+    def drop(self, params, phase: float, mass: bool = False) -> tuple[float, float]:
+        """``(e_N, relative change of m_eff over the contact)`` of one drop (the change NaN without ``mass``).
+
+        NaN e_N: never touched; 0: touched and not back within ``DURATION``.
+        """
+        p, h = self.p, self.timestep
+        # A discrete plant's state holds more than q and v (the previous step's contact results):
+        # every drop starts from the state before any drop, and the pair's values are set again.
+        p.root.SetTimeStateAndParametersFrom(self.clean)
+        self._params = None
+        self._set_pair(params)
+        p.plant.SetPositions(p.context, self.q0)
+        p.plant.SetVelocities(p.context, self.v0)
+        back_in_time(p, float(phase) * h, h, self.forces, with_contacts=True)
+        self.sim.Initialize()
+        gaps, inv = [p.closest(*self.g)[2]], []
+        for i in range(1, int(math.ceil(DURATION / h)) + 1):
+            self.sim.AdvanceTo(i * h)
+            if mass:
+                _, _, gap, J = p.gap_row(*self.g)
+                if gap < 0.0:
+                    inv.append(float(J @ np.linalg.solve(p.plant.CalcMassMatrix(p.context), J)))
+            else:
+                gap = p.closest(*self.g)[2]
+            gaps.append(gap)
+            if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
+                break
+        self.drops += 1
+        change = (max(inv) - min(inv)) / min(inv) if len(inv) > 1 else math.nan
+        speed, _ = rebound_speed(np.arange(len(gaps)) * h, gaps)
+        if math.isfinite(speed):
+            return speed / self.speed, change
+        return (0.0 if min(gaps) < 0.0 else math.nan), change
+
+    def e_n_values(self, params, phases):
+        """``(e_N of each phase, m_eff's relative change over the drop at phase 1/2)``."""
+        _, change = self.drop(params, 0.5, mass=True)
+        return np.array([self.drop(params, ph)[0] for ph in phases]), change
+
+    def values_at(self, params, phases) -> np.ndarray:
+        """e_N of each of ``phases`` (any phases in [0, 1); a captured drop is 0)."""
+        return np.array([self.drop(params, ph)[0] for ph in phases])
