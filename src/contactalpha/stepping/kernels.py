@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from numba import jit, njit
+from numba.core.caching import NullCache
 from numba.core.registry import CPUDispatcher
 
 from . import drake_map, mujoco_map, pybullet_map
@@ -187,7 +188,10 @@ def _copy(template, tag, overrides):
     copy.__module__ = fn.__module__
     copy.__doc__ = fn.__doc__
     copy.__annotations__ = dict(fn.__annotations__)
-    return jit(**template.targetoptions)(copy) if jitted else copy
+    if not jitted:
+        return copy
+    # ``targetoptions`` leaves out ``cache``: a template cached on disk gives a copy cached on disk.
+    return jit(cache=not isinstance(template._cache, NullCache), **template.targetoptions)(copy)
 
 
 def _is_template(value):
