@@ -235,8 +235,11 @@ def engine_branches(
     is read.  For another code (or a map that is not piecewise affine) every affine step is NaN and
     no form is written.
     """
-    if code != MAP_CODE:
-        return _unknown_branches(p, h, accel, forms, maps)
+    if code != MAP_CODE:  # every affine step NaN (written here: no other function to compile)
+        for b in range(maps.shape[0]):
+            for j in range(maps.shape[1]):
+                maps[b, j] = math.nan
+        return 0
     nf, nb = MAP_BRANCHES(p, h, accel, forms, maps), MAP_N_BRANCHES
     zs = MAP_SURFACE(p)
     if zs != 0.0:

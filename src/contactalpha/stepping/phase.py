@@ -126,7 +126,7 @@ def _count(code, p, h, v_in, accel, max_steps, phase, acc):
     return row[D_STEPS]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # one call site: compiled inside it, not once more apart
 def _jumps(code, p, h, v_in, accel, max_steps, grid, acc):
     """0, the phases in (0, 1) where the steps in contact change, in order, and 1."""
     counts = np.empty(grid + 1)
