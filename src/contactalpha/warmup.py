@@ -37,7 +37,7 @@ _WARM_PARAMS = {
     "drake": {"mass": 0.5, "stiffness_ball": 2e4, "dissipation_ball": 0.5, "stiffness_ground": 2e4,
               "dissipation_ground": 0.5},
 }  # fmt: skip
-_WARM_SCENE = {
+_WARM_SCENE: dict[str, Any] = {
     "mass": 0.5,
     "stiffness": 2e4,
     "approach_speed": 0.5,
@@ -125,7 +125,7 @@ def _stepping():
             solve_batch(s, np.tile(p, (2, 1)), h, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5))
         if s.from_block is not None:
             contact_parameters(**_WARM_SCENE, engine=s.name, timestep=h)
-            batch = {name: _points(2, value) for name, value in _WARM_SCENE.items()}
+            batch: dict[str, Any] = {name: _points(2, value) for name, value in _WARM_SCENE.items()}
             contact_parameters(**batch, engine=s.name, timestep=h)
 
 
