@@ -43,8 +43,9 @@ _WARM_SCENE: dict[str, Any] = {
     "approach_speed": 0.5,
     "accel": 9.81,
     "e_N": 0.5,
-    "radius": 0.05,
 }
+# The sphere's radius, m, for an engine whose map reads it (``Stepper.needs_radius``).
+_WARM_RADIUS = 0.05
 
 
 def _points(n, value):
@@ -124,8 +125,9 @@ def _stepping():
         if s.affine:
             solve_batch(s, np.tile(p, (2, 1)), h, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5))
         if s.from_block is not None:
-            contact_parameters(**_WARM_SCENE, engine=s.name, timestep=h)
-            batch: dict[str, Any] = {name: _points(2, value) for name, value in _WARM_SCENE.items()}
+            scene = {**_WARM_SCENE, "radius": _WARM_RADIUS} if s.needs_radius else _WARM_SCENE
+            contact_parameters(**scene, engine=s.name, timestep=h)
+            batch: dict[str, Any] = {name: _points(2, value) for name, value in scene.items()}
             contact_parameters(**batch, engine=s.name, timestep=h)
 
 
