@@ -1,27 +1,34 @@
-"""Benchmark of the first call of every contact law, cold and after ``contactalpha warmup``.
+"""Benchmark of the first call of every path, cold (an empty numba cache) and warm (after ``warmup``).
 
 Run: ``python benchmarks/bench_first_call.py`` (``--page`` also fills the first-call block of
-docs/performance.md; ``--no-baseline`` skips the old path; ``--repeat N``, default 1).
+docs/performance.md; ``--repeat N``, default 1; ``--paths NAME ...`` a subset; ``--no-jax``).
 
-Each measurement is a fresh Python process: the wall time of ``import contactalpha`` and of the
-first ``contact_parameters(..., law=NAME)`` call, for one scene and for a batch of 1,000 scenes
-(a 0.5 kg ball, random e_N and masses), for every law of ``contactalpha.laws.LAWS``:
+Each measurement is a fresh Python process running one path's first call:
 
-- cold: an empty ``NUMBA_CACHE_DIR``: the kernels' Python twins answer (``engine/firstcall.py``);
-- warm: a ``NUMBA_CACHE_DIR`` filled once by ``contactalpha warmup`` (its time is reported apart,
-  as the compile time): the compiled kernels load from disk;
-- baseline, the old path: cold, inside ``firstcall.compiled_only()``, which compiles every kernel
-  at its first call as every first call did before (measured in the same run).
+- ``scalar``: ``contact_parameters`` for one scene (Hunt-Crossley, the default law);
+- ``law``: the same for another law (Kelvin-Voigt);
+- ``batch``: 1,000 scenes of the default law;
+- ``scalar-step``: one scene at MuJoCo's 2 ms step (the inverse on the step map's phase mean);
+- ``batch-step-<engine>``: a batch at each stepping engine's default step (100 scenes for the
+  piecewise-affine maps, solved exactly in one call; 4 for Drake, one scene at a time);
+- ``tune``: ``contactalpha tune`` of a test model (``tests/data/models/leg.xml``) with
+  ``--no-engine-loop`` (its reduced model: the law, the map's phase mean at the model's step);
+- ``jax``: ``xla.contact_parameters`` for 1,000 scenes (when JAX is installed).
 
-Prints the machine, its load before and after, a table of wall and CPU seconds (on a loaded machine
-the CPU time is the better guess of a quiet machine's wall time), and the ratio baseline / cold.
+Cold: an empty ``NUMBA_CACHE_DIR`` of its own; warm: a ``NUMBA_CACHE_DIR`` that ``contactalpha
+warmup`` filled once in this run (its time is reported apart).  Each cell gives the process's CPU
+time (user + system, ``resource.getrusage`` of the child: import, compiles and the call, every
+thread) and the call's wall time; the ratio is cold over warm CPU, both measured in this run.
+On a loaded machine the CPU time is the better guess of a quiet machine's wall time.
 """
 
 import argparse
+import importlib.util
 import math
 import os
 import platform
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -33,26 +40,65 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 PAGE = ROOT / "docs" / "performance.md"
 START, END = "<!-- first-call:start -->", "<!-- first-call:end -->"
-BATCH = 1000
-PROGRAM = """
-import contextlib
-import time
-t0, c0 = time.perf_counter(), time.process_time()
+MODEL = ROOT / "tests" / "data" / "models" / "leg.xml"
+
+# The scenes every path's program draws (the benchmark of the batch at the step, bench_stepping's ranges).
+SCENES = """
 import numpy as np
-import contactalpha as ca
-from contactalpha.engine import firstcall
-t1, c1 = time.perf_counter(), time.process_time()
-rng = np.random.default_rng(1)
-n = {n}
-scene = dict(approach_speed=0.5, accel=9.81, law={law!r}, stiffness={stiffness!r})
-with {context}:
-    if n:
-        ca.contact_parameters(e_N=rng.uniform(0.2, 0.9, n), mass=rng.uniform(0.1, 2.0, n), **scene)
-    else:
-        ca.contact_parameters(e_N=0.5, mass=0.5, **scene)
-t2, c2 = time.perf_counter(), time.process_time()
-print(t1 - t0, t2 - t1, c2 - c1)
+def scenes(n, h):
+    rng = np.random.default_rng(1)
+    m = np.exp(rng.uniform(np.log(0.02), np.log(20.0), n))
+    k = m * (np.pi / (rng.uniform(10.0, 60.0, n) * h)) ** 2
+    return dict(mass=m, stiffness=k, approach_speed=rng.uniform(0.3, 3.0, n), accel=9.81,
+                e_N=rng.uniform(0.1, 0.95, n))
 """
+ONE = "dict(mass=0.5, stiffness=2e4, approach_speed=0.5, accel=9.81, e_N=0.5)"
+# Path -> (what it is, its program's call; the program imports contactalpha as ca first).
+PATHS = {
+    "scalar": ("one scene, Hunt-Crossley", "ca.contact_parameters(e_N=0.5, mass=0.5, stiffness=1e8, "
+               "approach_speed=0.5, accel=9.81)"),
+    "law": ("one scene, Kelvin-Voigt", "ca.contact_parameters(e_N=0.5, mass=0.5, stiffness=1e5, "
+            "approach_speed=0.5, accel=9.81, law='kelvin_voigt')"),
+    "batch": ("1,000 scenes, Hunt-Crossley", "ca.contact_parameters(**scenes(1000, 0.002))"),
+    "scalar-step": ("one scene at MuJoCo's 2 ms", f"ca.contact_parameters(**{ONE}, engine='mujoco', "
+                    "timestep=0.002)"),
+    "batch-step-mujoco": ("100 scenes at MuJoCo's 2 ms", "ca.contact_parameters(**scenes(100, 0.002), "
+                          "engine='mujoco', timestep=0.002)"),
+    "batch-step-pybullet": ("100 scenes at PyBullet's 1/240 s", "ca.contact_parameters(**scenes(100, "
+                            "1 / 240), engine='pybullet', timestep=1 / 240, radius=0.05)"),
+    "batch-step-drake": ("4 scenes at Drake's 1 ms", "ca.contact_parameters(**scenes(4, 0.001), "
+                         "engine='drake', timestep=0.001)"),
+    "tune": ("`tune` leg.xml, reduced model", "tune()"),
+    "jax": ("`xla.contact_parameters`, 1,000 scenes", "jax_call()"),
+}  # fmt: skip
+PROGRAM = (
+    """
+import time
+t0 = time.perf_counter()
+import warnings
+warnings.simplefilter("ignore")
+import contactalpha as ca
+"""
+    + SCENES
+    + """
+def tune():
+    import shutil, tempfile
+    from contactalpha.cli import main
+    d = tempfile.mkdtemp()
+    shutil.copy({model!r}, d)
+    assert main(["tune", d + "/leg.xml", "--pair", "floor", "foot", "--e-n", "0.6", "--speed", "1.0",
+                 "--no-engine-loop", "-o", d + "/out.xml"]) == 0
+def jax_call():
+    import jax
+    jax.config.update("jax_enable_x64", True)
+    from contactalpha import xla
+    s = scenes(1000, 0.002)
+    xla.contact_parameters(s["mass"], s["stiffness"], s["approach_speed"], s["accel"], s["e_N"])
+t1 = time.perf_counter()
+{call}
+print("WALL", time.perf_counter() - t1)
+"""
+)
 
 
 def cpu_name():
@@ -66,57 +112,55 @@ def cpu_name():
     return platform.processor() or "unknown cpu"
 
 
-def first_call(law, n, cache, baseline=False):
-    """(first-call wall s, its CPU s) of ``law`` on ``n`` scenes (0: one) in a fresh process.
+def _env(cache):
+    return {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
 
-    The CPU time (all the process's threads) is what a quiet machine's wall time would be, about.
-    """
-    stiffness = 1.0e8 if law.exponent == 1.5 else 1.0e5
-    context = "firstcall.compiled_only()" if baseline else "contextlib.nullcontext()"
-    code = PROGRAM.format(n=n, law=law.name, stiffness=stiffness, context=context)
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    _, wall, cpu = map(float, out.stdout.split())
-    return wall, cpu
+
+def run_child(args, cache):
+    """``(CPU s, stdout)`` of ``python ARGS`` in a fresh process: user + system of the child."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = subprocess.run([sys.executable, *args], env=_env(cache), capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if out.returncode != 0:
+        raise RuntimeError(f"{args[:2]} failed: {out.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return cpu, out.stdout, out.stderr
+
+
+def first_call(path, cache):
+    """``(CPU s, call wall s, compile lines on stderr)`` of ``path``'s first call in a fresh process."""
+    code = PROGRAM.format(model=str(MODEL), call=PATHS[path][1])
+    cpu, out, err = run_child(["-c", code], cache)
+    wall = float(re.search(r"WALL (\S+)", out).group(1))
+    return cpu, wall, err.count("contactalpha:   compiling ")
 
 
 def warm_cache(cache):
-    """Fill ``cache`` by ``contactalpha warmup``; its wall time, s."""
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(SRC)}
-    start = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "contactalpha", "warmup"], env=env, capture_output=True, check=True)
-    return time.perf_counter() - start
+    """Fill ``cache`` by ``contactalpha warmup``; its CPU s."""
+    return run_child(["-m", "contactalpha", "warmup"], cache)[0]
 
 
-def _medians(runs):
-    """(median wall, median CPU) of ``runs`` of (wall, CPU); NaNs for none."""
-    if not runs:
-        return math.nan, math.nan
-    return tuple(statistics.median(x) for x in zip(*runs, strict=True))
+def _median(runs):
+    return tuple(statistics.median(x) for x in zip(*runs, strict=True)) if runs else (math.nan,) * 3
 
 
-def measure(repeat, baseline):
-    """Rows ``(law, scenes, cold, warm, baseline)`` of median (wall, CPU) first-call s; the warm-up's s."""
-    sys.path.insert(0, str(SRC))
-    from contactalpha.laws import LAWS
-
+def measure(paths, repeat):
+    """Rows ``(path, cold, warm)`` of median (CPU, wall, compiles); the warm-up's CPU s."""
     rows = []
     with tempfile.TemporaryDirectory() as warm:
         warmup_s = warm_cache(warm)
-        for law in LAWS:
-            for n in (0, BATCH):
-                times = {"cold": [], "warm": [], "baseline": []}
-                for _ in range(repeat):
-                    with tempfile.TemporaryDirectory() as cold:
-                        times["cold"].append(first_call(law, n, cold))
-                    times["warm"].append(first_call(law, n, warm))
-                    if baseline:
-                        with tempfile.TemporaryDirectory() as cold:
-                            times["baseline"].append(first_call(law, n, cold, baseline=True))
-                med = {k: _medians(v) for k, v in times.items()}
-                rows.append((law.name, n or 1, med["cold"], med["warm"], med["baseline"]))
-                cells = " ".join(f"{w:6.2f}/{c:5.2f}" for w, c in med.values())
-                print(f"{law.name:22s} {n or 1:6d} {cells}", flush=True)
+        print(f"warmup: {warmup_s:.1f} s CPU", flush=True)
+        for path in paths:
+            cold_runs, warm_runs = [], []
+            for _ in range(repeat):
+                with tempfile.TemporaryDirectory() as cold:
+                    cold_runs.append(first_call(path, cold))
+                warm_runs.append(first_call(path, warm))
+            cold, hot = _median(cold_runs), _median(warm_runs)
+            rows.append((path, cold, hot))
+            print(f"{path:22s} cold {cold[0]:6.2f} s CPU {cold[1]:6.2f} s wall ({cold[2]:.0f} compiles)  "
+                  f"warm {hot[0]:5.2f} s CPU {hot[1]:5.2f} s wall  cold/warm {cold[0] / hot[0]:.1f}x",
+                  flush=True)  # fmt: skip
     return rows, warmup_s
 
 
@@ -124,52 +168,53 @@ def table(rows, warmup_s, load_before, load_after):
     """The markdown block for docs/performance.md."""
     lines = [
         f"Measured on {cpu_name()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-        f"{platform.system()}; load average {load_before:.1f} before and {load_after:.1f} after (the "
-        "machine was shared with other sessions' jobs while it ran: on a quiet machine every time is "
-        "lower). Wall time of the first `contact_parameters(..., law=NAME)` call in a fresh process "
-        f"(import excluded), median; `contactalpha warmup` took {warmup_s:.1f} s (the compile time).",
+        f"{platform.system()}; load average {load_before:.1f} before and {load_after:.1f} after (the machine "
+        "was shared with other sessions' jobs while it ran: on a quiet machine the wall times are lower, "
+        "about the CPU times). Each path's first call in a fresh process; CPU = user + system seconds of "
+        "the whole process (import, compiles, the call); wall = the call's. Cold: an empty numba cache; "
+        f"warm: after `contactalpha warmup` ({warmup_s:.1f} s of CPU, once). Compiles: the kernels the "
+        "first call announced on stderr.",
         "",
-        "Each cell is wall / CPU seconds; the CPU time is about what a quiet machine's wall time is.",
-        "",
-        "| law | scenes | cold cache | after `warmup` | old path (compile first) | old / cold (CPU) |",
-        "|---|---|---|---|---|---|",
-    ]
-
-    def cell(wc):
-        return "-" if math.isnan(wc[0]) else f"{wc[0]:.2f} / {wc[1]:.2f}"
-
-    for name, n, cold, warm, base in rows:
-        ratio = "-" if math.isnan(base[1]) else f"{base[1] / cold[1]:.1f}x"
-        lines.append(f"| `{name}` | {n:,} | {cell(cold)} | {cell(warm)} | {cell(base)} | {ratio} |")
+        "| path | what | cold CPU (s) | cold wall (s) | compiles | warm CPU (s) | warm wall (s) "
+        "| cold / warm (CPU) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]  # fmt: skip
+    for path, cold, hot in rows:
+        lines.append(
+            f"| `{path}` | {PATHS[path][0]} | {cold[0]:.2f} | {cold[1]:.2f} | {cold[2]:.0f} | {hot[0]:.2f} | "
+            f"{hot[1]:.2f} | {cold[0] / hot[0]:.1f}x |"
+        )
     return "\n".join(lines)
 
 
-def fill_page(block, page=PAGE):
-    """Put ``block`` between the first-call markers of ``page``."""
+def fill_page(block, page=PAGE, start=START, end=END):
+    """Put ``block`` between the ``start`` and ``end`` markers of ``page``."""
     text = page.read_text()
-    pattern = re.compile(re.escape(START) + ".*?" + re.escape(END), flags=re.S)
+    pattern = re.compile(re.escape(start) + ".*?" + re.escape(end), flags=re.S)
     if not pattern.search(text):
-        raise ValueError(f"{page} has no {START} ... {END} block")
-    page.write_text(pattern.sub(lambda _: f"{START}\n{block}\n{END}", text))
+        raise ValueError(f"{page} has no {start} ... {end} block")
+    page.write_text(pattern.sub(lambda _: f"{start}\n{block}\n{end}", text))
 
 
 def main(argv=None):
     """Run the benchmark and print its table (``--page``: also into docs/performance.md)."""
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=1, help="fresh processes per measurement (default 1)")
-    p.add_argument("--no-baseline", action="store_true", help="skip the old path (it compiles every kernel)")
+    p.add_argument("--paths", nargs="+", choices=tuple(PATHS), help="a subset of the paths")
+    p.add_argument("--no-jax", action="store_true", help="skip the JAX path")
     p.add_argument("--page", action="store_true", help="fill the first-call block of docs/performance.md")
     args = p.parse_args(argv)
+    paths = list(args.paths or PATHS)
+    if "jax" in paths and (args.no_jax or importlib.util.find_spec("jax") is None):
+        paths.remove("jax")
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores, {platform.platform()}")
     load_before = os.getloadavg()[0]
-    print(f"load average before: {load_before:.2f}")
-    print(f"{'law':22s} {'scenes':>6s} cold, warm, old path: wall/CPU s")
-    rows, warmup_s = measure(args.repeat, not args.no_baseline)
+    start = time.perf_counter()
+    rows, warmup_s = measure(paths, args.repeat)
     load_after = os.getloadavg()[0]
-    print(f"warmup: {warmup_s:.1f} s; load average after: {load_after:.2f}")
-    base = [b[1] / c[1] for _, _, c, _, b in rows if not math.isnan(b[1])]
-    if base:
-        print(f"old path / cold (CPU), median over laws and sizes: {statistics.median(base):.1f}x")
+    print(
+        f"load average before {load_before:.2f}, after {load_after:.2f}; {time.perf_counter() - start:.0f} s"
+    )
     block = table(rows, warmup_s, load_before, load_after)
     if args.page:
         fill_page(block)

@@ -1,6 +1,8 @@
 """Benchmark of the answers at an engine's step (issue 33): per scene, and the cost of --verify.
 
-Run: ``PYTHONPATH=src python benchmarks/bench_stepping.py`` (``--quick``: fewer scenes).
+Run: ``PYTHONPATH=src python benchmarks/bench_stepping.py`` (``--quick``: fewer scenes;
+``--batch-only N``: only the batch, N scenes per affine engine, on 1 and 2 threads; ``--page``
+with it fills the batch block of docs/stepping.md).
 Prints, measured side by side in this run (one thread; compile time first, separately):
 - the phase mean of one scene (``stepping.delivered.over_phase``): scenes per second, and drops
   evaluated per scene; the same mean on MuJoCo's affine pieces (``stepping.affine_phase``);
@@ -15,9 +17,14 @@ Prints, measured side by side in this run (one thread; compile time first, separ
 
 import argparse
 import os
+import platform
+import re
 import time
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+PAGE = Path(__file__).resolve().parents[1] / "docs" / "stepping.md"
+START, END = "<!-- stepping-batch:start -->", "<!-- stepping-batch:end -->"
 
 import numpy as np  # noqa: E402
 
@@ -42,7 +49,12 @@ def main(argv=None):
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--batch-only", type=int, metavar="N", help="only the batch at the step, N scenes")
+    ap.add_argument("--page", action="store_true", help="with --batch-only: fill docs/stepping.md's block")
     args = ap.parse_args(argv)
+    if args.batch_only:
+        batch_page(args.batch_only, args.page)
+        return
     n = 4 if args.quick else 24
     todo = scenes(n)
     s = stepper("mujoco")
@@ -143,6 +155,75 @@ def batch(n):
               f"{ok.sum()} reach the target (largest |mean - target| by the map {miss:.1e}), "
               f"{rows - ok.sum()} out of reach; "
               f"first call {first:.2f} s ({os.environ['NUMBA_NUM_THREADS']} thread(s))")  # fmt: skip
+
+
+def _draw(engine, h, rows, rng):
+    m = np.exp(rng.uniform(np.log(0.02), np.log(20.0), rows))
+    k = m * (np.pi / (rng.uniform(10.0, 60.0, rows) * h)) ** 2
+    return dict(mass=m, stiffness=k, approach_speed=rng.uniform(0.3, 3.0, rows), accel=9.81,
+                e_N=rng.uniform(0.1, 0.95, rows), engine=engine)  # fmt: skip
+
+
+def batch_page(n, page):
+    """The batch at MuJoCo's and PyBullet's default steps against the continuous batch, 1 and 2 threads.
+
+    Each timing is the best of three runs of the whole front door on the same ``n`` scenes, the
+    continuous batch (the baseline) and the batch at the step alternating; ``page`` writes the table
+    between the markers of docs/stepping.md.
+    """
+    import numba
+
+    from contactalpha import contact_parameters
+
+    rows = []
+    load_before = os.getloadavg()[0]
+    for engine, h, radius in [("mujoco", 0.002, None), ("pybullet", 1.0 / 240.0, 0.05)]:
+        kw = _draw(engine, h, n, np.random.default_rng(1))
+        two = {x: y[:2] if isinstance(y, np.ndarray) else y for x, y in kw.items()}
+        contact_parameters(**two, timestep=h, radius=radius)  # compiles or loads the kernels
+        contact_parameters(**two)
+        for threads in sorted({1, min(2, numba.config.NUMBA_NUM_THREADS)}):
+            numba.set_num_threads(threads)
+            t_cont = t_step = float("inf")
+            for _ in range(3):
+                start = time.perf_counter()
+                contact_parameters(**kw)
+                t_cont = min(t_cont, time.perf_counter() - start)
+                start = time.perf_counter()
+                cp = contact_parameters(**kw, timestep=h, radius=radius)
+                t_step = min(t_step, time.perf_counter() - start)
+            ok = cp.stepped.status == "ok"
+            miss = float(np.max(np.abs(cp.stepped.mean[ok] - kw["e_N"][ok]))) if ok.any() else float("nan")
+            rows.append((engine, h, threads, n / t_step, n / t_cont, t_step / t_cont, int(ok.sum()), miss))
+            print(f"{engine} {h:g} s, {threads} thread(s): {n / t_step:.3g} scenes/s, continuous "
+                  f"{n / t_cont:.3g} scenes/s, ratio {t_step / t_cont:.1f}; {ok.sum()} of {n} reach the "
+                  f"target (largest |mean - target| by the map {miss:.1e})", flush=True)  # fmt: skip
+    load_after = os.getloadavg()[0]
+    lines = [
+        f"`NUMBA_NUM_THREADS=2 python benchmarks/bench_stepping.py --batch-only {n:,} --page` on "
+        f"{platform.machine()}, {os.cpu_count()} cores, load average {load_before:.1f} before and "
+        f"{load_after:.1f} after (other sessions' jobs on the same cores: the ratio to the continuous batch, "
+        f"measured alternately in the same run, is the number to compare), {n:,} random scenes per engine "
+        "(mass 0.02–20 kg, 10–60 steps per undamped contact at the engine's default step, 0.3–3 m/s "
+        "under gravity, e_N 0.1–0.95), best of three runs each:",
+        "",
+        "| engine (step) | threads | scenes/s, whole batch through the front door | continuous batch "
+        "(baseline) | ratio (time) | reach the target | largest \\|mean − target\\| by the map |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    names = {"mujoco": "MuJoCo", "pybullet": "PyBullet"}
+    for engine, _, threads, rate, base, ratio, ok, miss in rows:
+        step = "2 ms" if engine == "mujoco" else "1/240 s"
+        lines.append(f"| {names[engine]} ({step}) | {threads} | {rate:.3g} | {base:.3g} | {ratio:.1f} | "
+                     f"{ok:,} of {n:,} | {miss:.1e} |")  # fmt: skip
+    block = "\n".join(lines)
+    print(block)
+    if page:
+        text = PAGE.read_text()
+        pattern = re.compile(re.escape(START) + ".*?" + re.escape(END), flags=re.S)
+        if not pattern.search(text):
+            raise ValueError(f"{PAGE} has no {START} ... {END} block")
+        PAGE.write_text(pattern.sub(lambda _: f"{START}\n{block}\n{END}", text))
 
 
 if __name__ == "__main__":

@@ -143,3 +143,72 @@ def test_after_the_warm_up_the_jobs_calls_compile_nothing(tmp_path):
     counts = _run_json(WORKLOAD, env)
     assert counts["control"] > 0  # the counter sees a kernel the warm-up left cold
     assert counts["workload"] == 0
+
+
+# Every stepping kernel: the templates' per-engine copies (``stepping.kernels.for_engine``).
+STEPPING = """
+import json
+import numpy as np
+from contactalpha.stepping import kernels
+
+def copies():
+    # Only the copies: a function that names no map is its own "copy" for every engine.
+    return {d for (template, _), d in kernels._COPIES.items() if d is not template}
+
+def compiled():
+    return sorted({d.py_func.__qualname__ for d in copies() if d.signatures})
+
+def misses():
+    return sum(sum(d.stats.cache_misses.values()) for d in copies())
+"""
+BATCH_AT_MUJOCOS_STEP = """
+import contactalpha as ca
+rng = np.random.default_rng(1)
+m = np.exp(rng.uniform(np.log(0.02), np.log(20.0), 100))
+v, e = rng.uniform(0.3, 3, 100), rng.uniform(0.1, 0.95, 100)
+ca.contact_parameters(mass=m, stiffness=m * rng.uniform(1e3, 1e5, 100), approach_speed=v, accel=9.81, e_N=e,
+                      engine="mujoco", timestep=0.002)
+"""
+
+
+def test_a_batch_at_mujocos_step_compiles_mujocos_kernels_only_saying_so(tmp_path):
+    """On an empty cache the batch compiles its own path's copies for MuJoCo, each compile announced
+    on stderr as it starts, and none of another engine's."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    code = STEPPING + BATCH_AT_MUJOCOS_STEP + "print(json.dumps(compiled()))"
+    done = subprocess.run([sys.executable, "-c", code], env=env, check=True, timeout=900, capture_output=True,
+                          text=True)  # fmt: skip
+    names = json.loads(done.stdout.strip().splitlines()[-1])
+    assert "rows_kernel__mujoco" in names
+    assert all(name.endswith("__mujoco") for name in names), names
+    assert "contactalpha:   compiling rows_kernel__mujoco ..." in done.stderr
+
+
+def test_after_the_stepping_warm_up_every_engines_paths_compile_nothing(tmp_path):
+    """``warm_up(["stepping"])`` covers every engine's paths: a fresh process then only loads them."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    warm = (
+        STEPPING
+        + "from contactalpha.warmup import warm_up\nwarm_up(['stepping'])\nprint(json.dumps(compiled()))"
+    )
+    warmed = _run_json(warm, env)
+    assert {name.rsplit("__", 1)[1] for name in warmed} == {"mujoco", "pybullet", "drake"}
+    workload = (
+        STEPPING
+        + BATCH_AT_MUJOCOS_STEP
+        + """
+from contactalpha.stepping.delivered import at_phases, over_phase
+from contactalpha.stepping.inverse import damping_for
+from contactalpha.stepping.registry import STEPPERS
+from contactalpha.warmup import _WARM_PARAMS
+for s in STEPPERS:
+    p = s.pack(**_WARM_PARAMS[s.name])
+    over_phase(s.name, p, s.timestep, 0.7, 9.81)
+    at_phases(s.name, p, s.timestep, np.array([0.1, 0.2, 0.3]), 0.7, 9.81)
+    damping_for(s.name, p, s.timestep, 0.7, 9.81, 0.4)
+    s.drop(p, s.timestep, 0.5, 0.7, 9.81, 500)
+print(json.dumps({"misses": misses(), "compiled": len(compiled())}))
+"""
+    )
+    counts = _run_json(workload, env)
+    assert counts["compiled"] > 0 and counts["misses"] == 0

@@ -29,12 +29,23 @@ from contactalpha.scene import ball, threshold
 # One point inside every kernel's domain: eps, xi; scene-level kernels take the paper's ball.
 EPS, XI = 0.5, 0.2
 BALL = ball.Scene()
-# A scene's parameters for each piecewise-affine step map (its slots by name).
+# A scene's parameters for each engine's step map (its slots by name), and its front door's scene.
 _WARM_PARAMS = {
     "mujoco": {"stiffness": 4e4, "damping": 80.0, "impedance": 0.9},
     "pybullet": {"mass": 0.5, "stiffness_ball": 2e3, "damping_ball": 1.0, "stiffness_ground": 2e3,
                  "damping_ground": 1.0, "breaking": 1.7e-3},
+    "drake": {"mass": 0.5, "stiffness_ball": 2e4, "dissipation_ball": 0.5, "stiffness_ground": 2e4,
+              "dissipation_ground": 0.5},
 }  # fmt: skip
+_WARM_SCENE: dict[str, Any] = {
+    "mass": 0.5,
+    "stiffness": 2e4,
+    "approach_speed": 0.5,
+    "accel": 9.81,
+    "e_N": 0.5,
+}
+# The sphere's radius, m, for an engine whose map reads it (``Stepper.needs_radius``).
+_WARM_RADIUS = 0.05
 
 
 def _points(n, value):
@@ -96,21 +107,28 @@ def _laws():
 
 
 def _stepping():
-    # One phase mean and one inverse through the steppers' kernel table (every engine's map).
+    # Every engine's kernels apart (``stepping.kernels.for_engine``): its drops, its phase mean drop
+    # by drop and the inverse on it, its piecewise-affine mean and the batch inverse where it has
+    # them, and its front door at the step, one scene and a batch (what ``tune`` solves too).
+    from contactalpha.scene.parameters import contact_parameters
     from contactalpha.stepping.batch_inverse import solve_batch
     from contactalpha.stepping.delivered import at_phases, over_phase
     from contactalpha.stepping.inverse import damping_for
-    from contactalpha.stepping.registry import STEPPERS, stepper
+    from contactalpha.stepping.registry import STEPPERS
 
-    p = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
-    over_phase("mujoco", p, 0.002, 0.5, 9.81)
-    at_phases("mujoco", p, 0.002, _points(2, 0.5), 0.5, 9.81)
-    damping_for("mujoco", p, 0.002, 0.5, 9.81, 0.5)
-    # The batch inverse on the piecewise-affine maps' exact phase mean.
     for s in STEPPERS:
+        p, h = s.pack(**_WARM_PARAMS[s.name]), s.timestep
+        s.drop(p, h, 0.3, 0.5, 9.81, 1000)
+        at_phases(s.name, p, h, _points(2, 0.5), 0.5, 9.81)
+        over_phase(s.name, p, h, 0.5, 9.81)
+        damping_for(s.name, p, h, 0.5, 9.81, 0.5)
         if s.affine:
-            q = np.tile(s.pack(**_WARM_PARAMS[s.name]), (2, 1))
-            solve_batch(s, q, 0.002, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5))
+            solve_batch(s, np.tile(p, (2, 1)), h, _points(2, 0.5), _points(2, 9.81), _points(2, 0.5))
+        if s.from_block is not None:
+            scene = {**_WARM_SCENE, "radius": _WARM_RADIUS} if s.needs_radius else _WARM_SCENE
+            contact_parameters(**scene, engine=s.name, timestep=h)
+            batch: dict[str, Any] = {name: _points(2, value) for name, value in scene.items()}
+            contact_parameters(**batch, engine=s.name, timestep=h)
 
 
 def _scene():

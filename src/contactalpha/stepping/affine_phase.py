@@ -1,7 +1,7 @@
 """The phase mean of a piecewise-affine step map, exactly, for the cost of a few drops.
 
 MuJoCo's and PyBullet's steps are affine in the state ``(z, w)`` on each branch, and linear forms
-in the state pick the branch (``kernels.branches``, ``kernels.branch_of``).  A drop's start
+in the state pick the branch (``kernels.engine_branches``, ``kernels.engine_branch``).  A drop's start
 ``flight.touchdown_state`` is a polynomial of degree 2 in the touchdown phase ``phi`` (z) and 1 (w).
 So along one sequence of branches every state of the drop is a quadratic in ``phi``, and every
 test the drop makes (the branch forms, ``z > 0``, ``w' > 0``, the rest test of ``drop.run_drop``)
@@ -52,7 +52,7 @@ from .codes import (
 )
 from .drop import CREEP_FRACTION
 from .flight import REST_FRACTION
-from .kernels import MAX_BRANCHES, MAX_FORMS, branch_of, branches
+from .kernels import MAX_BRANCHES, MAX_FORMS, engine_affine_map, engine_branch, engine_branches, for_engine
 from .phase_polynomials import ROOT_GAP, integrate_piece, poly, roots_into, sort_roots
 
 # Columns of the per-step workspace of ``_sweep``: the state's polynomials at the step's start, the
@@ -66,11 +66,13 @@ MAX_PIECES = 5000
 
 @njit(cache=True)
 def _grow(a, n):
-    """``a`` with room for ``n`` rows (doubling)."""
+    """``a`` (2-D) with room for ``n`` rows (doubling)."""
     if a.shape[0] >= n:
         return a
-    b = np.empty((2 * n,) + a.shape[1:], dtype=a.dtype)
-    b[: a.shape[0]] = a[:]
+    b = np.empty((2 * n, a.shape[1]), dtype=a.dtype)
+    for i in range(a.shape[0]):  # element by element: a slice assignment compiles numba's shape error
+        for j in range(a.shape[1]):
+            b[i, j] = a[i, j]
     return b
 
 
@@ -79,10 +81,10 @@ def _branch_at(code, forms, nf, z, w, vals):
     """The branch at the state ``(z, w)``."""
     for i in range(nf):
         vals[i] = forms[i, 0] * z + forms[i, 1] * w + forms[i, 2]
-    return branch_of(code, vals)
+    return engine_branch(code, vals)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # compiled inside its callers, not once more apart
 def _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals):
     """The branch on ``(lo, first change)`` and the first root in ``buf[:nb]`` past which it differs.
 
@@ -114,7 +116,7 @@ def _outcome(z, w, w1, n, forced, rest):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # compiled inside its callers, not once more apart
 def _decision_change(z0, z1, z2, w0, w1, w2, u0, u1, u2, n, forced, rest, lo, hi, buf, nb):
     """The first of the roots ``buf[:nb]`` past which ``_outcome`` differs; 1 if none.
 
@@ -179,7 +181,7 @@ def _sweep(code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, w
                 if abs(vals[i]) <= abs(al * zd + be * wd) * rr + abs(c2) * rr * rr:
                     nb = roots_into(al * z0 + be * w0 + ga, al * z1 + be * w1, c2, lo, hi, buf, nb)
             if nb == 0:
-                br, r = branch_of(code, vals), 1.0
+                br, r = engine_branch(code, vals), 1.0
             else:
                 br, r = _branch_change(code, forms, nf, z0, z1, z2, w0, w1, w2, lo, hi, buf, nb, vals)
             forced = br != 0
@@ -283,7 +285,7 @@ def workspace(rows: int = 64) -> tuple[np.ndarray, ...]:
             np.empty(3), np.empty(2 * (MAX_FORMS + 6)), np.empty(MAX_FORMS), np.empty(N_PHASE))  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # compiled inside its callers, not once more apart
 def phase_row(
     code: int,
     p: np.ndarray,
@@ -310,7 +312,7 @@ def phase_row(
     acc[P_MAX] = acc[P_STEPS_MAX] = -math.inf
     for j in (P_EPS_MEAN, P_EPS_MIN, P_EPS_MAX, P_EPS_STD):
         acc[j] = math.nan
-    nf = branches(code, p, h, accel, forms, maps)
+    nf = engine_branches(code, p, h, accel, forms, maps)
     s0, s1, err, ws = _sweep(
         code, forms, nf, maps, h, v_in, accel, max_steps, tol, acc, ws, zn, wn, buf, vals
     )
@@ -324,11 +326,19 @@ def phase_row(
     return ws
 
 
-@njit(cache=True)
 def phase_mean_affine(
     code: int, p: np.ndarray, h: float, v_in: float, accel: float, max_steps: int, tol: float
 ) -> np.ndarray:
     """The row of ``codes.P_*`` slots of e_N over a uniform touchdown phase (module docstring)."""
+    engine_affine_map(code)
+    return for_engine(code, phase_mean_affine_kernel)(code, p, h, v_in, accel, max_steps, tol)
+
+
+@njit(cache=True)
+def phase_mean_affine_kernel(
+    code: int, p: np.ndarray, h: float, v_in: float, accel: float, max_steps: int, tol: float
+) -> np.ndarray:
+    """``phase_mean_affine``'s kernel (a template of ``kernels.for_engine``)."""
     ws, forms, maps, zn, wn, buf, vals, acc = workspace()
     phase_row(code, p, h, v_in, accel, max_steps, tol, ws, forms, maps, zn, wn, buf, vals, acc)
     return acc

@@ -1,8 +1,8 @@
 """The inverse at an engine's step for a batch of scenes: exact, at formula speed, rows in parallel.
 
 For an engine whose step is piecewise affine (``kernels.AFFINE``) and an e_N target, each row's
-damping is solved on the exact phase mean of ``affine_phase`` (numba, rows in ``prange``; a row
-never depends on another, so the result is the same bits at any thread count):
+damping is solved on the exact phase mean of ``affine_phase`` (numba, rows in ``engine.threads``'
+pool; a row never depends on another, so the result is the same bits at any thread count):
 
 1. **From the guess** (the continuous law's damping, whose mean at the step is reported too):
    secant steps on ln(mean) against the damping (a linear oscillator's ln e is nearly linear in
@@ -23,12 +23,15 @@ a root (checked), and the same scene gives the same root on every call, but the 
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
+
+from contactalpha.engine.threads import run_rows
 
 from .affine_phase import QUAD_TOL, phase_row, workspace
 from .codes import P_MAX, P_MEAN, P_MIN, P_STD, P_STEPS_MAX, P_STEPS_MIN
 from .delivered import step_limit
 from .inverse import BRACKET_DOUBLINGS, BRACKET_START, MEAN_TOL
+from .kernels import engine_affine_map, for_engine
 from .registry import Stepper
 
 # Columns of a solved row.
@@ -63,7 +66,7 @@ def _mean(code, p, slots, c, h, v, a, max_steps, work):
     return acc[P_MEAN]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # one call site: compiled inside it, not once more apart
 def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, count):
     """Brent's method (scipy's ``brentq``) on ``mean - target`` in ``[xa, xb]``.
 
@@ -108,7 +111,7 @@ def _brent(code, p, slots, h, v, a, max_steps, target, xa, fa, xb, fb, work, cou
     return xcur, fcur, count
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # one call site: compiled inside it, not once more apart
 def solve_row(
     code: int,
     p: np.ndarray,
@@ -216,7 +219,28 @@ def solve_row(
     out[B_STATUS] = B_OK if abs(froot) <= MEAN_TOL else B_NOT_CONVERGED
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
+def rows_kernel(
+    code: int,
+    params: np.ndarray,
+    slots: np.ndarray,
+    h: float,
+    v: np.ndarray,
+    a: np.ndarray,
+    target: np.ndarray,
+    guess: np.ndarray,
+    ladder_start: np.ndarray,
+    max_steps: np.ndarray,
+    out: np.ndarray,
+    start: int,
+    stop: int,
+) -> None:
+    """Rows ``start .. stop - 1`` of ``solve_rows`` into ``out`` (a template of ``kernels.for_engine``)."""
+    for i in range(start, stop):
+        p = params[i].copy()
+        solve_row(code, p, slots, h, v[i], a[i], target[i], guess[i], ladder_start[i], max_steps[i], out[i])
+
+
 def solve_rows(
     code: int,
     params: np.ndarray,
@@ -228,13 +252,18 @@ def solve_rows(
     guess: np.ndarray,
     ladder_start: np.ndarray,
     max_steps: np.ndarray,
+    threads: int | None = None,
 ) -> np.ndarray:
-    """``solve_row`` for every row of ``params`` (one scene each): an ``(n, N_COLS)`` array."""
+    """``solve_row`` for every row of ``params`` (one scene each): an ``(n, N_COLS)`` array.
+
+    The rows run in ``engine.threads``' pool (``threads``, default numba's thread count); a row
+    never depends on another, so the bits are the same at any count.
+    """
+    engine_affine_map(code)
     n = params.shape[0]
     out = np.empty((n, N_COLS))
-    for i in prange(n):
-        p = params[i].copy()
-        solve_row(code, p, slots, h, v[i], a[i], target[i], guess[i], ladder_start[i], max_steps[i], out[i])
+    args = (code, params, slots, h, v, a, target, guess, ladder_start, max_steps, out)
+    run_rows(for_engine(code, rows_kernel), n, *args, threads=threads)
     return out
 
 

@@ -22,8 +22,9 @@ force.  Stronge's coefficient comes from the energy identity with the deepest sa
 penetration ``d_max``: ``eps^2 = (v_out^2/2 + a d_max) / (v_in^2/2 + a d_max)``; a captured drop
 ending at depth ``d_end`` has ``eps^2 = a (d_max - d_end) / (v_in^2/2 + a d_max)``.
 
-``run_drop`` takes the engine's kernel code (``kernels.step_map``), so one loop serves every
-engine and every kernel above it caches; ``drop_mujoco`` is the interface's MuJoCo drop.
+``run_drop`` takes the engine's kernel code (``kernels.MAPS``): one loop's source serves every
+engine, compiled and cached once per engine (``kernels.for_engine``); ``drop_mujoco`` is the
+interface's MuJoCo drop.
 """
 
 import math
@@ -33,14 +34,13 @@ from numba import njit
 
 from .codes import CAPTURED, D_DMAX, D_EN, D_EPS, D_STATUS, D_STEPS, N_DROP, NON_FINITE, SEPARATED, STEP_LIMIT
 from .flight import REST_FRACTION, rebound_speed, touchdown_state
-from .kernels import DRAKE, MUJOCO, PYBULLET, step_map, surface
+from .kernels import DRAKE, MAP_CODE, MUJOCO, PYBULLET, engine_step, engine_surface, for_engine
 
 # A body still in contact when the steps run out, creeping slower than this fraction of the
 # approach speed, is captured too (an overdamped contact creeps to its rest without leaving).
 CREEP_FRACTION = 1e-3
 
 
-@njit(cache=True)
 def run_drop(
     code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
 ) -> np.ndarray:
@@ -63,8 +63,16 @@ def run_drop(
     max_steps : int
         Steps at most.
     """
+    return for_engine(code, drop_kernel)(code, p, h, phase, v_in, accel, max_steps)
+
+
+@njit(cache=True)
+def drop_kernel(
+    code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
+) -> np.ndarray:
+    """``run_drop``'s kernel (a template of ``kernels.for_engine``)."""
     out = np.empty(N_DROP)
-    zs = surface(code, p)  # heights are read from the surface a user reads (``kernels.surface``)
+    zs = engine_surface(code, p)  # heights are read from the surface a user reads (``kernels.surface``)
     z, w = touchdown_state(v_in, accel, h, phase)
     z += zs
     n = 0
@@ -74,7 +82,7 @@ def run_drop(
     rest = REST_FRACTION * v_in
     status = STEP_LIMIT
     for _ in range(max_steps):
-        z1, w1 = step_map(code, z, w, p, h, accel)
+        z1, w1 = engine_step(code, z, w, p, h, accel)
         if not (math.isfinite(z1) and math.isfinite(w1)):
             status = NON_FINITE
             break
@@ -111,52 +119,60 @@ def run_drop(
 
 
 @njit(cache=True)
+def drops_kernel(
+    code: int, p: np.ndarray, h: float, phases: np.ndarray, v_in: float, accel: float, max_steps: int
+) -> np.ndarray:
+    """``run_drops``' kernel (a template of ``kernels.for_engine``)."""
+    rows = np.empty((phases.size, N_DROP))
+    for i in range(phases.size):
+        row = drop_kernel(code, p, h, phases[i], v_in, accel, max_steps)
+        for j in range(N_DROP):  # not ``rows[i] = row``: a slice assignment compiles numba's shape error
+            rows[i, j] = row[j]
+    return rows
+
+
 def run_drops(
     code: int, p: np.ndarray, h: float, phases: np.ndarray, v_in: float, accel: float, max_steps: int
 ) -> np.ndarray:
     """``run_drop`` at every phase: one row of ``codes.D_*`` slots per phase."""
-    rows = np.empty((phases.size, N_DROP))
-    for i in range(phases.size):
-        rows[i] = run_drop(code, p, h, phases[i], v_in, accel, max_steps)
-    return rows
+    return for_engine(code, drops_kernel)(code, p, h, phases, v_in, accel, max_steps)
 
 
 @njit(cache=True)
+def trajectory_kernel(
+    code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, n_steps: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """``trajectory``'s kernel (a template of ``kernels.for_engine``)."""
+    zs = np.empty(n_steps + 1)
+    ws = np.empty(n_steps + 1)
+    zs[0], ws[0] = touchdown_state(v_in, accel, h, phase)
+    zs[0] += engine_surface(code, p)
+    for i in range(n_steps):
+        zs[i + 1], ws[i + 1] = engine_step(code, zs[i], ws[i], p, h, accel)
+    return zs, ws
+
+
 def trajectory(
     code: int, p: np.ndarray, h: float, phase: float, v_in: float, accel: float, n_steps: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """The stored states ``(z, w)`` (the map's z) of ``n_steps`` steps from ``run_drop``'s start (row 0)."""
-    zs = np.empty(n_steps + 1)
-    ws = np.empty(n_steps + 1)
-    zs[0], ws[0] = touchdown_state(v_in, accel, h, phase)
-    zs[0] += surface(code, p)
-    for i in range(n_steps):
-        zs[i + 1], ws[i + 1] = step_map(code, zs[i], ws[i], p, h, accel)
-    return zs, ws
+    return for_engine(code, trajectory_kernel)(code, p, h, phase, v_in, accel, n_steps)
 
 
 @njit(cache=True)
-def drop_mujoco(
+def engine_drop(
     p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
 ) -> tuple[float, int, int]:
-    """A whole MuJoCo drop (``mujoco_map``): ``(e_N, n_contact_steps, status)``."""
-    row = run_drop(MUJOCO, p, h, phase, v_in, accel, max_steps)
+    """A whole drop through the map of ``MAP_CODE`` (a template: ``drop_<engine>`` below).
+
+    Returns ``(e_N, n_contact_steps, status)``.
+    """
+    code = np.int64(MAP_CODE)  # not a literal: the one compiled copy of drop_kernel, not a second
+    row = drop_kernel(code, p, h, phase, v_in, accel, max_steps)  # type: ignore[arg-type]
     return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
 
 
-@njit(cache=True)
-def drop_pybullet(
-    p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
-) -> tuple[float, int, int]:
-    """A whole PyBullet drop (``pybullet_map``): ``(e_N, n_contact_steps, status)``."""
-    row = run_drop(PYBULLET, p, h, phase, v_in, accel, max_steps)
-    return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
-
-
-@njit(cache=True)
-def drop_drake(
-    p: np.ndarray, h: float, phase: float, v_in: float, accel: float, max_steps: int
-) -> tuple[float, int, int]:
-    """A whole drop in Drake's discrete plant (``drake_map``): ``(e_N, n_contact_steps, status)``."""
-    row = run_drop(DRAKE, p, h, phase, v_in, accel, max_steps)
-    return row[D_EN], int(row[D_STEPS]), int(row[D_STATUS])
+# The interface's whole drops, one compiled kernel per engine: ``(e_N, n_contact_steps, status)``.
+drop_mujoco = for_engine(MUJOCO, engine_drop)  # MuJoCo (``mujoco_map``)
+drop_pybullet = for_engine(PYBULLET, engine_drop)  # PyBullet (``pybullet_map``)
+drop_drake = for_engine(DRAKE, engine_drop)  # Drake's discrete plant (``drake_map``)

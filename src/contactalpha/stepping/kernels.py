@@ -1,70 +1,247 @@
-"""The table of the engines' step maps: one compiled kernel serves every engine.
+"""The table of the engines' step maps, and one compiled copy of each generic kernel per engine.
 
-Numba cannot cache a kernel that takes a function argument (and compiles one copy per function,
-seconds each), so the drop and phase kernels take an engine's *kernel code* and ``step_map``
-dispatches on it, as ``laws.forces.scaled_force`` does for the laws.  Adding an engine's map is
-its module with ``step_<engine>``, one code here and one branch in ``step_map``; the registry
-(``registry.py``) carries the code with the engine's capabilities.
+Numba cannot cache a kernel that takes a function argument, so the drop, phase and inverse kernels
+(``drop``, ``phase``, ``affine_phase``, ``batch_inverse``) are written once as *templates* that
+call the map through the placeholders below (``engine_step``, ``engine_surface``,
+``engine_branches``, ``engine_branch``) and take the engine's *kernel code*.  ``for_engine(code,
+template)`` is the template compiled for one engine: a copy of its function (and of every
+template it calls) whose globals name that engine's map (``specialise``), with its own numba
+cache entry.  A first call therefore compiles the kernels of its path for its engine only, never
+another engine's map.
+
+Inside a copy the code is checked: a code other than the copy's own gives NaN (and so a failed
+drop, a failed mean), never another engine's step.  From Python, an unknown code is a ValueError
+naming the registered ones (``engine_map``).  Adding an engine's map is its module with
+``step_<engine>`` (and ``branches_<engine>``, ``branch_<engine>`` where it is piecewise affine)
+and one ``EngineMap`` line in ``MAPS``; the registry (``registry.py``) carries the code with the
+engine's capabilities.
 """
 
+import math
+import threading
+import types
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
-from numba import njit
+from numba import jit, njit
+from numba.core.caching import NullCache
+from numba.core.registry import CPUDispatcher
 
-from . import mujoco_map, pybullet_map
-from .drake_map import step_drake
-from .mujoco_map import branch_mujoco, branches_mujoco, step_mujoco
-from .pybullet_map import branch_pybullet, branches_pybullet, step_pybullet
+from . import drake_map, mujoco_map, pybullet_map
 
-# Kernel codes: the position of each engine's step in ``step_map``'s table.
+# Kernel codes: the key of each engine's map in ``MAPS``.
 MUJOCO = 0
 PYBULLET = 1
 DRAKE = 2
 
 
 @njit(cache=True)
-def step_map(code: int, z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
-    """One step of the engine with kernel code ``code`` (the table above): ``(z, w)`` after it."""
-    if code == PYBULLET:
-        return step_pybullet(z, w, p, h, accel)
-    if code == DRAKE:
-        return step_drake(z, w, p, h, accel)
-    return step_mujoco(z, w, p, h, accel)
-
-
-# Piecewise-affine maps (``affine_phase``): linear forms in the state pick a step's branch, and
-# the step is affine on each (branch 0 applies no force).  Codes of maps that are not piecewise
-# affine (Drake's Hunt-Crossley step) have no entry.
-AFFINE = {
-    MUJOCO: (mujoco_map.N_FORMS, mujoco_map.N_BRANCHES),
-    PYBULLET: (pybullet_map.N_FORMS, pybullet_map.N_BRANCHES),
-}
-MAX_FORMS = max(forms for forms, _ in AFFINE.values())
-MAX_BRANCHES = max(count for _, count in AFFINE.values())
-
-
-@njit(cache=True)
-def surface(code: int, p: np.ndarray) -> float:
-    """Height in the map's ``z`` of the surface a user reads a drop at.
-
-    PyBullet's geometric surface lies ``slop`` above its solver's (``pybullet_map``); the other
-    engines' surfaces are the same.
-    """
-    if code == PYBULLET:
-        return p[pybullet_map.SLOP]
+def no_surface(p: np.ndarray) -> float:
+    """The surface a user reads a drop at, for maps whose solver surface is that surface: 0."""
     return 0.0
 
 
 @njit(cache=True)
-def branches(code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
+def _unknown_step(z, w, p, h, accel):
+    return math.nan, math.nan
+
+
+@njit(cache=True)
+def _unknown_branches(p, h, accel, forms, maps):
+    maps[:] = math.nan
+    return 0
+
+
+@njit(cache=True)
+def _unknown_branch(vals):
+    return 0
+
+
+@dataclass(frozen=True)
+class EngineMap:
+    """One engine's step map as the kernels call it.
+
+    Attributes
+    ----------
+    name : the engine's key (as in ``registry.STEPPERS``).
+    code : its kernel code.
+    step : ``step_<engine>(z, w, p, h, accel) -> (z, w)`` (jitted).
+    surface : ``p -> `` the height in the map's z of the surface a user reads a drop at (jitted).
+    branches : ``branches_<engine>(p, h, accel, forms, maps) -> forms' count`` for a piecewise-affine
+        map (``affine_phase``), else None.
+    branch : ``branch_<engine>(vals) -> branch`` from the forms' values, else None.
+    n_forms, n_branches : the piecewise-affine map's forms and branches (0 otherwise).
+    """
+
+    name: str
+    code: int
+    step: Callable
+    surface: Callable = no_surface
+    branches: Callable | None = None
+    branch: Callable | None = None
+    n_forms: int = 0
+    n_branches: int = 0
+
+    @property
+    def affine(self) -> bool:
+        """Whether the map is piecewise affine (branches and their affine steps)."""
+        return self.branches is not None
+
+    def overrides(self) -> dict[str, Any]:
+        """The placeholders' globals a template's copy for this engine takes (``specialise``)."""
+        return {
+            "MAP_CODE": self.code,
+            "MAP_STEP": self.step,
+            "MAP_SURFACE": self.surface,
+            "MAP_BRANCHES": self.branches if self.affine else _unknown_branches,
+            "MAP_BRANCH": self.branch if self.affine else _unknown_branch,
+            "MAP_N_BRANCHES": self.n_branches,
+        }
+
+
+MAPS = {
+    m.code: m
+    for m in (
+        EngineMap("mujoco", MUJOCO, mujoco_map.step_mujoco, no_surface, mujoco_map.branches_mujoco,
+                  mujoco_map.branch_mujoco, mujoco_map.N_FORMS, mujoco_map.N_BRANCHES),
+        EngineMap("pybullet", PYBULLET, pybullet_map.step_pybullet, pybullet_map.surface_pybullet,
+                  pybullet_map.branches_pybullet, pybullet_map.branch_pybullet, pybullet_map.N_FORMS,
+                  pybullet_map.N_BRANCHES),
+        EngineMap("drake", DRAKE, drake_map.step_drake),
+    )
+}  # fmt: skip
+
+# Piecewise-affine maps (``affine_phase``): code -> (forms, branches).  Branch 0 applies no force.
+AFFINE = {code: (m.n_forms, m.n_branches) for code, m in MAPS.items() if m.affine}
+MAX_FORMS = max(forms for forms, _ in AFFINE.values())
+MAX_BRANCHES = max(count for _, count in AFFINE.values())
+
+# The placeholders' globals in the templates themselves: no engine (every code is unknown there).
+MAP_CODE = -1
+MAP_STEP = _unknown_step
+MAP_SURFACE = no_surface
+MAP_BRANCHES = _unknown_branches
+MAP_BRANCH = _unknown_branch
+MAP_N_BRANCHES = 0
+
+
+def engine_map(code: int) -> EngineMap:
+    """The map of kernel code ``code``; ValueError naming the registered codes otherwise."""
+    m = MAPS.get(code) if isinstance(code, (int, np.integer)) else None
+    if m is None:
+        valid = ", ".join(f"{c} ({m.name})" for c, m in MAPS.items())
+        raise ValueError(f"kernel code = {code!r} is not an engine's map; the valid codes are {valid}")
+    return m
+
+
+def engine_affine_map(code: int) -> EngineMap:
+    """``engine_map(code)`` for a piecewise-affine map; ValueError naming the affine codes otherwise."""
+    m = engine_map(code)
+    if not m.affine:
+        valid = ", ".join(f"{c} ({MAPS[c].name})" for c in AFFINE)
+        raise ValueError(f"kernel code = {code!r} ({m.name}) has no piecewise-affine map; valid: {valid}")
+    return m
+
+
+_COPIES: dict = {}
+_COPIES_LOCK = threading.RLock()
+
+
+def specialise(template: Any, tag: str, overrides: dict[str, Any]) -> Any:
+    """``template`` (a numba dispatcher) with the globals ``overrides`` and every template it calls so.
+
+    A function that reads none of ``overrides``' names and calls no function that does is returned
+    as it is (one compiled copy serves every engine).  Otherwise the copy is a new ``cache=True``
+    dispatcher of the same source, named ``<name>__<tag>``: numba caches it apart, keyed on its
+    defining file's sources as every kernel of this package (``engine.jitcache``).  Under
+    ``NUMBA_DISABLE_JIT=1`` the plain functions are copied the same way.
+    """
+    key = (template, tag)
+    with _COPIES_LOCK:
+        if key not in _COPIES:
+            _COPIES[key] = _copy(template, tag, overrides)
+        return _COPIES[key]
+
+
+def _copy(template, tag, overrides):
+    jitted = isinstance(template, CPUDispatcher)
+    fn = template.py_func if jitted else template
+    if not isinstance(fn, types.FunctionType) or fn.__module__.split(".")[:2] != ["contactalpha", "stepping"]:
+        return template  # a map's own functions, numpy's, numba's: shared
+    scope = dict(fn.__globals__)
+    changed = False
+    for name in fn.__code__.co_names:
+        if name in overrides:
+            scope[name] = overrides[name]
+            changed = True
+        elif name in scope and (isinstance(scope[name], CPUDispatcher) or _is_template(scope[name])):
+            callee = specialise(scope[name], tag, overrides)
+            if callee is not scope[name]:
+                scope[name] = callee
+                changed = True
+    if not changed:
+        return template
+    copy = types.FunctionType(fn.__code__, scope, f"{fn.__name__}__{tag}", fn.__defaults__, fn.__closure__)
+    copy.__qualname__ = f"{fn.__qualname__}__{tag}"
+    copy.__module__ = fn.__module__
+    copy.__doc__ = fn.__doc__
+    copy.__annotations__ = dict(fn.__annotations__)
+    if not jitted:
+        return copy
+    # ``targetoptions`` leaves out ``cache``: a template cached on disk gives a copy cached on disk.
+    return jit(cache=not isinstance(template._cache, NullCache), **template.targetoptions)(copy)
+
+
+def _is_template(value):
+    # Under NUMBA_DISABLE_JIT=1 the templates are plain functions of this folder.
+    return isinstance(value, types.FunctionType) and value.__module__.startswith("contactalpha.stepping.")
+
+
+def for_engine(code: int, template: Any) -> Any:
+    """The template compiled for the engine of kernel code ``code`` (ValueError for an unknown code)."""
+    m = engine_map(code)
+    return specialise(template, m.name, m.overrides())
+
+
+@njit(cache=True)
+def engine_step(code: int, z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
+    """One step of the engine's map (a template's placeholder): ``(z, w)`` after it; NaN for another code."""
+    if code == MAP_CODE:
+        return MAP_STEP(z, w, p, h, accel)
+    return math.nan, math.nan
+
+
+@njit(cache=True)
+def engine_surface(code: int, p: np.ndarray) -> float:
+    """Height in the map's ``z`` of the surface a user reads a drop at; NaN for another code.
+
+    PyBullet's geometric surface lies ``slop`` above its solver's (``pybullet_map``); the other
+    engines' surfaces are the same.
+    """
+    if code == MAP_CODE:
+        return MAP_SURFACE(p)
+    return math.nan
+
+
+@njit(cache=True)
+def engine_branches(
+    code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray
+) -> int:
     """Fill the map's branch forms and affine steps (``<engine>_map.branches_<engine>``); the forms' count.
 
-    They are written in the height above ``surface`` (``zeta = z - surface``), where a drop is read.
+    They are written in the height above ``engine_surface`` (``zeta = z - surface``), where a drop
+    is read.  For another code (or a map that is not piecewise affine) every affine step is NaN and
+    no form is written.
     """
-    if code == PYBULLET:
-        nf, nb = branches_pybullet(p, h, accel, forms, maps), pybullet_map.N_BRANCHES
-    else:
-        nf, nb = branches_mujoco(p, h, accel, forms, maps), mujoco_map.N_BRANCHES
-    zs = surface(code, p)
+    if code != MAP_CODE:  # every affine step NaN (written here: no other function to compile)
+        for b in range(maps.shape[0]):
+            for j in range(maps.shape[1]):
+                maps[b, j] = math.nan
+        return 0
+    nf, nb = MAP_BRANCHES(p, h, accel, forms, maps), MAP_N_BRANCHES
+    zs = MAP_SURFACE(p)
     if zs != 0.0:
         for i in range(nf):
             forms[i, 2] += forms[i, 0] * zs
@@ -75,8 +252,30 @@ def branches(code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray
 
 
 @njit(cache=True)
+def engine_branch(code: int, vals: np.ndarray) -> int:
+    """The branch picked by the forms' values ``vals`` at a state (0, whose step is NaN, for another code)."""
+    if code == MAP_CODE:
+        return MAP_BRANCH(vals)
+    return 0
+
+
+def step_map(code: int, z: float, w: float, p: np.ndarray, h: float, accel: float) -> tuple[float, float]:
+    """One step of the engine with kernel code ``code``: ``(z, w)`` after it."""
+    return for_engine(code, engine_step)(code, z, w, p, h, accel)
+
+
+def surface(code: int, p: np.ndarray) -> float:
+    """``engine_surface`` of the engine with kernel code ``code``."""
+    return for_engine(code, engine_surface)(code, p)
+
+
+def branches(code: int, p: np.ndarray, h: float, accel: float, forms: np.ndarray, maps: np.ndarray) -> int:
+    """``engine_branches`` of the piecewise-affine map with kernel code ``code``."""
+    engine_affine_map(code)
+    return for_engine(code, engine_branches)(code, p, h, accel, forms, maps)
+
+
 def branch_of(code: int, vals: np.ndarray) -> int:
-    """The branch picked by the forms' values ``vals`` at a state."""
-    if code == PYBULLET:
-        return branch_pybullet(vals)
-    return branch_mujoco(vals)
+    """``engine_branch`` of the piecewise-affine map with kernel code ``code``."""
+    engine_affine_map(code)
+    return for_engine(code, engine_branch)(code, vals)

@@ -49,7 +49,8 @@ from .codes import (
     QUAD_LIMIT,
     SEPARATED,
 )
-from .drop import run_drop
+from .drop import drop_kernel
+from .kernels import for_engine
 
 # Phases sampled first to find the pieces.
 GRID = 64
@@ -90,7 +91,7 @@ def _gl(code, p, h, v_in, accel, max_steps, a, b, acc, xs, ws):
     half = 0.5 * (b - a)
     mid = 0.5 * (a + b)
     for i in range(xs.size):
-        row = run_drop(
+        row = drop_kernel(
             code, p, h, min(max(mid + half * xs[i], FIRST_PHASE), LAST_PHASE), v_in, accel, max_steps
         )
         _fold(row, acc)
@@ -120,12 +121,12 @@ def _fold(row, acc):
 
 @njit(cache=True)
 def _count(code, p, h, v_in, accel, max_steps, phase, acc):
-    row = run_drop(code, p, h, phase, v_in, accel, max_steps)
+    row = drop_kernel(code, p, h, phase, v_in, accel, max_steps)
     _fold(row, acc)
     return row[D_STEPS]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # one call site: compiled inside it, not once more apart
 def _jumps(code, p, h, v_in, accel, max_steps, grid, acc):
     """0, the phases in (0, 1) where the steps in contact change, in order, and 1."""
     counts = np.empty(grid + 1)
@@ -156,7 +157,6 @@ def _jumps(code, p, h, v_in, accel, max_steps, grid, acc):
     return np.array(cuts)
 
 
-@njit(cache=True)
 def phase_mean(
     code: int,
     p: np.ndarray,
@@ -171,6 +171,25 @@ def phase_mean(
     ws: np.ndarray,
 ) -> np.ndarray:
     """The row of ``codes.P_*`` slots for one scene: mean, range, std of e_N and eps over the phase."""
+    kernel = for_engine(code, phase_mean_kernel)
+    return kernel(code, p, h, v_in, accel, max_steps, tol, grid, max_intervals, xs, ws)
+
+
+@njit(cache=True)
+def phase_mean_kernel(
+    code: int,
+    p: np.ndarray,
+    h: float,
+    v_in: float,
+    accel: float,
+    max_steps: int,
+    tol: float,
+    grid: int,
+    max_intervals: int,
+    xs: np.ndarray,
+    ws: np.ndarray,
+) -> np.ndarray:
+    """``phase_mean``'s kernel (a template of ``kernels.for_engine``)."""
     acc = np.zeros(N_PHASE)
     acc[P_MIN] = acc[P_EPS_MIN] = acc[P_STEPS_MIN] = math.inf
     acc[P_MAX] = acc[P_EPS_MAX] = acc[P_STEPS_MAX] = -math.inf

@@ -116,6 +116,12 @@ def contact_time(p: np.ndarray) -> float | np.ndarray:
 
 
 @njit(cache=True)
+def surface_pybullet(p: np.ndarray) -> float:
+    """Height in the map's z of the geometric surface a user reads a drop at: the slop above the solver's."""
+    return p[SLOP]
+
+
+@njit(cache=True)
 def pair_values(p: np.ndarray) -> tuple[float, float]:
     """The pair's ``(k, c)`` from the two bodies' (``btManifoldResult``'s combining rules)."""
     k = 1.0 / (1.0 / p[STIFFNESS_BALL] + 1.0 / p[STIFFNESS_GROUND])

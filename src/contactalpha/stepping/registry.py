@@ -1,7 +1,7 @@
 """The one list of steppers: each engine's discrete map with its capabilities.
 
 The phase mean, the inverse, the step a tolerance needs, the front door and the command line
-iterate ``STEPPERS``; adding an engine's map is its module, its branch in ``kernels.step_map``
+iterate ``STEPPERS``; adding an engine's map is its module, its line in ``kernels.MAPS``
 and one entry here.
 """
 
@@ -21,7 +21,7 @@ class Stepper:
     Attributes
     ----------
     name : the engine's key (as in ``adapters.registry``).
-    code : its kernel code in ``kernels.step_map``.
+    code : its kernel code in ``kernels.MAPS``.
     integrators : the engine's integrators the map reproduces.
     timestep : the engine's default step, s.
     slots : names of ``p``'s slots, in order (the map module's int constants).
