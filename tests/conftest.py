@@ -37,13 +37,15 @@ def _require_engine(module):
 
 # Fixtures of the real engines: a test that uses one is an integration test (pytest -m integration).
 ENGINE_FIXTURES = ("opensim", "exudyn", "mujoco", "pydrake", "pybullet", "sapien")
+# JAX's fixture (tests/xla/conftest.py): each such test compiles with XLA, an integration test too.
+COMPILE_FIXTURES = ("jax",)
 
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Mark every test that runs a real engine ``integration`` (before ``-m`` selects)."""
+    """Mark every test that runs a real engine or compiles with JAX ``integration`` (before ``-m``)."""
     for item in items:
-        if any(name in getattr(item, "fixturenames", ()) for name in ENGINE_FIXTURES):
+        if any(name in getattr(item, "fixturenames", ()) for name in (*ENGINE_FIXTURES, *COMPILE_FIXTURES)):
             item.add_marker(pytest.mark.integration)
 
 

@@ -193,7 +193,19 @@ def run_page(path, workdir):
     return ran
 
 
-@pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+# Modules whose blocks compile (JAX's XLA): a page with one runs with the integration tests.
+COMPILING = ("jax",)
+
+
+def _page_param(page):
+    compiles = any(b.requires in COMPILING for b in code_blocks(page.read_text(encoding="utf-8")))
+    return pytest.param(page, marks=pytest.mark.integration) if compiles else page
+
+
+PAGE_PARAMS = [_page_param(p) for p in PAGES]
+
+
+@pytest.mark.parametrize("page", PAGE_PARAMS, ids=[str(p.relative_to(ROOT)) for p in PAGES])
 def test_page_examples_run(page, tmp_path):
     run_page(page, tmp_path)
 

@@ -142,8 +142,16 @@ def _scipy_check(law, restitution, n, seed):
 @pytest.mark.parametrize("law", TABULATED, ids=lambda law: law.name)
 @pytest.mark.parametrize("restitution", ["energetic", "kinematic"])
 def test_table_inverse_delivers_its_target_through_scipy(law, restitution):
-    # An independent integration (SciPy's DOP853, tests/laws/scipy_reference.py) at 200 points.
-    _scipy_check(law, restitution, 200, 6)
+    # An independent integration (SciPy's DOP853, tests/laws/scipy_reference.py) at 40 points;
+    # ``pytest -m slow`` checks 200 more.
+    _scipy_check(law, restitution, 40, 6)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("law", TABULATED, ids=lambda law: law.name)
+@pytest.mark.parametrize("restitution", ["energetic", "kinematic"])
+def test_table_inverse_delivers_its_target_through_scipy_at_200_more_points(law, restitution):
+    _scipy_check(law, restitution, 200, 7)
 
 
 def test_n1_table_at_zero_load_is_the_exact_unloaded_relation():

@@ -64,13 +64,16 @@ SAMPLES = {
 
 @pytest.mark.parametrize("s", STEPPERS, ids=STEPPER_NAMES)
 def test_every_steppers_drop_agrees_with_the_generic_drop(s):
-    """The engine's own drop and ``run_drop`` on its map: the same e_N and status at 256 phases."""
+    """The engine's own drop and ``run_drop`` on its map: the same e_N and status at 256 phases.
+
+    MuJoCo's overdamped sample creeps until the step limit, where both call it captured (the same
+    status at any limit: 10^4 steps keep every other drop whole)."""
     seen = set()
     for p in SAMPLES.get(s.name) or _front_door_samples(s):
         for v, a in [(0.5, 9.81), (0.05, 29.81)]:
             for phase in np.arange(256) / 256:
-                e, _, status = s.drop(p, s.timestep, phase, v, a, 10**6)
-                row = run_drop(s.code, p, s.timestep, phase, v, a, 10**6)
+                e, _, status = s.drop(p, s.timestep, phase, v, a, 10**4)
+                row = run_drop(s.code, p, s.timestep, phase, v, a, 10**4)
                 assert status == int(row[4])
                 assert e == row[0] or (np.isnan(e) and np.isnan(row[0]))
                 seen.add(status)
