@@ -10,12 +10,14 @@ import warnings
 
 from contactalpha.adapters.contract import DropScene
 from contactalpha.adapters.registry import adapter
+from contactalpha.adapters.registry import engine as engine_record
 from contactalpha.scene.load import scene_accel
 from contactalpha.validation import check_flag
 
 from . import impulse
 from .at_step import DEFAULT_STEP, EnergyGainWarning, at_step
 from .front_door import contact_parameters
+from .on_drops import answer_on_drops
 from .reach import UnreachableTarget, unreachable_on_drops
 from .result import as_plain_data, block_lines, stepped_lines
 
@@ -76,6 +78,10 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
                                 force=force, radius=radius, engine=engine, timestep=timestep, verify=verify,
                                 **{key: target})  # fmt: skip
         return cp.block, impulse.impulse_lines(cp), as_plain_data(cp)["stepped"]
+    if engine_record(engine).step_map is None and (timestep is not None or verify is not None):
+        return answer_on_drops(a, target if key == "e_N" else _kinematic_only(engine), mass, stiffness,
+                               approach_speed, accel, force, radius, refine, timestep, verify,
+                               progress)  # fmt: skip
     if timestep is not None or verify is not None:
         if refine:
             raise ValueError("give --refine or --timestep, not both: the step's answer needs no engine run")
@@ -139,3 +145,9 @@ def _at_default_step(cp, engine, target, restitution, mass, stiffness, approach_
 def format_block(engine, params, notes):
     """Aligned text lines of one engine's parameters (each with its unit) and notes."""
     return "\n".join(block_lines(engine, params) + [f"# {n}" for n in notes])
+
+
+def _kinematic_only(engine):
+    raise ValueError(
+        f"{engine}'s drops are checked in Newton's e_N: give --e-n (not --eps) with --timestep or --verify"
+    )
