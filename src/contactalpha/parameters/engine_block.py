@@ -113,6 +113,10 @@ def engine_answer(engine, target, mass, stiffness, approach_speed, accel=None, *
             )
             notes.append(f"{engine} steps at {step:g} s: the block is the continuous law's; --timestep gives "
                          "the step's own, --refine refines it on the engine's drops")  # fmt: skip
+        elif engine_record(engine).step_map is None and hasattr(a, "timestep_for"):
+            notes.append(f"{engine}'s step follows each scene's contact time: the block is the continuous "
+                         "law's; --timestep H refines it on the engine's drops at your step H, --verify N "
+                         "checks it there at N touchdown phases")  # fmt: skip
         return cp.block, notes, None
     accel = scene_accel(mass, accel, force)
     scene = DropScene(mass, stiffness, approach_speed, accel, 0.0, 0.05 if radius is None else radius)
