@@ -57,8 +57,9 @@ def test_the_answer_at_lammps_step_delivers_the_target_in_lammps(lammps):
 
 def test_an_error_controlled_engine_takes_no_timestep():
     run = subprocess.run(
-        [sys.executable, "-m", "contactalpha", "params", "--engine", "opensim", "--e-n", "0.5", "--mass", "0.5",
-         "--stiffness", "1e7", "--speed", "1", "--accel", "9.81", "--radius", "0.05", "--timestep", "1e-3"],
+        [sys.executable, "-m", "contactalpha", "params", "--engine", "opensim", "--e-n", "0.5",
+         "--mass", "0.5", "--stiffness", "1e7", "--speed", "1", "--accel", "9.81", "--radius", "0.05",
+         "--timestep", "1e-3"],
         capture_output=True, text=True,
     )  # fmt: skip
     assert run.returncode == 2

@@ -75,10 +75,15 @@ def test_a_batched_radius_array_gives_each_scene_its_stiffness():
         assert out.engines["opensim"]["stiffness"][i] == pytest.approx(expected, rel=1e-14)
 
 
-@pytest.mark.parametrize("law", ["kelvin_voigt", "mujoco_soft", "hunt_crossley_linear", "hertz_tsuji"])
+@pytest.mark.parametrize("law", ["kelvin_voigt", "mujoco_soft", "hunt_crossley_linear"])
 def test_a_radius_that_no_engine_of_the_law_reads_is_refused(law):
     with pytest.raises(ValueError, match="radius = .* not used by law"):
         batched_parameters([1.0, 1.0], 1e4, 0.5, 9.81, 0.5, law=law, radius=[0.01, 0.02])
+
+
+def test_lammps_reads_the_radius_of_a_hertz_tsuji_batch():
+    out = batched_parameters([1.0, 1.0], 1e4, 0.5, 9.81, 0.5, law="hertz_tsuji", radius=[0.01, 0.02])
+    assert list(out.engines["lammps"]["diameter"]) == [0.02, 0.04]
 
 
 def test_one_scene_of_another_law_refuses_a_radius_too():

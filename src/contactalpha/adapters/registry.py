@@ -110,10 +110,11 @@ def engine_parameters(law, damping, scene):
     ``scene`` needs ``mass``, ``stiffness``, ``approach_speed`` and ``radius`` (None allowed: the
     parameters that need a geometry are left out).  Engines whose law is another are not listed.
     """
-    return {a.name: a.parameters(damping, scene) for a in _of_law(law)}
+    return {a.name: a.parameters(damping, scene) for a in continuous_adapters(law)}
 
 
-def _of_law(law):
+def continuous_adapters(law):
+    """The adapters of engines applying ``law`` with a continuous block (not impulse engines)."""
     name = get_law(law).name
     # An impulse engine (``impulse`` set) has no continuous block: it is answered at its step only.
     return [a for a in ADAPTERS if a.law.name == name and getattr(a, "impulse", None) is None]
@@ -125,7 +126,7 @@ def check_radius_used(law, radius):
         return
     probe = _ProbeScene(1.0, 1.0, 1.0, None)
     with_radius = _ProbeScene(1.0, 1.0, 1.0, 1.0)
-    if all(a.parameters(0.0, probe) == a.parameters(0.0, with_radius) for a in _of_law(law)):
+    if all(a.parameters(0.0, probe) == a.parameters(0.0, with_radius) for a in continuous_adapters(law)):
         raise ValueError(
             f"radius = {reprlib.repr(radius)} is not used by law {get_law(law).name!r}: none of its engines' "
             "parameters needs a geometry; leave radius out"

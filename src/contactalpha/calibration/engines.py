@@ -17,7 +17,7 @@ import math
 from dataclasses import replace
 
 from contactalpha.adapters.engine_conventions import opensim_dissipation
-from contactalpha.adapters.registry import ADAPTERS
+from contactalpha.adapters.registry import continuous_adapters
 from contactalpha.laws import get_law
 from contactalpha.parameters.at_step import DEFAULT_STEP, needs_radius
 from contactalpha.parameters.block_scene import BlockScene
@@ -113,7 +113,7 @@ def engine_parameters(fit, setup, radius=None):
     withheld, caveat = stiffness_caveat(fit)
     damping, stiffness = law.engine_inputs(fit.values, setup.mass, setup.accel, v1)
     contact_law = get_law(law.contact_law)
-    mine = [a for a in ADAPTERS if a.law.name == contact_law.name]
+    mine = continuous_adapters(contact_law)
     if withheld and mine:
         return {"status": caveat, "withheld": True, "at_approach_speed": v1, "e_n": e1}
     scene = BlockScene(setup.mass, float(stiffness), v1, radius)
