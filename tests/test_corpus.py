@@ -37,10 +37,12 @@ def _value(token):
         return token
 
 
-def _show(entry):
-    kind, shape, tokens = entry
-    more = " ..." if len(tokens) > 6 else ""
-    return f"{kind} {tuple(shape)} {[_value(t) for t in tokens[:6]]}{more}"
+def _difference(stored, now):
+    """Where two entries first differ, in words: the shape, or the first differing value."""
+    if stored[1] != now[1]:
+        return f"shape {tuple(stored[1])} stored, {tuple(now[1])} now"
+    i = next(i for i, (a, b) in enumerate(zip(stored[2], now[2], strict=True)) if a != b)
+    return f"value {i} of {len(stored[2])}: stored {_value(stored[2][i])!r}, now {_value(now[2][i])!r}"
 
 
 def check_part(part, got):
@@ -52,8 +54,8 @@ def check_part(part, got):
     )
     differ = [key for key in sorted(stored) if got[key][1:] != stored[key][1:]]  # shape, values
     assert not differ, (
-        f"corpus {part}: {len(differ)} of {len(stored)} entries differ; first {differ[0]!r}: "
-        f"stored {_show(stored[differ[0]])}, now {_show(got[differ[0]])}"
+        f"corpus {part}: {len(differ)} of {len(stored)} entries differ; first {differ[0]!r}, "
+        f"{_difference(stored[differ[0]], got[differ[0]])}"
     )
 
 
