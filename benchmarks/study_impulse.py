@@ -17,6 +17,9 @@ ENGINES: comma-separated, of pybullet_impulse and physx (default both; physx nee
    the constant answer (restitution and threshold of step 2) for comparison.
 4. **The figure**: delivered e_N against approach speed for one loaded contact, map only.
 5. **PhysX 5 through SAPIEN** (0.01 s): the issue's PhysX rows, and step 2's 12 scenes.
+6. **Drops from rest in PhysX**: step 3's six scenes with the touchdown schedule at five steps
+   (0.01 s to 1 ms), bounces and last touchdown against ``predict_bounces``, and each scene's
+   slowest predicted flight (a rebound flying less than a step is not seen).
 """
 
 import math
@@ -179,6 +182,45 @@ def drop_table():
         )
 
 
+PHYSX_DROP_STEPS = [0.01, 1.0 / 120.0, 1.0 / 240.0, 0.002, 0.001]
+
+
+def physx_drop_table():
+    from contactalpha.adapters import physx_sapien
+
+    m, k, v, r = 0.5, 1e7, 3.0, 0.05
+    print("\n## 6. Drops from rest in PhysX (touchdown schedule; bounces, last touchdown vs predicted)\n")
+    steps = " | ".join(f"{h * 1e3:.3g} ms" for h in PHYSX_DROP_STEPS)
+    print(
+        "| push (N) | eps | predicted bounces | last touchdown (s) | slowest flight (ms) "
+        f"| {steps} | check (s) |"
+    )
+    print("|" + "---|" * (6 + len(PHYSX_DROP_STEPS)))
+    for force, eps in DROP_SCENES[:6]:
+        start = time.perf_counter()
+        pred = predict_bounces(
+            Scene(mass=m, radius=r, stiffness=k, approach_speed=v, force=force, eps=eps, gravity=G), "exact"
+        )
+        last = pred.time_to_rest - pred.contact_durations[-1]
+        a = G + force / m
+        flight = 2.0 * pred.rebound_speeds[: pred.bounces].min() / a
+        cells = []
+        for h in PHYSX_DROP_STEPS:
+            sched = touchdown_schedule(
+                m, k, v, eps=eps, force=force + m * G, radius=r, engine="physx", timestep=h
+            )
+            z, w = physx_sapien.drop_sequence(DropScene(m, k, v, G, force, r), sched, 1.2 * last + v / a)
+            got = read_bounces(z, w, a, h, physx_sapien.FREE_RTOL)
+            n = min(got.count, pred.bounces)
+            du = float(np.max(np.abs(got.rebound_speeds[:n] - pred.rebound_speeds[:n])))
+            t = got.landings[-1] - v / a
+            cells.append(f"{got.count} ({(t / last - 1) * 100:+.2f} %, {du:.1e} m/s)")
+        print(
+            f"| {force:g} | {eps:g} | {pred.bounces} | {last:.4f} | {flight * 1e3:.1f} | {' | '.join(cells)} "
+            f"| {time.perf_counter() - start:.2f} |"
+        )
+
+
 def _constant_drop(scene, blk, duration):
     """Bounces of a drop from rest with a constant restitution and threshold (the front door's block)."""
     import pybullet as pb
@@ -259,6 +301,7 @@ def main():
     if "physx" in engines:
         physx_issue_table()
         target_table(phases, "physx")
+        physx_drop_table()
     print(f"\nwhole study {time.perf_counter() - start:.1f} s (shared loaded 2-core machine)")
 
 

@@ -34,8 +34,10 @@ from contactalpha.laws import get_law
 LOADER = Loader("PhysX through SAPIEN", ("sapien", "sapien.physx"), "sapien", extra="physx")
 # A free step in single precision: the velocity changed by -a h to this fraction.
 FREE_RTOL = 1e-5
-# The plane's pose: PhysX's plane has its normal along +x; this turns it to +z.
-PLANE_QUATERNION = (0.7071068, 0.0, -0.7071068, 0.0)
+# The plane's pose: PhysX's plane has its normal along +x; this turns it to +z (w, x, y, z: 120
+# degrees about -(1, 1, 1), exact in float32, so the normal is exactly +z and PhysX's separation
+# is the float32 centre's height less the float32 radius, exactly).
+PLANE_QUATERNION = (0.5, -0.5, -0.5, -0.5)
 
 
 _sapien = LOADER.load
@@ -182,7 +184,11 @@ def drop_sequence(scene, schedule, duration, settings=None):
 
     ``schedule`` (``impulse.schedule.TouchdownSchedule`` for ``"physx"``) sets the restitution of
     the one material both shapes share (so the pair's is that value) before every step through
-    ``Rebounder``; the bounce threshold is 0.  Returns ``(z, w)`` at every step from the start.
+    ``Rebounder``; the bounce threshold is 0.  The map is given PhysX's own separation, the
+    float32 centre's height less the float32 radius (the height read plus ``r - float32(r)``): at
+    rest it is within a float's step of 0, and its sign decides PhysX's branch and so what a
+    release from rest delivers (``impulse.physx_map``).
+    Returns ``(z, w)`` at every step from the start (the pose's height).
     """
     sapien = _sapien()
     settings = settings or PhysxSettings(timestep=schedule.timestep, phases=1)
@@ -200,10 +206,11 @@ def drop_sequence(scene, schedule, duration, settings=None):
     n = int(np.ceil(duration / h))
     zs, ws = np.empty(n + 1), np.empty(n + 1)
     zs[0], ws[0] = z, w
+    offset = scene.radius - float(np.float32(scene.radius))  # PhysX's separation less the height
     for j in range(1, n + 1):
         # a new material each step: PxMaterial::setRestitution clamps to [0, 1], the constructor
         # does not (a release from rest needs a coefficient of several)
-        material = physx.PhysxMaterial(0.0, 0.0, rebounder.restitution(z, w))
+        material = physx.PhysxMaterial(0.0, 0.0, rebounder.restitution(z + offset, w))
         for shape in shapes:
             shape.physical_material = material
         if scene.force:

@@ -136,16 +136,19 @@ def read_bounces(z: np.ndarray, w: np.ndarray, accel: float, h: float, free_rtol
     """The bounces in per-step states (``z`` height above the plane, m; ``w`` up, m/s; from t = 0).
 
     A bounce is a step with an impulse (a velocity change other than ``-a h``) after which the body
-    moves up and either is above the plane or flies the next step freely (a landing leaves it on
+    moves up (faster than the reading resolves: ``free_rtol`` of the scale; a landing in single
+    precision can read a float's step above the plane, moving up at 1e-12 m/s) and either is above
+    the plane or flies the next step freely (a landing leaves it on
     the solver's surface, below the plane, or still moving down; a lift by the ERP is followed by
     more impulses).  Its speed is its parabola's at the plane, and it lands again ``2 u / a`` after
     that parabola left the plane.
     """
     z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
-    free = np.abs(np.diff(w) + accel * h) <= free_rtol * max(accel * h, float(np.abs(w).max()))
+    resolution = free_rtol * max(accel * h, float(np.abs(w).max()))
+    free = np.abs(np.diff(w) + accel * h) <= resolution
     speeds, landings = [], []
     for j in range(1, w.size - 1):
-        if not free[j - 1] and w[j] > 0.0 and (z[j] > 0.0 or free[j]):
+        if not free[j - 1] and w[j] > resolution and (z[j] > 0.0 or free[j]):
             u = rebound_speed(z[j], w[j], accel, h)
             slope = w[j] - 0.5 * accel * h
             left = j * h + (slope - np.sqrt(max(slope * slope + 2.0 * accel * z[j], 0.0))) / accel
