@@ -46,7 +46,7 @@ def drop_settings(a: Any, timestep: float | None) -> Any:
 def refine_settings(settings: Any) -> Any:
     """``settings`` with at least ``REFINE_PHASES`` phases and at most ``REFINE_TOL`` (where it has them)."""
     names = {f.name for f in fields(settings)}
-    changes = {}
+    changes: dict[str, float] = {}
     if "phases" in names:
         changes["phases"] = max(int(settings.phases), REFINE_PHASES)
     if "tol" in names:
