@@ -162,3 +162,13 @@ def test_lammps_drops_under_gravity_are_the_two_tsuji_laws():
     assert float(law.impact(beta, law.scene_load_factor(mass, stiffness, 0.02, 9.81)).e_n) == pytest.approx(
         0.280666, abs=1e-6
     )
+
+
+def test_unfloored_tsuji_table_at_zero_load_is_lammps_coeff_restitution():
+    e = np.exp(np.linspace(np.log(0.01), np.log(0.999), 60))
+    lammps = -np.sqrt(5.0) * np.log(e) / np.sqrt(np.pi**2 + np.log(e) ** 2)
+    for restitution in ("energetic", "kinematic"):
+        beta = get_law(UNFLOORED).fast_damping(e, 0.0, restitution)
+        np.testing.assert_allclose(beta, lammps, rtol=1e-6)
+        zeta = beta / np.sqrt(5.0)
+        np.testing.assert_allclose(np.exp(-np.pi * zeta / np.sqrt(1.0 - zeta**2)), e, rtol=0, atol=1e-7)

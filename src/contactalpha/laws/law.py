@@ -463,9 +463,11 @@ LAWS = [
         force=forces.hertz_viscoelastic_force,
         code=forces.HERTZ_VISCOELASTIC,
         # Its floor's last reach and the onset of creep cross near xi = 0.02, as Tsuji's do.
+        # Its floor enters e(kappa) at kappa^{5/2}: tabulated on tau(ln e) (``table.root_lookup``).
         fast=LawTable(
             "law_table_hertz_viscoelastic.npz",
             cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+            root_near_one=True,
         ),
     ),
     ContactLaw(
@@ -487,7 +489,11 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_viscoelastic_force,
         code=forces.HERTZ_VISCOELASTIC_UNFLOORED,
-        fast=LawTable("law_table_hertz_viscoelastic_unfloored.npz", cuts=("separation", "creep_onset")),
+        fast=LawTable(
+            "law_table_hertz_viscoelastic_unfloored.npz",
+            cuts=("separation", "creep_onset"),
+            root_near_one=True,
+        ),
     ),
 ]
 

@@ -14,6 +14,10 @@ near it):
   cut this is the n = 3/2 table's layout.
 - Newton's e_N: one region on ``(eta, q = ln e_N)``, the n = 3/2 kinematic table's layout, read
   by its evaluator ``kinematic_alpha_from_table``.
+- A law whose ``L`` has a ``(1 - e)^{3/2}`` term at ``e -> 1`` (``LawTable.root_near_one``: Hertz
+  with sqrt(delta) damping, whose floor and pull enter at ``kappa^{5/2}``) is tabulated on
+  ``tau(ln e) = -sqrt(ln(0.01) ln e)`` in place of ``ln e`` in both tables (``root_lookup``): 0 at
+  e = 1 and ln 0.01 at e = 0.01, and ``L`` is smooth in it.
 
 On load every array's shape is checked against its grid and the SHA-256 of the arrays against
 the one the file records: a changed or truncated file is refused, never evaluated.
@@ -65,6 +69,35 @@ SECANT_STEP = 1e-6
 SECANT_ITER = 3
 # Below this many points one thread is faster than waking the others.
 PARALLEL_MIN = 4096
+
+
+def root_coordinate(u, xp=np):
+    """``tau(u) = -sqrt(U_MIN u)`` of ``u = ln e <= 0``: the tables' coordinate for ``root_near_one``."""
+    return -xp.sqrt(U_MIN * u)
+
+
+def root_coordinate_inverse(t):
+    """``u = ln e`` of the coordinate ``t = tau(u)`` (``root_coordinate`` inverted): ``t^2 / U_MIN``."""
+    return t * t / U_MIN
+
+
+def root_lookup(e, xp=np):
+    """The target a ``root_near_one`` table is read at for ``e``: ``exp(tau(ln e))`` inside the domain.
+
+    Inside ``EPS_MIN <= e <= 1`` it stays there (clipped against rounding at the ends); elsewhere
+    ``e`` passes, and the table gives NaN for it.  ``xp``: numpy or jax.numpy.
+    """
+    inside = (e >= EPS_MIN) & (e <= 1.0)
+    safe = xp.where(inside, e, 1.0)
+    t = xp.clip(xp.exp(root_coordinate(xp.log(safe), xp)), EPS_MIN, 1.0)
+    return xp.where(inside, t, e)
+
+
+def root_damping(p_lookup, e, lookup, xp=np):
+    """The damping at target ``e`` from the table's ``p_lookup = exp(L) (1 - lookup) / lookup``."""
+    below = lookup < 1.0
+    ratio = xp.where(below, lookup / xp.where(below, 1.0 - lookup, 1.0), 0.0) * (1.0 - e) / e
+    return xp.where(below, p_lookup * ratio, p_lookup)
 
 
 def energetic_names(cuts):
@@ -238,6 +271,7 @@ class LawTable:
     settings: LawTableSettings = LawTableSettings()
     impedance: float = 0.0
     forward: Any = None  # a forward evaluator (``fast.ClosedForm``-like) or None
+    root_near_one: bool = False  # tabulated on tau(ln e) (module docstring), the file records it
     name: str = "law table"
 
     @property
@@ -278,6 +312,11 @@ class LawTable:
                 raise ValueError(
                     f"law table {self.path} is cut along {meta['cuts']}, expected {list(self.cuts)}"
                 )
+            if meta.get("root_near_one", False) != self.root_near_one:
+                raise ValueError(
+                    f"law table {self.path} has root_near_one = {meta.get('root_near_one', False)}, "
+                    f"expected {self.root_near_one}; rebuild it with `{BUILD_COMMAND} {law.name}`"
+                )
             if meta.get("impedance", 0.0) != self.impedance:
                 raise ValueError(
                     f"law table {self.path} was built at impedance {meta.get('impedance', 0.0)}, "
@@ -305,7 +344,10 @@ class LawTable:
         flat = self.packed(law, kinematic)
         out = np.empty(target.size)
         threads = None if target.size >= PARALLEL_MIN else 1
-        run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)
+        lookup = root_lookup(target) if self.root_near_one else target
+        run_rows(damping_rows, target.size, lookup, xi, flat, kinematic, out, threads=threads)
+        if self.root_near_one:
+            out = root_damping(out, target, lookup)
         status = np.where(np.isfinite(out), OK, NOT_CONVERGED)
         if self.forward is not None:
             self._polish(law, out, status, target, kinematic, A, xi)

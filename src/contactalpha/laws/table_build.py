@@ -246,9 +246,18 @@ def _geom(size, *grids):
     return g
 
 
+def _target_of(law, u):
+    """The restitution at table coordinate ``u``: ``exp(u)``, or ``exp(tau^-1(u))`` (``root_near_one``)."""
+    from .table import root_coordinate_inverse
+
+    return np.exp(root_coordinate_inverse(u) if law.fast.root_near_one else u)
+
+
 def build_energetic(law, settings, say):
     """Arrays of the energetic table by name (``table.energetic_names``), cut along ``law.fast.cuts``."""
     from scipy.interpolate import make_interp_spline
+
+    from .table import root_coordinate
 
     cuts = law.fast.cuts
     eta_max = float(eta_of_xi(XI_MAX))
@@ -262,6 +271,8 @@ def build_energetic(law, settings, say):
     for cut in cuts:
         b = np.full(eta.size, -np.inf)
         b[search] = cut_curve(law, xi[search], cut)
+        if law.fast.root_near_one:
+            b = root_coordinate(b)  # the table's coordinate (-inf stays)
         # Below the domain eps(p) need not fall monotonically (the spring-dashpot under small loads:
         # creep restitutes more than a floor flight just before it), and a cut can then lie above
         # the one before: there it is put on that one, outside the table's reach.
@@ -291,7 +302,7 @@ def build_energetic(law, settings, say):
             w = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
         u = region_u(splines, r, eta_r[:, None], w[None, :])
         L = node_values(
-            law, np.exp(np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
+            law, _target_of(law, np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
         )
         filled = int(np.isnan(L).sum())
         L = _fill_rows(L, w)
@@ -320,7 +331,7 @@ def build_kinematic(law, settings, say):
     xi = xi_of_eta(eta)
     xi[0] = 0.0
     q = np.linspace(float(np.log(EPS_MIN)), 0.0, settings.n_q)
-    e_n = np.exp(q)
+    e_n = _target_of(law, q)
     e_n[-1] = 1.0
     L = node_values(law, np.broadcast_to(e_n, (eta.size, q.size)), xi[:, None], True)
     say(f"{law.name}: kinematic, {L.size} nodes")
@@ -348,6 +359,7 @@ def build_law_tables(law, settings=None, progress=None):
         build_seconds=round(time.perf_counter() - t0, 1),
         cuts=list(law.fast.cuts),
         impedance=law.impedance,
+        root_near_one=law.fast.root_near_one,
         **asdict(settings),
     )
     return arrays, meta
