@@ -84,11 +84,12 @@ def root_coordinate_inverse(t):
 def root_lookup(e, xp=np):
     """The target a ``root_near_one`` table is read at for ``e``: ``exp(tau(ln e))`` inside the domain.
 
-    Inside ``EPS_MIN <= e <= 1`` it stays there (clipped against rounding at the ends); elsewhere
-    ``e`` passes, and the table gives NaN for it.  ``xp``: numpy or jax.numpy.
+    Inside ``EPS_MIN <= e < 1`` it stays there (clipped against rounding at the ends); elsewhere
+    ``e`` passes (1 is 1; the table gives NaN outside).  ``xp``: numpy or jax.numpy (the branch not
+    taken is evaluated at 0.5, so that its gradient is finite).
     """
-    inside = (e >= EPS_MIN) & (e <= 1.0)
-    safe = xp.where(inside, e, 1.0)
+    inside = (e >= EPS_MIN) & (e < 1.0)
+    safe = xp.where(inside, e, 0.5)
     t = xp.clip(xp.exp(root_coordinate(xp.log(safe), xp)), EPS_MIN, 1.0)
     return xp.where(inside, t, e)
 
