@@ -247,7 +247,7 @@ def _geom(size, *grids):
 
 
 def _target_of(law, u):
-    """The restitution at table coordinate ``u``: ``exp(u)``, or ``exp(tau^-1(u))`` (``root_near_one``)."""
+    """The e_N at kinematic table coordinate ``u``: ``exp(u)``, or ``exp(tau^-1(u))`` (``root_near_one``)."""
     from .table import root_coordinate_inverse
 
     return np.exp(root_coordinate_inverse(u) if law.fast.root_near_one else u)
@@ -257,9 +257,8 @@ def build_energetic(law, settings, say):
     """Arrays of the energetic table by name (``table.energetic_names``), cut along ``law.fast.cuts``."""
     from scipy.interpolate import make_interp_spline
 
-    from .table import root_coordinate
-
     cuts = law.fast.cuts
+    root = law.fast.root_near_one
     eta_max = float(eta_of_xi(XI_MAX))
     eta = np.linspace(0.0, eta_max, settings.n_eta)
     deta = eta[1] - eta[0]
@@ -271,8 +270,6 @@ def build_energetic(law, settings, say):
     for cut in cuts:
         b = np.full(eta.size, -np.inf)
         b[search] = cut_curve(law, xi[search], cut)
-        if law.fast.root_near_one:
-            b = root_coordinate(b)  # the table's coordinate (-inf stays)
         # Below the domain eps(p) need not fall monotonically (the spring-dashpot under small loads:
         # creep restitutes more than a floor flight just before it), and a cut can then lie above
         # the one before: there it is put on that one, outside the table's reach.
@@ -300,9 +297,9 @@ def build_energetic(law, settings, say):
             rows = max(DEGREE + 2, int(round(settings.refine_n * (hi - lo) / deta)) + 1)
             eta_r = np.linspace(lo, hi, rows)
             w = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
-        u = region_u(splines, r, eta_r[:, None], w[None, :])
+        u = region_u(splines, r, eta_r[:, None], w[None, :], root)
         L = node_values(
-            law, _target_of(law, np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
+            law, np.exp(np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
         )
         filled = int(np.isnan(L).sum())
         L = _fill_rows(L, w)
@@ -314,9 +311,14 @@ def build_energetic(law, settings, say):
     return arrays
 
 
-def region_u(splines, r, eta, w):
-    """``u = ln eps`` at column coordinate ``w`` of region ``r`` (``table.py``'s maps, inverted)."""
+def region_u(splines, r, eta, w, root=False):
+    """``u = ln eps`` at column coordinate ``w`` of region ``r`` (``table.py``'s maps, inverted).
+
+    ``root``: region 0 is square-root-like at e = 1 too (``LawTable.root_near_one``).
+    """
     cuts = len(splines)
+    if r == 0 and root:
+        return splines[0](eta) * np.cos(0.5 * np.pi * w) ** 2
     if r == 0:
         return splines[0](eta) * (1.0 - w**2)
     upper = splines[r - 1](eta)

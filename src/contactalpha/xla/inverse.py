@@ -6,7 +6,7 @@ bracket from ``p = 0`` grows by 4 up to ``P_MAX``, then Illinois steps with a bi
 ``BISECT_EVERY``-th, all without derivative; one Newton step, whose value is taken back out,
 then carries the implicit function's derivative ``dp = (dtarget - de/dA dA) / (de/dp)``.  The
 other laws read their shipped table (``tables.py``), as the numba batch does (at ``root_lookup``'s
-target for a table on ``tau(ln e)``).
+target for a kinematic table on ``tau(ln e)``).
 """
 
 from __future__ import annotations
@@ -114,9 +114,9 @@ def law_damping(
     if law.piecewise_linear:
         return closed_form_damping(law, target, xi, restitution)
     tab = device_table(law, restitution)
-    if not getattr(law.fast, "root_near_one", False):
+    if not (getattr(law.fast, "root_near_one", False) and restitution == "kinematic"):
         return table_damping(tab, target, xi)
-    # Tabulated on tau(ln e) (laws/table.py): read at exp(tau), the damping converted back.
+    # A kinematic table on tau(ln e) (laws/table.py): read at exp(tau), the damping converted back.
     e = jnp.asarray(target, dtype=float)
     lookup = root_lookup(e, jnp)
     return root_damping(table_damping(tab, lookup, xi), e, lookup, jnp)
