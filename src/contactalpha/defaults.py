@@ -24,4 +24,7 @@ STIFFNESS_UNITS = {
     "kelvin_voigt": "N/m",
     "mujoco_soft": "N/m",
     "hertz_tsuji": "N/m^1.5",
+    "hertz_tsuji_unfloored": "N/m^1.5",
+    "hertz_viscoelastic": "N/m^1.5",
+    "hertz_viscoelastic_unfloored": "N/m^1.5",
 }

@@ -162,3 +162,26 @@ def test_lammps_drops_under_gravity_are_the_two_tsuji_laws():
     assert float(law.impact(beta, law.scene_load_factor(mass, stiffness, 0.02, 9.81)).e_n) == pytest.approx(
         0.280666, abs=1e-6
     )
+
+
+def test_unfloored_tsuji_table_at_zero_load_is_lammps_coeff_restitution():
+    e = np.exp(np.linspace(np.log(0.01), np.log(0.999), 60))
+    lammps = -np.sqrt(5.0) * np.log(e) / np.sqrt(np.pi**2 + np.log(e) ** 2)
+    for restitution in ("energetic", "kinematic"):
+        beta = get_law(UNFLOORED).fast_damping(e, 0.0, restitution)
+        np.testing.assert_allclose(beta, lammps, rtol=3e-6)  # 1.6e-6 at e = 0.999, where e hardly moves
+        zeta = beta / np.sqrt(5.0)
+        np.testing.assert_allclose(np.exp(-np.pi * zeta / np.sqrt(1.0 - zeta**2)), e, rtol=0, atol=1e-7)
+
+
+def test_a_table_on_another_target_coordinate_is_refused(tmp_path):
+    from dataclasses import replace
+
+    from contactalpha.laws.table import load_law_tables, save_law_tables
+
+    law = get_law(VISCOELASTIC)
+    assert law.fast.root_near_one and not get_law("hertz_tsuji").fast.root_near_one
+    arrays, meta = load_law_tables(law.fast.path)
+    path = save_law_tables(arrays, dict(meta, root_near_one=False), tmp_path / "table.npz")
+    with pytest.raises(ValueError, match="has root_near_one = False, expected True"):
+        replace(law, fast=replace(law.fast, file=str(path))).fast_damping(0.5, 0.2)

@@ -6,7 +6,7 @@ import pytest
 from contactalpha.engine.table import alpha_tabulated, kinematic_alpha_from_packed
 from contactalpha.laws import LAWS
 from contactalpha.laws.fast import ENGINE_TABLE
-from contactalpha.laws.table import damping_from_packed
+from contactalpha.laws.table import damping_from_packed_as
 
 N = 1500
 
@@ -15,8 +15,10 @@ def _numba(law, e, xi, restitution):
     if law.fast is ENGINE_TABLE:
         return alpha_tabulated(e, xi, restitution=restitution)
     flat = law.fast.packed(law, restitution == "kinematic")
-    fn = kinematic_alpha_from_packed if restitution == "kinematic" else damping_from_packed
-    return np.array([fn(a, b, flat) for a, b in zip(e, xi, strict=True)])
+    if restitution == "kinematic":
+        return np.array([kinematic_alpha_from_packed(a, b, flat) for a, b in zip(e, xi, strict=True)])
+    root = law.fast.root_near_one  # region 0 square-root-like at e = 1 too
+    return np.array([damping_from_packed_as(a, b, flat, root) for a, b in zip(e, xi, strict=True)])
 
 
 @pytest.mark.parametrize("restitution", ["energetic", "kinematic"])

@@ -443,8 +443,13 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_tsuji_force,
         code=forces.HERTZ_TSUJI_UNFLOORED,
-        # No floor: eps(beta) kinks only where the separation ends and where the creep begins.
-        fast=LawTable("law_table_hertz_tsuji_unfloored.npz", cuts=("separation", "creep_onset")),
+        # No floor: eps(beta) kinks only where the separation ends and where the creep begins.  On 199
+        # rows its eps table missed by 2.7e-7 below the creep cut near xi = 0.82 (139: 5.8e-8).
+        fast=LawTable(
+            "law_table_hertz_tsuji_unfloored.npz",
+            cuts=("separation", "creep_onset"),
+            settings=LawTableSettings(n_eta=139),
+        ),
     ),
     ContactLaw(
         name="hertz_viscoelastic",
@@ -463,9 +468,11 @@ LAWS = [
         force=forces.hertz_viscoelastic_force,
         code=forces.HERTZ_VISCOELASTIC,
         # Its floor's last reach and the onset of creep cross near xi = 0.02, as Tsuji's do.
+        # Its floor enters e(kappa) at kappa^{5/2}: square-root columns at e = 1 (``table.py``).
         fast=LawTable(
             "law_table_hertz_viscoelastic.npz",
             cuts=("separation", "first_of_floor_creep", "both_floor_creep"),
+            root_near_one=True,
         ),
     ),
     ContactLaw(
@@ -487,7 +494,11 @@ LAWS = [
         end_states=ALL_END_STATES,
         force=forces.hertz_viscoelastic_force,
         code=forces.HERTZ_VISCOELASTIC_UNFLOORED,
-        fast=LawTable("law_table_hertz_viscoelastic_unfloored.npz", cuts=("separation", "creep_onset")),
+        fast=LawTable(
+            "law_table_hertz_viscoelastic_unfloored.npz",
+            cuts=("separation", "creep_onset"),
+            root_near_one=True,
+        ),
     ),
 ]
 

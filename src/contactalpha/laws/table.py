@@ -14,6 +14,11 @@ near it):
   cut this is the n = 3/2 table's layout.
 - Newton's e_N: one region on ``(eta, q = ln e_N)``, the n = 3/2 kinematic table's layout, read
   by its evaluator ``kinematic_alpha_from_table``.
+- A law whose ``L`` has a ``(1 - e)^{3/2}`` term at ``e -> 1`` (``LawTable.root_near_one``: Hertz
+  with sqrt(delta) damping, whose floor and pull enter at ``kappa^{5/2}``) has columns like a square
+  root at e = 1 too: region 0 takes ``w = (2/pi) asin(sqrt(1 - u / b_1))``, and the kinematic table
+  is on ``tau(ln e) = -sqrt(ln(0.01) ln e)`` in place of ``ln e`` (``root_lookup``: 0 at e = 1 and
+  ln 0.01 at e = 0.01).  ``L`` is smooth in both.
 
 On load every array's shape is checked against its grid and the SHA-256 of the arrays against
 the one the file records: a changed or truncated file is refused, never evaluated.
@@ -67,6 +72,36 @@ SECANT_ITER = 3
 PARALLEL_MIN = 4096
 
 
+def root_coordinate(u, xp=np):
+    """``tau(u) = -sqrt(U_MIN u)`` of ``u = ln e <= 0``: the tables' coordinate for ``root_near_one``."""
+    return -xp.sqrt(U_MIN * u)
+
+
+def root_coordinate_inverse(t):
+    """``u = ln e`` of the coordinate ``t = tau(u)`` (``root_coordinate`` inverted): ``t^2 / U_MIN``."""
+    return t * t / U_MIN
+
+
+def root_lookup(e, xp=np):
+    """Where a ``root_near_one`` kinematic table is read for target ``e``: ``exp(tau(ln e))`` inside.
+
+    Inside ``EPS_MIN <= e < 1`` it stays there (clipped against rounding at the ends); elsewhere
+    ``e`` passes (1 is 1; the table gives NaN outside).  ``xp``: numpy or jax.numpy (the branch not
+    taken is evaluated at 0.5, so that its gradient is finite).
+    """
+    inside = (e >= EPS_MIN) & (e < 1.0)
+    safe = xp.where(inside, e, 0.5)
+    t = xp.clip(xp.exp(root_coordinate(xp.log(safe), xp)), EPS_MIN, 1.0)
+    return xp.where(inside, t, e)
+
+
+def root_damping(p_lookup, e, lookup, xp=np):
+    """The damping at target ``e`` from the table's ``p_lookup = exp(L) (1 - lookup) / lookup``."""
+    below = lookup < 1.0
+    ratio = xp.where(below, lookup / xp.where(below, 1.0 - lookup, 1.0), 0.0) * (1.0 - e) / e
+    return xp.where(below, p_lookup * ratio, p_lookup)
+
+
 def energetic_names(cuts):
     """Array names of an energetic table with ``cuts`` curves, in packing order."""
     regions = [f"r{r}_{part}" for r in range(cuts + 1) for part in ("tx", "ty", "c")]
@@ -79,6 +114,12 @@ def damping_from_packed(e, xi, flat):
 
     NaN outside ``EPS_MIN <= eps <= 1``, ``0 <= xi <= XI_MAX`` and for NaN input.
     """
+    return damping_from_packed_as(e, xi, flat, False)
+
+
+@njit(cache=True, error_model="numpy")
+def damping_from_packed_as(e, xi, flat, root):
+    """``damping_from_packed`` of a table whose region 0 is ``root_near_one`` (``root``) or not."""
     if not (EPS_MIN <= e <= 1.0 and 0.0 <= xi <= XI_MAX):
         return np.nan
     if e == 1.0:
@@ -99,7 +140,9 @@ def damping_from_packed(e, xi, flat):
         upper = b
         if r < cuts:
             b = eval_1d_uniform(t, curves[r], e0, de, ne, eta)
-    if r == 0:
+    if r == 0 and root:
+        w = (2.0 / np.pi) * np.arcsin(np.sqrt(min(max(1.0 - u / b, 0.0), 1.0)))
+    elif r == 0:
         w = np.sqrt(1.0 - u / b)
     elif r == cuts:
         w = np.sqrt((upper - u) / (upper - U_MIN))
@@ -116,13 +159,17 @@ def damping_from_packed(e, xi, flat):
 
 @twin_rows
 @njit(cache=True, nogil=True, error_model="numpy")
-def damping_rows(e, xi, flat, kinematic, out, start, stop):
-    """The packed table's ``p`` over rows ``start .. stop - 1`` of flat arrays, into ``out``."""
+def damping_rows(e, xi, flat, kinematic, root, out, start, stop):
+    """The packed table's ``p`` over rows ``start .. stop - 1`` of flat arrays, into ``out``.
+
+    ``root``: the energetic table's region 0 is ``root_near_one`` (the kinematic table's targets
+    come converted, ``root_lookup``).
+    """
     for i in range(start, stop):
         if kinematic:
             out[i] = kinematic_alpha_from_packed(e[i], xi[i], flat)
         else:
-            out[i] = damping_from_packed(e[i], xi[i], flat)
+            out[i] = damping_from_packed_as(e[i], xi[i], flat, root)
 
 
 def _expected_shapes(a, cuts):
@@ -238,6 +285,7 @@ class LawTable:
     settings: LawTableSettings = LawTableSettings()
     impedance: float = 0.0
     forward: Any = None  # a forward evaluator (``fast.ClosedForm``-like) or None
+    root_near_one: bool = False  # square-root columns at e = 1 (module docstring); the file records it
     name: str = "law table"
 
     @property
@@ -278,6 +326,11 @@ class LawTable:
                 raise ValueError(
                     f"law table {self.path} is cut along {meta['cuts']}, expected {list(self.cuts)}"
                 )
+            if meta.get("root_near_one", False) != self.root_near_one:
+                raise ValueError(
+                    f"law table {self.path} has root_near_one = {meta.get('root_near_one', False)}, "
+                    f"expected {self.root_near_one}; rebuild it with `{BUILD_COMMAND} {law.name}`"
+                )
             if meta.get("impedance", 0.0) != self.impedance:
                 raise ValueError(
                     f"law table {self.path} was built at impedance {meta.get('impedance', 0.0)}, "
@@ -305,7 +358,12 @@ class LawTable:
         flat = self.packed(law, kinematic)
         out = np.empty(target.size)
         threads = None if target.size >= PARALLEL_MIN else 1
-        run_rows(damping_rows, target.size, target, xi, flat, kinematic, out, threads=threads)
+        converted = self.root_near_one and kinematic
+        lookup = root_lookup(target) if converted else target
+        root = self.root_near_one and not kinematic
+        run_rows(damping_rows, target.size, lookup, xi, flat, kinematic, root, out, threads=threads)
+        if converted:
+            out = root_damping(out, target, lookup)
         status = np.where(np.isfinite(out), OK, NOT_CONVERGED)
         if self.forward is not None:
             self._polish(law, out, status, target, kinematic, A, xi)

@@ -246,11 +246,19 @@ def _geom(size, *grids):
     return g
 
 
+def _target_of(law, u):
+    """The e_N at kinematic table coordinate ``u``: ``exp(u)``, or ``exp(tau^-1(u))`` (``root_near_one``)."""
+    from .table import root_coordinate_inverse
+
+    return np.exp(root_coordinate_inverse(u) if law.fast.root_near_one else u)
+
+
 def build_energetic(law, settings, say):
     """Arrays of the energetic table by name (``table.energetic_names``), cut along ``law.fast.cuts``."""
     from scipy.interpolate import make_interp_spline
 
     cuts = law.fast.cuts
+    root = law.fast.root_near_one
     eta_max = float(eta_of_xi(XI_MAX))
     eta = np.linspace(0.0, eta_max, settings.n_eta)
     deta = eta[1] - eta[0]
@@ -289,7 +297,7 @@ def build_energetic(law, settings, say):
             rows = max(DEGREE + 2, int(round(settings.refine_n * (hi - lo) / deta)) + 1)
             eta_r = np.linspace(lo, hi, rows)
             w = np.linspace(0.0, 1.0, settings.refine_n * (settings.n_p - 1) + 1)
-        u = region_u(splines, r, eta_r[:, None], w[None, :])
+        u = region_u(splines, r, eta_r[:, None], w[None, :], root)
         L = node_values(
             law, np.exp(np.minimum(u, 0.0)), xi_of_eta(eta_r)[:, None] if r else xi[:, None], False
         )
@@ -303,9 +311,14 @@ def build_energetic(law, settings, say):
     return arrays
 
 
-def region_u(splines, r, eta, w):
-    """``u = ln eps`` at column coordinate ``w`` of region ``r`` (``table.py``'s maps, inverted)."""
+def region_u(splines, r, eta, w, root=False):
+    """``u = ln eps`` at column coordinate ``w`` of region ``r`` (``table.py``'s maps, inverted).
+
+    ``root``: region 0 is square-root-like at e = 1 too (``LawTable.root_near_one``).
+    """
     cuts = len(splines)
+    if r == 0 and root:
+        return splines[0](eta) * np.cos(0.5 * np.pi * w) ** 2
     if r == 0:
         return splines[0](eta) * (1.0 - w**2)
     upper = splines[r - 1](eta)
@@ -320,7 +333,7 @@ def build_kinematic(law, settings, say):
     xi = xi_of_eta(eta)
     xi[0] = 0.0
     q = np.linspace(float(np.log(EPS_MIN)), 0.0, settings.n_q)
-    e_n = np.exp(q)
+    e_n = _target_of(law, q)
     e_n[-1] = 1.0
     L = node_values(law, np.broadcast_to(e_n, (eta.size, q.size)), xi[:, None], True)
     say(f"{law.name}: kinematic, {L.size} nodes")
@@ -348,6 +361,7 @@ def build_law_tables(law, settings=None, progress=None):
         build_seconds=round(time.perf_counter() - t0, 1),
         cuts=list(law.fast.cuts),
         impedance=law.impedance,
+        root_near_one=law.fast.root_near_one,
         **asdict(settings),
     )
     return arrays, meta

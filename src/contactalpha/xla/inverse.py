@@ -5,7 +5,8 @@ the spring-dashpot) is inverted exactly on it (``closed_form.py``), as ``laws.so
 bracket from ``p = 0`` grows by 4 up to ``P_MAX``, then Illinois steps with a bisection every
 ``BISECT_EVERY``-th, all without derivative; one Newton step, whose value is taken back out,
 then carries the implicit function's derivative ``dp = (dtarget - de/dA dA) / (de/dp)``.  The
-other laws read their shipped table (``tables.py``), as the numba batch does.
+other laws read their shipped table (``tables.py``), as the numba batch does (at ``root_lookup``'s
+target for a kinematic table on ``tau(ln e)``).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import jax
 import jax.numpy as jnp
 
 from contactalpha.laws.solve import BISECT_EVERY, E_TOL, MAX_ITER, P_MAX, P_RTOL, P_START
+from contactalpha.laws.table import root_damping, root_lookup
 
 from . import closed_form
 from .scaling import load_factor  # noqa: F401  (the load factor's home for callers of this module)
@@ -111,4 +113,10 @@ def law_damping(
     """The law's damping for ``target`` at ``xi``: by its closed form where it has one, else its table."""
     if law.piecewise_linear:
         return closed_form_damping(law, target, xi, restitution)
-    return table_damping(device_table(law, restitution), target, xi)
+    tab = device_table(law, restitution)
+    if not (getattr(law.fast, "root_near_one", False) and restitution == "kinematic"):
+        return table_damping(tab, target, xi)
+    # A kinematic table on tau(ln e) (laws/table.py): read at exp(tau), the damping converted back.
+    e = jnp.asarray(target, dtype=float)
+    lookup = root_lookup(e, jnp)
+    return root_damping(table_damping(tab, lookup, xi), e, lookup, jnp)

@@ -3,7 +3,8 @@
 One layout serves every table (``engine/table.py`` for Hunt-Crossley, n = 3/2; ``laws/table.py``
 for the other laws): the plane ``(eta, u = ln target)`` is cut along ``K`` curves
 ``b_1 > ... > b_K`` (quintic splines in eta) into ``K + 1`` regions, each a tensor quintic spline of
-``L = ln(p e / (1 - e))`` in ``(eta, w)``: region 0 has ``w = sqrt(1 - u / b_1)``, region K
+``L = ln(p e / (1 - e))`` in ``(eta, w)``: region 0 has ``w = sqrt(1 - u / b_1)`` (or
+``(2/pi) asin`` of it for a table with ``root_near_one``), region K
 ``w = sqrt((b_K - u) / (b_K - ln 0.01))``, a region between two cuts
 ``w = (2/pi) asin(sqrt((b_r - u) / (b_r - b_(r+1))))``.  The n = 3/2 energetic table is the case
 K = 1 (its separation boundary).  A kinematic table (Newton's e_N) has no cut and ``w = ln e_N``.
@@ -54,12 +55,14 @@ class DeviceTable:
     regions : stacked 2-D splines of the K + 1 regions (``splines.stack``).
     cuts : K (static).
     kinematic : True for a table in ``ln e_N`` without cuts (static).
+    root : True when region 0 is square-root-like at e = 1 too (``LawTable.root_near_one``; static).
     """
 
     curves: dict
     regions: dict
     cuts: int = field(default=0, metadata={"static": True})
     kinematic: bool = field(default=False, metadata={"static": True})
+    root: bool = field(default=False, metadata={"static": True})
 
 
 def eta_of_xi(xi: ArrayLike) -> jax.Array:
@@ -87,7 +90,7 @@ def _hertz_energetic():
     return DeviceTable(curves, splines.stack([(s_tx, s_ty, s_c, g[0:6]), (n_tx, n_ty, n_c, g[6:12])]), 1)
 
 
-def _law_energetic(arrays):
+def _law_energetic(arrays, root):
     g = arrays["geom"]
     cuts = int(g[0])
     curves = _curves(arrays["curves_t"], arrays["curves_c"], g[1:4])
@@ -95,7 +98,7 @@ def _law_energetic(arrays):
     for r in range(cuts + 1):
         o = GEOM_HEAD + REGION_SLOTS * r
         regions.append((arrays[f"r{r}_tx"], arrays[f"r{r}_ty"], arrays[f"r{r}_c"], g[o : o + 6]))
-    return DeviceTable(curves, splines.stack(regions), cuts)
+    return DeviceTable(curves, splines.stack(regions), cuts, root=root)
 
 
 _CACHE: dict = {}
@@ -122,7 +125,7 @@ def _build(law, kinematic):
     arrays, _ = load_law_tables(law.fast.path)
     if kinematic:
         return _kinematic(*(arrays[n] for n in ("k_tx", "k_ty", "k_c", "k_geom")))
-    return _law_energetic(arrays)
+    return _law_energetic(arrays, law.fast.root_near_one)
 
 
 def _curve_values(curves, eta):
@@ -149,9 +152,11 @@ def _column(tab, u, eta):
     aK = jnp.where(r == K, (upper - u) / (upper - U_MIN), 1.0)
     mid = (r > 0) & (r < K)
     am = jnp.where(mid, jnp.clip((upper - u) / jnp.where(mid, upper - lower, 1.0), 0.0, 1.0), 0.5)
-    w = jnp.where(
-        r == 0, jnp.sqrt(a0), jnp.where(r == K, jnp.sqrt(aK), (2.0 / jnp.pi) * jnp.arcsin(jnp.sqrt(am)))
-    )
+    if tab.root:  # square-root-like at e = 1 too (an interior point where another branch is taken)
+        w0 = (2.0 / jnp.pi) * jnp.arcsin(jnp.sqrt(jnp.where(r == 0, jnp.clip(a0, 0.0, 1.0), 0.5)))
+    else:
+        w0 = jnp.sqrt(a0)
+    w = jnp.where(r == 0, w0, jnp.where(r == K, jnp.sqrt(aK), (2.0 / jnp.pi) * jnp.arcsin(jnp.sqrt(am))))
     return r, w
 
 
