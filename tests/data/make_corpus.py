@@ -220,6 +220,17 @@ def package_cases():
         yield from _step_cases(ca, engine)
     yield from _model_cases(ca)
     yield from _threshold_cases(ca)
+    yield from _impulse_cases(ca)
+
+
+def _impulse_cases(ca):
+    """The impulse engines (no continuous block): answered at their default step, on their maps."""
+    from contactalpha.parameters.impulse import impulse_engines
+
+    scene = dict(mass=MASS, stiffness=STIFFNESS[1.5], approach_speed=SPEED)
+    for engine in impulse_engines():
+        call = _call(ca.contact_parameters, e_N=0.6, accel=ACCEL, engine=engine, timestep="default", **scene)
+        yield "heavy", f"engine/{engine}/scalar", call
 
 
 def evaluate(cases):

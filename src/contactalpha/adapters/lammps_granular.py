@@ -496,5 +496,8 @@ VISCOELASTIC = LammpsGranularAdapter(
 VISCOELASTIC_UNFLOORED = LammpsGranularAdapter(
     "lammps_viscoelastic_unfloored", "hertz_viscoelastic_unfloored", ("viscoelastic",), limit_damping=False
 )
-# Every LAMMPS law this module applies.
+# Every LAMMPS law this module applies, and their records (one engine each: a law each).
 VARIANTS = (ADAPTER, UNFLOORED, VISCOELASTIC, VISCOELASTIC_UNFLOORED)
+UNFLOORED_ENGINE, VISCOELASTIC_ENGINE, VISCOELASTIC_UNFLOORED_ENGINE = (
+    Engine(adapter=a, loader=LOADER, step_map=None, model_file=None, batched=None) for a in VARIANTS[1:]
+)

@@ -36,6 +36,9 @@ ENGINES = tuple(
         drake_point.ENGINE,
         pybullet_kv.ENGINE,
         lammps_granular.ENGINE,
+        lammps_granular.UNFLOORED_ENGINE,
+        lammps_granular.VISCOELASTIC_ENGINE,
+        lammps_granular.VISCOELASTIC_UNFLOORED_ENGINE,
         pybullet_impulse.ENGINE,
         physx_sapien.ENGINE,
     )
