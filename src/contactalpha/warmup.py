@@ -110,7 +110,7 @@ def _stepping():
     # Every engine's kernels apart (``stepping.kernels.for_engine``): its drops, its phase mean drop
     # by drop and the inverse on it, its piecewise-affine mean and the batch inverse where it has
     # them, and its front door at the step, one scene and a batch (what ``tune`` solves too).
-    from contactalpha.scene.parameters import contact_parameters
+    from contactalpha.parameters.front_door import contact_parameters
     from contactalpha.stepping.batch_inverse import solve_batch
     from contactalpha.stepping.delivered import at_phases, over_phase
     from contactalpha.stepping.inverse import damping_for

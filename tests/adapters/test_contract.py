@@ -195,10 +195,11 @@ def test_the_tables_keyed_by_engine_are_the_records():
     )
     assert {s.name for s in STEPPERS} == {e.name for e in ENGINES if e.step_map is not None}
     assert set(batched_blocks()) == {name for e in ENGINES for name in (e.batched or {})}
-    if importlib.util.find_spec("jax") is not None:
+    try:
         from contactalpha.xla import engines
-
-        assert engines.BLOCKS == {n: b for n, (law, b) in batched_blocks().items() if law == engines.LAW}
+    except ImportError:  # the JAX front door's table is checked where JAX is installed
+        return
+    assert engines.BLOCKS == {n: b for n, (law, b) in batched_blocks().items() if law == engines.LAW}
 
 
 @pytest.mark.parametrize("part", PARTS)

@@ -7,7 +7,6 @@ under CI=true.
 """
 
 import math
-import os
 import warnings
 from dataclasses import replace
 
@@ -28,17 +27,6 @@ K = 4.0 / 3.0 * (E / (2.0 * (1.0 - NU * NU))) * math.sqrt(R)
 SPEEDS = (1.0, 0.2, 0.05, 0.02)
 TARGETS = (0.3, 0.5, 0.9)
 TOL = 1e-3
-
-
-@pytest.fixture(scope="module")
-def lammps():
-    try:
-        lg.new_instance().close()
-    except ImportError as err:
-        if os.environ.get("CI") == "true":
-            pytest.fail(f"CI=true: LAMMPS is not installed ({err})")
-        pytest.skip(f"LAMMPS is not installed ({err}); {lg.INSTALL_HINT}")
-    return lg
 
 
 def _scipy_e_n(beta, v, accel, floor):

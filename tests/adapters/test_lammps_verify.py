@@ -7,7 +7,6 @@ the continuous law's block misses a target of 0.3 by more than 1e-3 at a DEM ste
 
 import json
 import math
-import os
 import subprocess
 import sys
 
@@ -22,16 +21,6 @@ R, E, NU, RHO = 2.5e-3, 1e7, 0.3, 2500.0
 MASS = 4.0 / 3.0 * math.pi * R**3 * RHO
 K = 4.0 / 3.0 * (E / (2.0 * (1.0 - NU * NU))) * math.sqrt(R)
 STEP = 4.3e-5  # 20 % of the bead's Rayleigh time, a usual DEM step
-
-
-@pytest.fixture(scope="module")
-def lammps():
-    try:
-        lg.new_instance().close()
-    except ImportError as err:
-        if os.environ.get("CI") == "true":
-            pytest.fail(f"CI=true: LAMMPS is not installed ({err})")
-        pytest.skip(f"LAMMPS is not installed ({err})")
 
 
 def _params(*extra):

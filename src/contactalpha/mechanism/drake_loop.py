@@ -24,10 +24,9 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .crossing import rebound_speed
 from .discrete import DRAKE_APPROXIMATIONS
 from .drake_model import ParsedPlant, back_in_time, drake_module, set_coordinates
-from .engine_loop import PhaseSampler
+from .engine_loop import DropLoop
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
 DURATION = 1.0
@@ -35,7 +34,7 @@ DURATION = 1.0
 DRAKE_STEP = 1e-3
 
 
-class DrakeLoop(PhaseSampler):
+class DrakeLoop(DropLoop):
     """An SDF/URDF built once as Drake's discrete plant, dropped at many phases with any ``(k, d)``.
 
     Parameters
@@ -133,18 +132,4 @@ class DrakeLoop(PhaseSampler):
             gaps.append(gap)
             if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
                 break
-        self.drops += 1
-        change = (max(inv) - min(inv)) / min(inv) if len(inv) > 1 else math.nan
-        speed, _ = rebound_speed(np.arange(len(gaps)) * h, gaps)
-        if math.isfinite(speed):
-            return speed / self.speed, change
-        return (0.0 if min(gaps) < 0.0 else math.nan), change
-
-    def e_n_values(self, params, phases):
-        """``(e_N of each phase, m_eff's relative change over the drop at phase 1/2)``."""
-        _, change = self.drop(params, 0.5, mass=True)
-        return np.array([self.drop(params, ph)[0] for ph in phases]), change
-
-    def values_at(self, params, phases) -> np.ndarray:
-        """e_N of each of ``phases`` (any phases in [0, 1); a captured drop is 0)."""
-        return np.array([self.drop(params, ph)[0] for ph in phases])
+        return self.read_drop(gaps, inv, h)

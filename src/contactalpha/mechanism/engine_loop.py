@@ -165,6 +165,39 @@ def _pair_rows(m, pair):
     return rows
 
 
+class DropLoop(PhaseSampler):
+    """A loop that drops the model one phase at a time: a subclass gives ``drop(params, phase, mass)``.
+
+    ``drop`` returns ``(e_N, the effective mass's relative change)`` of one drop (the change only
+    where ``mass`` is asked, NaN otherwise); ``read_drop`` makes both from its gap samples.
+    """
+
+    speed = math.nan  # the contact point's approach speed, m/s (set by the subclass)
+
+    def drop(self, params, phase, mass=False) -> tuple[float, float]:  # pragma: no cover
+        """``(e_N, m_eff's relative change)`` of the drop touching down at ``phase``."""
+        raise NotImplementedError
+
+    def read_drop(self, gaps, inverse_masses, h) -> tuple[float, float]:
+        """``(e_N, m_eff's relative change)`` from a drop's gaps at step ``h`` (0 when captured)."""
+        self.drops += 1
+        inv = inverse_masses
+        change = (max(inv) - min(inv)) / min(inv) if len(inv) > 1 else math.nan
+        speed, _ = rebound_speed(np.arange(len(gaps)) * h, gaps)
+        if math.isfinite(speed):
+            return speed / self.speed, change
+        return (0.0 if min(gaps) < 0.0 else math.nan), change
+
+    def e_n_values(self, params, phases):
+        """``(e_N of each phase, m_eff's relative change over the drop at phase 1/2)``."""
+        _, change = self.drop(params, 0.5, mass=True)
+        return np.array([self.drop(params, ph)[0] for ph in phases]), change
+
+    def values_at(self, params, phases) -> np.ndarray:
+        """e_N of each of ``phases`` (any phases in [0, 1); a captured drop is 0)."""
+        return np.array([self.drop(params, ph)[0] for ph in phases])
+
+
 class MujocoLoop(PhaseSampler):
     """The user's tuned MJCF loaded once in MuJoCo, dropped at many phases with any pair solref.
 

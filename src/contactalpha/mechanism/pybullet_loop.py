@@ -21,11 +21,9 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
 from numpy.typing import ArrayLike
 
-from .crossing import rebound_speed
-from .engine_loop import PhaseSampler
+from .engine_loop import DropLoop
 from .pybullet_model import (
     collision_links,
     free_qacc,
@@ -46,7 +44,7 @@ DURATION = 1.0
 BASES = ("fixed",)
 
 
-class PybulletLoop(PhaseSampler):
+class PybulletLoop(DropLoop):
     """A URDF loaded once in PyBullet, dropped at many phases with any pair ``(k, c)`` per link.
 
     Parameters
@@ -161,18 +159,4 @@ class PybulletLoop(PhaseSampler):
                 break
             push_forces(pb, self.body, self.pushes, c)
             pb.stepSimulation(physicsClientId=c)
-        self.drops += 1
-        change = (max(inv) - min(inv)) / min(inv) if len(inv) > 1 else math.nan
-        speed, _ = rebound_speed(np.arange(len(gaps)) * h, gaps)
-        if math.isfinite(speed):
-            return speed / self.speed, change
-        return (0.0 if min(gaps) < 0.0 else math.nan), change
-
-    def e_n_values(self, params, phases):
-        """``(e_N of each phase, m_eff's relative change over the drop at phase 1/2)``."""
-        _, change = self.drop(params, 0.5, mass=True)
-        return np.array([self.drop(params, p)[0] for p in phases]), change
-
-    def values_at(self, params, phases) -> np.ndarray:
-        """e_N of each of ``phases`` (any phases in [0, 1); a captured drop is 0)."""
-        return np.array([self.drop(params, p)[0] for p in phases])
+        return self.read_drop(gaps, inv, h)

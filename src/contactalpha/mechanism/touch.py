@@ -68,7 +68,8 @@ def first_touch(
 def joint_limit_problems(contact: MechanismContact, base: str | None = None) -> list[str]:
     """One line per joint whose coordinate at ``contact.qpos`` lies outside the joint's limits."""
     q = np.asarray(contact.qpos, dtype=float)
-    rows = _mujoco_limits(contact) if contact.engine == "mujoco" else _drake_limits(contact, base)
+    limits = JOINT_LIMITS.get(contact.engine)  # a reader without joint limits (a toy's) has none to check
+    rows = limits(contact, base) if limits is not None else []
     out = []
     for name, index, lo, hi in rows:
         if not (lo - 1e-9 <= q[index] <= hi + 1e-9):
@@ -76,7 +77,7 @@ def joint_limit_problems(contact: MechanismContact, base: str | None = None) -> 
     return out
 
 
-def _mujoco_limits(contact):
+def _mujoco_limits(contact, base=None):
     from .mujoco_model import load_model
 
     m = load_model(contact.model)
@@ -138,3 +139,7 @@ def landing_check(contact: MechanismContact, stiffness: float) -> str:
              else f"the pair's lowest point lands alone (maximum compression {delta:.3g} m)")  # fmt: skip
     return first + (f"; {far} more points lie above {LANDING_REACH:g} compressions, not reached in this "
                     "contact" if far else "")  # fmt: skip
+
+
+# Each model-file reader's joint limits: ``(name, qpos index, lower, upper)`` rows.
+JOINT_LIMITS = {"mujoco": _mujoco_limits, "drake": _drake_limits}

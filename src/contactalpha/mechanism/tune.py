@@ -419,17 +419,25 @@ def tune(
         ``loops.verify``) and report the measured mean, its standard error and range beside the
         predicted (``Tuning.verified``).
 
+    Returns
+    -------
+    Tuning
+
+    Notes
+    -----
     A URDF's unnamed ``<collision>`` elements are named ``LINK/collisionN`` (``robot_files``).
     A pair apart (or overlapping) at ``qpos`` is moved to first touch along the approach (the
     joint velocity), where the coordinates add (no free joint); otherwise refused.  A
     configuration outside a joint's limits warns (``JointLimitWarning``).
-
-    Returns
-    -------
-    Tuning
     """
     target = float(check_range("e_n", e_n, 0.0, 1.0, lo_open=True, hi_open=True))
     timestep = check_timestep(timestep)
+    # What needs no engine is checked before one is chosen: a bad input is named even where none is installed.
+    if Path(model).is_file():
+        check_model_size(model)
+    check_coordinates("qpos", qpos), check_coordinates("qvel", qvel)
+    if output is not None:
+        write.check_output(model, output)
     t = _tuner(engine, model)
     if verify is not None and (int(verify) != verify or verify < 8):
         raise ValueError(f"verify = {verify!r} must be a whole number of phases >= 8")
@@ -532,6 +540,10 @@ def _looped(result, target, base=None):
         why = "" if ok else f"the engine loop did not reach e_N {target:g} ({answer.status})"
         return replace(result, parameters=params, notes=[*result.notes, *lines], loop=answer, reached=ok,
                        unreachable=why)  # fmt: skip
+    if result.engine != "mujoco":  # an engine with no loop of its own (a toy's): the reduced answer
+        return replace(
+            result, notes=[*result.notes, f"{result.engine} has no engine loop: the reduced model's answer"]
+        )
     source = _in_memory_mjcf(result)
     answer, _, lines = in_engine(source, result.contact, result.parameters["solref"], target, result.timestep)
     params = result.parameters

@@ -62,7 +62,7 @@ def resolve_timestep(engine, timestep):
 def impulse_parameters(row, law, engine, timestep, verify, continuous):
     """``ContactParameters`` of ``engine`` at its step for the scene ``row`` (``_ROW``'s values).
 
-    ``continuous`` is the front door without an engine (``scene.parameters.contact_parameters``):
+    ``continuous`` is the front door without an engine (``parameters.front_door.contact_parameters``):
     the loaded contact the answer stands for.
     """
     values = dict(zip(_ROW, row, strict=True))
