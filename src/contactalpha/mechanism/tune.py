@@ -349,6 +349,8 @@ TUNER_NAMES = tuple(t.name for t in TUNERS)
 
 def _tuner(engine, model):
     if engine is None:
+        if Path(model).is_file():
+            check_model_size(model)  # named before the engine that would read it is looked for
         engine = engine_for(model)[0] if Path(model).is_file() else _by_suffix(model)
     for t in TUNERS:
         if t.name == engine:
