@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .discrete import DRAKE_APPROXIMATIONS
-from .drake_model import ParsedPlant, back_in_time, drake_module, set_coordinates
+from .drake_model import ParsedPlant, apply_forces, back_in_time, drake_module, set_coordinates
 from .engine_loop import DropLoop
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
@@ -72,16 +72,7 @@ class DrakeLoop(DropLoop):
         set_coordinates(p.plant, p.context, "qpos", self.q0, p.plant.num_positions())
         set_coordinates(p.plant, p.context, "qvel", self.v0, p.plant.num_velocities())
         self.speed = -float(p.gap_row(*self.g)[3] @ self.v0)
-        pushes = []
-        for name, force in self.forces.items():
-            body = p.plant.GetBodyByName(str(name))
-            push = dk.ExternallyAppliedSpatialForce()
-            push.body_index = body.index()
-            push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
-            push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
-            pushes.append(push)
-        if pushes:
-            p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
+        apply_forces(dk, p, self.forces)
         self.clean = p.root.Clone()  # the state before any drop: the plant keeps more than q and v
         self.sim = dk.Simulator(p.diagram, p.root)
         self.sg_context = p.scene_graph.GetMyMutableContextFromRoot(p.root)

@@ -274,16 +274,7 @@ def drake_drop(
         report = float(time_step)
         back_in_time(p, float(phase) * report, report, forces)
     sim = dk.Simulator(p.diagram, p.root)
-    pushes = []
-    for name, force in (forces or {}).items():
-        body = p.plant.GetBodyByName(str(name))
-        push = dk.ExternallyAppliedSpatialForce()
-        push.body_index = body.index()
-        push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
-        push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
-        pushes.append(push)
-    if pushes:
-        p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
+    apply_forces(dk, p, forces)
     if time_step == 0.0:
         dk.ResetIntegratorFromFlags(sim, "runge_kutta3", report)
         sim.get_mutable_integrator().set_target_accuracy(accuracy)
@@ -343,3 +334,17 @@ def back_in_time(p, tc, h, forces, with_contacts=False):
     qdot = plant.MapVelocityToQDot(ctx, -tc * v + 0.5 * tc * tc * vdot)
     plant.SetPositions(ctx, np.array(plant.GetPositions(ctx)) + qdot)
     plant.SetVelocities(ctx, v - (tc + 0.5 * h) * vdot)
+
+
+def apply_forces(dk, p, forces) -> None:
+    """Fix ``forces`` ({body: (fx, fy, fz)} N, world axes, at each body's centre of mass) on ``p``'s plant."""
+    pushes = []
+    for name, force in (forces or {}).items():
+        body = p.plant.GetBodyByName(str(name))
+        push = dk.ExternallyAppliedSpatialForce()
+        push.body_index = body.index()
+        push.p_BoBq_B = body.CalcCenterOfMassInBodyFrame(p.context)
+        push.F_Bq_W = dk.SpatialForce(np.zeros(3), np.asarray(force, dtype=float))
+        pushes.append(push)
+    if pushes:
+        p.plant.get_applied_spatial_force_input_port().FixValue(p.context, pushes)
