@@ -5,12 +5,20 @@ entry is one number, array or string the public API gives on fixed inputs, float
 ``float.hex``.  A refactor keeps them bit for bit; a change of numbers that is meant is
 regenerated in its own commit, saying why.  Only stored keys are compared: a law, engine or model
 added later adds keys, which are not checked here; but every stored key must still be produced.
+
+Bits are compared between hosts of one SIMD level (``make_corpus.host_level``): NumPy's
+vectorised ``exp``/``log``/``power`` differ in the last bit between levels, and root-finds spread
+it (11 of 2,412 default entries, up to 1.7e4 ulp, between X86_V4 and X86_V3).  A level other
+than the corpus's own compares against its recorded overrides (``tests/data/corpus_hosts.json``,
+made with ``python tests/data/make_corpus.py --host`` from the corpus's commit); an unrecorded
+level compares within a relative 1e-9 and warns.
 """
 
 import importlib.util
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -45,9 +53,42 @@ def _difference(stored, now):
     return f"value {i} of {len(stored[2])}: stored {_value(stored[2][i])!r}, now {_value(now[2][i])!r}"
 
 
+UNRECORDED_RTOL = 1e-9
+
+
+def _close(stored, now):
+    """Two entries equal up to a relative ``UNRECORDED_RTOL`` (a host level with no record)."""
+    if stored[1] != now[1]:
+        return False
+    a, b = (np.array([_value(t) for t in e[2]], dtype=object) for e in (stored, now))
+    for x, y in zip(a, b, strict=True):
+        if isinstance(x, float) and isinstance(y, float):
+            if not (np.isclose(x, y, rtol=UNRECORDED_RTOL, atol=0.0) or (np.isnan(x) and np.isnan(y))):
+                return False
+        elif x != y:
+            return False
+    return True
+
+
 def check_part(part, got):
     """Every stored entry of ``part`` is in ``got`` and equal token for token (bit for bit)."""
-    stored = STORED[part]
+    stored = make_corpus.expected(part)
+    if stored is None:
+        import warnings
+
+        warnings.warn(
+            f"corpus {part}: no record of host level {make_corpus.host_level()!r}; compared within "
+            f"{UNRECORDED_RTOL:g} (record it: python tests/data/make_corpus.py --host)",
+            stacklevel=2,
+        )
+        stored = STORED[part]
+        missing = sorted(set(stored) - set(got))
+        assert not missing, f"corpus {part}: {len(missing)} stored entries are no longer produced"
+        far = [key for key in sorted(stored) if not _close(stored[key], got[key])]
+        assert not far, (
+            f"corpus {part}: {len(far)} entries differ by more than {UNRECORDED_RTOL:g}; first {far[0]!r}"
+        )
+        return
     missing = sorted(set(stored) - set(got))
     assert not missing, (
         f"corpus {part}: {len(missing)} stored entries are no longer produced, first {missing[0]!r}"

@@ -36,6 +36,8 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 CORPUS = HERE / "corpus.json"
+# Entries that differ on a host of another SIMD level (``host_level``), by level and part.
+HOSTS = HERE / "corpus_hosts.json"
 MODELS = HERE / "models"
 
 # One scene per law: mass (kg), approach speed (m/s), load (m/s^2), radius (m); the stiffness by
@@ -332,6 +334,62 @@ def load():
     return json.loads(CORPUS.read_text(encoding="utf-8"))
 
 
+def host_level():
+    """This host's SIMD level as NumPy dispatches its vectorised functions (``X86_V4``, ...).
+
+    NumPy picks its ``exp``, ``log`` and ``power`` loops by the CPU's level at run time, and
+    they differ in the last bit between levels; a root-find downstream can spread one bit to
+    thousands.  So bits are compared between hosts of one level.
+    """
+    import platform
+
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__ as features
+    except ImportError:  # an older NumPy
+        return platform.machine()
+    levels = [name for name in ("X86_V2", "X86_V3", "X86_V4") if features.get(name)]
+    return levels[-1] if levels else platform.machine()
+
+
+def load_hosts():
+    """``{"made_on": level of corpus.json, "levels": {level: {part: {key: entry}}}}``."""
+    if not HOSTS.exists():
+        return {"made_on": None, "levels": {}}
+    return json.loads(HOSTS.read_text(encoding="utf-8"))
+
+
+def expected(part, level=None):
+    """The entries of ``part`` this host must give: the corpus, with its level's overrides.
+
+    ``None`` when this host's level is neither the corpus's nor one recorded here.
+    """
+    hosts = load_hosts()
+    level = level or host_level()
+    base = load()[part]
+    if level == hosts["made_on"]:
+        return base
+    if level not in hosts["levels"]:
+        return None
+    return base | hosts["levels"][level].get(part, {})
+
+
+def record_host(level=None):
+    """Store the entries this host's level gives differently from corpus.json (same code)."""
+    level = level or host_level()
+    hosts, stored = load_hosts(), load()
+    if level == hosts["made_on"]:
+        raise SystemExit(f"make_corpus: {level} made corpus.json; nothing to record")
+    overrides = {}
+    for part, (make, _) in PARTS.items():
+        if missing(part):
+            raise SystemExit(f"make_corpus: {part} needs {', '.join(missing(part))}: install it first")
+        got = make()
+        overrides[part] = {k: got[k] for k in stored[part] if k in got and got[k][1:] != stored[part][k][1:]}
+        print(f"make_corpus: {level} {part}: {len(overrides[part])} entries differ", file=sys.stderr)
+    hosts["levels"][level] = overrides
+    HOSTS.write_text(json.dumps(hosts, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+
+
 def main(path=CORPUS):
     stored = load() if CORPUS.exists() else {}
     corpus = {}
@@ -358,4 +416,7 @@ def dumps(corpus):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else CORPUS)
+    if sys.argv[1:] == ["--host"]:
+        record_host()
+    else:
+        main(sys.argv[1] if len(sys.argv) > 1 else CORPUS)
