@@ -29,7 +29,7 @@ from contactalpha.adapters.record import Engine
 from contactalpha.adapters.stepped import FREE_STEP_RTOL, SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
 from contactalpha.impulse import bullet_map
-from contactalpha.impulse.delivered import CHATTER_STEPS
+from contactalpha.impulse.delivered import CHATTER_STEPS, free_steps
 from contactalpha.impulse.inverse import per_body, restitution_for
 from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
@@ -66,15 +66,18 @@ class _Drop:
     states: list
 
 
-def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL):
+def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL, z_atol=0.0):
     """The first impact in per-step states (``z`` height above the plane, m; ``w`` up, m/s).
 
-    The rule of ``impulse.delivered.drop_bullet``: the first sample after the first step with an
-    impulse (a velocity change other than ``-a h``) that moves up with a free step after it; e_N is
-    its parabola's speed at the plane over the approach speed.  None: "nonseparation", e_N = 0.
+    The rule of ``impulse.delivered.drop_impulse``: the first sample after the first step with an
+    impulse (a step not free by ``delivered.free_steps``: its velocity changed by ``free_rtol`` of
+    the scale, or its position by that of a step's travel or ``z_atol`` m, other than free flight)
+    that moves up with a free step after it; e_N is its parabola's speed at the plane over the
+    approach speed.  None: "nonseparation", e_N = 0.
     """
     z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
-    free = np.abs(np.diff(w) + accel * h) <= free_rtol * max(accel * h, approach_speed)
+    tol = free_rtol * max(accel * h, approach_speed)
+    free = free_steps(z, w, accel, h, tol, max(tol * h, z_atol))
     hit = np.flatnonzero(~free)
     t_max = int(np.argmin(z))
     if hit.size:
