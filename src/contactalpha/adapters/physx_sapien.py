@@ -24,11 +24,10 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples
 from contactalpha.adapters.loader import Loader
-from contactalpha.adapters.pybullet_impulse import measure_impulse
+from contactalpha.adapters.pybullet_impulse import ImpulseAdapter, measure_impulse
 from contactalpha.adapters.record import Engine
-from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
+from contactalpha.adapters.stepped import float_or_array, touchdown_state
 from contactalpha.impulse import physx_map
-from contactalpha.impulse.inverse import restitution_for
 from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 
@@ -72,7 +71,7 @@ class _Drop:
     material: object = None
 
 
-class PhysxAdapter(SteppingAdapter):
+class PhysxAdapter(ImpulseAdapter):
     """PhysX 5's rigid contact with restitution through SAPIEN (``adapters.contract``)."""
 
     name = "physx"
@@ -91,15 +90,6 @@ class PhysxAdapter(SteppingAdapter):
     def version(self):
         """SAPIEN's version string (its PhysX 5 inside)."""
         return str(_sapien().__version__)
-
-    def parameters(self, damping, scene, settings=None):
-        """Each material's ``restitution`` for the law's e_N with ``damping`` at ``scene``'s load."""
-        settings = self.settings if settings is None else settings
-        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
-        target = float(self.law.restitution(float(damping), xi, "kinematic"))
-        ans = restitution_for(target, settings.timestep, scene.approach_speed, scene.accel, scene.radius,
-                              settings.threshold, engine=self.name)  # fmt: skip
-        return self.block(ans.restitution, settings.threshold)
 
     def block(self, pair_restitution, threshold):
         """The engine's block: the pair's restitution on each material (PhysX averages) and the threshold."""

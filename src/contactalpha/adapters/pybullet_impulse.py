@@ -95,7 +95,27 @@ def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL, z_
     )  # fmt: skip
 
 
-class PyBulletImpulseAdapter(SteppingAdapter):
+class ImpulseAdapter(SteppingAdapter):
+    """An impulse engine's adapter (PyBullet's, PhysX's): the inverse at its step, one home.
+
+    A subclass sets ``impulse`` (its record's name in ``impulse.registry``), ``settings`` with
+    ``timestep`` and ``threshold``, and ``block(pair_restitution, threshold)``.
+    """
+
+    def parameters(self, damping, scene, settings=None):
+        """The engine's block for the law's e_N with ``damping`` at ``scene``'s load, at the step.
+
+        ``scene`` needs ``accel`` (a ``DropScene``); the threshold is ``settings.threshold``.
+        """
+        settings = self.settings if settings is None else settings
+        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
+        target = float(self.law.restitution(float(damping), xi, "kinematic"))
+        ans = restitution_for(target, settings.timestep, scene.approach_speed, scene.accel, scene.radius,
+                              settings.threshold, engine=self.impulse)  # fmt: skip
+        return self.block(ans.restitution, settings.threshold)
+
+
+class PyBulletImpulseAdapter(ImpulseAdapter):
     """Bullet's rigid contact with restitution through PyBullet (``adapters.contract``)."""
 
     name = "pybullet_impulse"
@@ -114,19 +134,6 @@ class PyBulletImpulseAdapter(SteppingAdapter):
     def version(self):
         """PyBullet's API version number, as a string."""
         return str(_pybullet().getAPIVersion())
-
-    def parameters(self, damping, scene, settings=None):
-        """Each body's ``restitution`` for the law's e_N with ``damping`` at ``scene``'s load, at the step.
-
-        ``scene`` needs ``accel`` (a ``DropScene``); the threshold is ``settings.threshold``.
-        """
-        settings = self.settings if settings is None else settings
-        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
-        target = float(self.law.restitution(float(damping), xi, "kinematic"))
-        ans = restitution_for(
-            target, settings.timestep, scene.approach_speed, scene.accel, scene.radius, settings.threshold
-        )
-        return block(ans.restitution, settings.threshold)
 
     def block(self, pair_restitution, threshold):
         """The engine's block for the pair's restitution and the threshold (``block``)."""
