@@ -102,6 +102,12 @@ class ImpulseAdapter(SteppingAdapter):
     ``timestep`` and ``threshold``, and ``block(pair_restitution, threshold)``.
     """
 
+    impulse: str
+
+    def block(self, pair_restitution, threshold):
+        """The engine's block for the pair's restitution and the threshold."""
+        raise NotImplementedError
+
     def parameters(self, damping, scene, settings=None):
         """The engine's block for the law's e_N with ``damping`` at ``scene``'s load, at the step.
 
