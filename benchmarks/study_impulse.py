@@ -1,6 +1,6 @@
 """Study of issue 46 for PyBullet's rigid contact: restitution and threshold at its 1/240 s step.
 
-Run: PYTHONPATH=src nice -n 10 python benchmarks/study_impulse.py [PHASES] [FIGURE.png] [ENGINES]
+Run: PYTHONPATH=src nice -n 10 python benchmarks/study_impulse.py [PHASES] [FIGURE.png] [ENGINES] [PHYSX.png]
 
 ENGINES: comma-separated, of pybullet_impulse and physx (default both; physx needs SAPIEN).
 
@@ -20,6 +20,9 @@ ENGINES: comma-separated, of pybullet_impulse and physx (default both; physx nee
 6. **Drops from rest in PhysX**: step 3's six scenes with the touchdown schedule at five steps
    (0.01 s to 1 ms), bounces and last touchdown against ``predict_bounces``, and each scene's
    slowest predicted flight (a rebound flying less than a step is not seen).
+7. **PhysX's figure** (``PHYSX.png``, default ``docs/assets/impulse_physx.png``): step 4's for
+   SAPIEN at 0.01 s, measured in SAPIEN at 128 phases a speed: the raw coefficient at SAPIEN's
+   bounce threshold and at 0, and the package's answer.
 """
 
 import math
@@ -210,7 +213,7 @@ def physx_drop_table():
                 m, k, v, eps=eps, force=force + m * G, radius=r, engine="physx", timestep=h
             )
             z, w = physx_sapien.drop_sequence(DropScene(m, k, v, G, force, r), sched, 1.2 * last + v / a)
-            got = read_bounces(z, w, a, h, physx_sapien.FREE_RTOL)
+            got = read_bounces(z, w, a, h, physx_sapien.FREE_RTOL, physx_sapien.position_resolution(z, r))
             n = min(got.count, pred.bounces)
             du = float(np.max(np.abs(got.rebound_speeds[:n] - pred.rebound_speeds[:n])))
             t = got.landings[-1] - v / a
@@ -288,10 +291,81 @@ def figure(path):
     print(f"\nfigure: {path}")
 
 
+def physx_figure(path, phases=128, n_speeds=24):
+    """As ``figure`` for PhysX at 0.01 s, measured in SAPIEN (``phases`` drops a speed and setting).
+
+    The raw coefficient (the loaded contact's e_N on both materials) at SAPIEN's bounce threshold
+    (2 m/s) and at 0, and the package's restitution and threshold, each dropped at ``phases``
+    touchdown phases; prints the largest difference of SAPIEN's mean and range from the map's.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from contactalpha.adapters.physx_sapien import ADAPTER as PHYSX
+    from contactalpha.adapters.physx_sapien import PhysxSettings
+    from contactalpha.impulse import physx_map as pm
+    from contactalpha.impulse.kernels import PHYSX as CODE
+
+    h = pm.DEFAULT_TIMESTEP
+    m, k, eps, r = 0.5, 1e7, 0.7, 0.05
+    v_c = float(ca.critical_speed(eps, m, k, G))
+    speeds = np.geomspace(1.1 * v_c, 3.0, n_speeds)
+    loaded = np.array(
+        [ca.contact_parameters(eps=eps, mass=m, stiffness=k, approach_speed=s, accel=G).e_n for s in speeds]
+    )
+    thr = threshold_for(v_c, h, G)
+    keys = ("raw", "raw0", "package")
+    rows = {key: [] for key in keys}
+    worst = 0.0
+    start = time.perf_counter()
+    for s, target in zip(speeds, loaded, strict=True):
+        ans = restitution_for(target, h, s, G, r, thr, engine="physx")
+        for key, (e, t) in zip(keys, ((target, pm.BOUNCE_THRESHOLD), (target, 0.0), (ans.restitution, thr)),
+                               strict=True):  # fmt: skip
+            if not math.isfinite(e):
+                rows[key].append((np.nan,) * 3)
+                continue
+            scene = DropScene(m, k, s, G, 0.0, r)
+            settings = PhysxSettings(phases=phases, threshold=t, steps=20)
+            samples = PHYSX.run(PHYSX.build_drop(scene, PHYSX.block(e, t), settings), scene, settings)
+            PHYSX.measure(samples, scene)
+            got = samples.extra["e_n_phases"]
+            mapped = phase_drops(pm.make_params(e, t), h, s, G, phases, CODE)[0]
+            worst = max(worst, float(np.max(np.abs(got - mapped))))
+            rows[key].append((got.mean(), got.min(), got.max()))
+    seconds = time.perf_counter() - start
+    fig, ax = plt.subplots(figsize=(6.4, 5.0))
+    ax.plot(speeds, loaded, "k-", lw=2, label="loaded contact (target; the per-step schedule delivers it)")
+    for key, color, label in (
+        ("raw", "tab:red", "restitution = target, threshold 2 m/s (SAPIEN's)"),
+        ("raw0", "tab:orange", "restitution = target, threshold 0"),
+        ("package", "tab:blue", "the package's restitution and threshold"),
+    ):
+        arr = np.array(rows[key])
+        ax.plot(speeds, arr[:, 0], color=color, marker=".", label=f"{label}: mean")
+        ax.fill_between(speeds, arr[:, 1], arr[:, 2], color=color, alpha=0.2, label=f"{label}: one drop")
+    ax.axvline(v_c, color="0.5", ls=":", label=f"critical speed {v_c:.3f} m/s")
+    ax.set_xscale("log")
+    ax.set_xlabel("approach speed (m/s)")
+    ax.set_ylabel("delivered $e_N$ (measured in SAPIEN)")
+    ax.set_title("PhysX 5 (SAPIEN) at 0.01 s: 0.5 kg, Hertz 1e7 N/m$^{1.5}$, eps 0.7, gravity", fontsize=10)
+    ax.set_ylim(0.0, 1.15)  # the package's one-drop band runs higher near the critical speed
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    n_drops = 3 * n_speeds * phases
+    print(f"\nfigure: {path} ({n_drops} SAPIEN drops of 20 steps, {seconds:.1f} s; SAPIEN's e_N per drop "
+          f"within {worst:.1e} of the map's; the package's one drop at most "
+          f"{np.nanmax(np.array(rows['package'])[:, 2]):.3g})")  # fmt: skip
+
+
 def main():
     phases = int(sys.argv[1]) if len(sys.argv) > 1 else 512
     path = sys.argv[2] if len(sys.argv) > 2 else "docs/assets/impulse_pybullet.png"
     engines = sys.argv[3].split(",") if len(sys.argv) > 3 else ["pybullet_impulse", "physx"]
+    physx_path = sys.argv[4] if len(sys.argv) > 4 else "docs/assets/impulse_physx.png"
     start = time.perf_counter()
     if "pybullet_impulse" in engines:
         issue_table()
@@ -302,6 +376,7 @@ def main():
         physx_issue_table()
         target_table(phases, "physx")
         physx_drop_table()
+        physx_figure(physx_path)
     print(f"\nwhole study {time.perf_counter() - start:.1f} s (shared loaded 2-core machine)")
 
 

@@ -31,7 +31,7 @@ FIXED_NAMES = {
     "check_restitution": "restitution",
 }
 # Every public way to ask: the default law, each engine, a law by name.
-# The impulse engines are left out: their door (scene.impulse_door) checks the scene again when it
+# The impulse engines are left out: their door (parameters.impulse) checks the scene again when it
 # solves the loaded contact's critical speed, and a batch row by row (a known deviation).
 ROUTES = [{}] + [{"engine": e} for e in ENGINE_NAMES if not is_impulse(e)] + [{"law": "mujoco_soft"}]
 

@@ -13,7 +13,8 @@ is a loaded contact's e_N is ``impulse.inverse.restitution_for(..., engine="phys
 ``scene.mass``, no friction, no damping, no sleeping, the push as ``add_force_torque`` before every
 step; SAPIEN's default step (0.01 s) and iterations (10 position, 1 velocity).  PhysX steps in
 single precision: a drop is read as ``adapters.pybullet_impulse.measure_impulse`` reads one, with
-a free step told at 1e-5.  Importing this module does not need SAPIEN.
+a free step told at 1e-5 (its velocity) and a few float steps (its position:
+``position_resolution``).  Importing this module does not need SAPIEN.
 """
 
 import time
@@ -23,17 +24,20 @@ import numpy as np
 
 from contactalpha.adapters.contract import Samples
 from contactalpha.adapters.loader import Loader
-from contactalpha.adapters.pybullet_impulse import measure_impulse
+from contactalpha.adapters.pybullet_impulse import ImpulseAdapter, measure_impulse
 from contactalpha.adapters.record import Engine
-from contactalpha.adapters.stepped import SteppingAdapter, float_or_array, touchdown_state
+from contactalpha.adapters.stepped import float_or_array, touchdown_state
 from contactalpha.impulse import physx_map
-from contactalpha.impulse.inverse import restitution_for
 from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
 
 LOADER = Loader("PhysX through SAPIEN", ("sapien", "sapien.physx"), "sapien", extra="physx")
 # A free step in single precision: the velocity changed by -a h to this fraction.
 FREE_RTOL = 1e-5
+# ... and the position by h times the new velocity to this many float32 steps of the ball
+# centre's height (or FREE_RTOL of a step's travel, whichever is larger): TGS moves the pose in
+# each of its position iterations, each rounding to a float step (free steps measured up to 5).
+POSITION_ULPS = 2 * physx_map.POSITION_ITERATIONS
 # The plane's pose: PhysX's plane has its normal along +x; this turns it to +z (w, x, y, z: 120
 # degrees about -(1, 1, 1), exact in float32, so the normal is exactly +z and PhysX's separation
 # is the float32 centre's height less the float32 radius, exactly).
@@ -67,7 +71,7 @@ class _Drop:
     material: object = None
 
 
-class PhysxAdapter(SteppingAdapter):
+class PhysxAdapter(ImpulseAdapter):
     """PhysX 5's rigid contact with restitution through SAPIEN (``adapters.contract``)."""
 
     name = "physx"
@@ -86,15 +90,6 @@ class PhysxAdapter(SteppingAdapter):
     def version(self):
         """SAPIEN's version string (its PhysX 5 inside)."""
         return str(_sapien().__version__)
-
-    def parameters(self, damping, scene, settings=None):
-        """Each material's ``restitution`` for the law's e_N with ``damping`` at ``scene``'s load."""
-        settings = self.settings if settings is None else settings
-        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
-        target = float(self.law.restitution(float(damping), xi, "kinematic"))
-        ans = restitution_for(target, settings.timestep, scene.approach_speed, scene.accel, scene.radius,
-                              settings.threshold, engine=self.name)  # fmt: skip
-        return self.block(ans.restitution, settings.threshold)
 
     def block(self, pair_restitution, threshold):
         """The engine's block: the pair's restitution on each material (PhysX averages) and the threshold."""
@@ -155,7 +150,8 @@ class PhysxAdapter(SteppingAdapter):
         x = samples.extra
         h = x["timestep"]
         rows = zip(x["z"], x["v"], strict=True)
-        results = [measure_impulse(z, w, scene.accel, h, scene.approach_speed, FREE_RTOL) for z, w in rows]
+        a, v, r = scene.accel, scene.approach_speed, scene.radius
+        results = [measure_impulse(z, w, a, h, v, FREE_RTOL, position_resolution(z, r)) for z, w in rows]
         x["e_n_phases"] = np.array([r.e_n for r in results])
         x["contact_steps"] = np.array([max(round(r.t_end / h), 1) for r in results])
         x["separated"] = np.array([r.separated for r in results])
@@ -177,6 +173,16 @@ class PhysxAdapter(SteppingAdapter):
     def timestep(self, settings):
         """SAPIEN's fixed step, s."""
         return settings.timestep
+
+
+def position_resolution(z, radius):
+    """How finely PhysX's poses resolve a step's displacement (m): ``POSITION_ULPS`` float32 steps.
+
+    ``z``: the heights read (above the plane, m) of a sphere of ``radius`` (m); the pose is the
+    centre's, in single precision.
+    """
+    top = np.float32(radius + float(np.max(np.abs(z))))
+    return POSITION_ULPS * float(np.spacing(top))
 
 
 def drop_sequence(scene, schedule, duration, settings=None):

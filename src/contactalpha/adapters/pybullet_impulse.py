@@ -29,7 +29,7 @@ from contactalpha.adapters.record import Engine
 from contactalpha.adapters.stepped import FREE_STEP_RTOL, SteppingAdapter, float_or_array, touchdown_state
 from contactalpha.engine.codes import END_STATES, NONSEPARATION, SEPARATION
 from contactalpha.impulse import bullet_map
-from contactalpha.impulse.delivered import CHATTER_STEPS
+from contactalpha.impulse.delivered import CHATTER_STEPS, free_steps
 from contactalpha.impulse.inverse import per_body, restitution_for
 from contactalpha.impulse.schedule import Rebounder
 from contactalpha.laws import get_law
@@ -66,15 +66,18 @@ class _Drop:
     states: list
 
 
-def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL):
+def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL, z_atol=0.0):
     """The first impact in per-step states (``z`` height above the plane, m; ``w`` up, m/s).
 
-    The rule of ``impulse.delivered.drop_bullet``: the first sample after the first step with an
-    impulse (a velocity change other than ``-a h``) that moves up with a free step after it; e_N is
-    its parabola's speed at the plane over the approach speed.  None: "nonseparation", e_N = 0.
+    The rule of ``impulse.delivered.drop_impulse``: the first sample after the first step with an
+    impulse (a step not free by ``delivered.free_steps``: its velocity changed by ``free_rtol`` of
+    the scale, or its position by that of a step's travel or ``z_atol`` m, other than free flight)
+    that moves up with a free step after it; e_N is its parabola's speed at the plane over the
+    approach speed.  None: "nonseparation", e_N = 0.
     """
     z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
-    free = np.abs(np.diff(w) + accel * h) <= free_rtol * max(accel * h, approach_speed)
+    tol = free_rtol * max(accel * h, approach_speed)
+    free = free_steps(z, w, accel, h, tol, max(tol * h, z_atol))
     hit = np.flatnonzero(~free)
     t_max = int(np.argmin(z))
     if hit.size:
@@ -92,7 +95,33 @@ def measure_impulse(z, w, accel, h, approach_speed, free_rtol=FREE_STEP_RTOL):
     )  # fmt: skip
 
 
-class PyBulletImpulseAdapter(SteppingAdapter):
+class ImpulseAdapter(SteppingAdapter):
+    """An impulse engine's adapter (PyBullet's, PhysX's): the inverse at its step, one home.
+
+    A subclass sets ``impulse`` (its record's name in ``impulse.registry``), ``settings`` with
+    ``timestep`` and ``threshold``, and ``block(pair_restitution, threshold)``.
+    """
+
+    impulse: str
+
+    def block(self, pair_restitution, threshold):
+        """The engine's block for the pair's restitution and the threshold."""
+        raise NotImplementedError
+
+    def parameters(self, damping, scene, settings=None):
+        """The engine's block for the law's e_N with ``damping`` at ``scene``'s load, at the step.
+
+        ``scene`` needs ``accel`` (a ``DropScene``); the threshold is ``settings.threshold``.
+        """
+        settings = self.settings if settings is None else settings
+        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
+        target = float(self.law.restitution(float(damping), xi, "kinematic"))
+        ans = restitution_for(target, settings.timestep, scene.approach_speed, scene.accel, scene.radius,
+                              settings.threshold, engine=self.impulse)  # fmt: skip
+        return self.block(ans.restitution, settings.threshold)
+
+
+class PyBulletImpulseAdapter(ImpulseAdapter):
     """Bullet's rigid contact with restitution through PyBullet (``adapters.contract``)."""
 
     name = "pybullet_impulse"
@@ -111,19 +140,6 @@ class PyBulletImpulseAdapter(SteppingAdapter):
     def version(self):
         """PyBullet's API version number, as a string."""
         return str(_pybullet().getAPIVersion())
-
-    def parameters(self, damping, scene, settings=None):
-        """Each body's ``restitution`` for the law's e_N with ``damping`` at ``scene``'s load, at the step.
-
-        ``scene`` needs ``accel`` (a ``DropScene``); the threshold is ``settings.threshold``.
-        """
-        settings = self.settings if settings is None else settings
-        xi = float(self.law.scene_load_factor(scene.mass, scene.stiffness, scene.approach_speed, scene.accel))
-        target = float(self.law.restitution(float(damping), xi, "kinematic"))
-        ans = restitution_for(
-            target, settings.timestep, scene.approach_speed, scene.accel, scene.radius, settings.threshold
-        )
-        return block(ans.restitution, settings.threshold)
 
     def block(self, pair_restitution, threshold):
         """The engine's block for the pair's restitution and the threshold (``block``)."""

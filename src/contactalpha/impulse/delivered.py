@@ -5,9 +5,12 @@ geometric surface at ``approach_speed`` (``stepping.flight.touchdown_state``) an
 engine's step (``kernels.step_impulse``: PyBullet's or PhysX's map) until
 
 - **separated**: a sample after the first step with an impulse moves up and the step from it is
-  free; e_N is its parabola's speed at the surface over the approach speed
-  (``stepping.flight.rebound_speed``: what a drop test reads from the rebound height), wherever the
-  speculative contact left the ball (above the surface, mostly);
+  free (``free_steps``' rule: the velocity changes by ``-a h`` and the position by ``h`` times the
+  new velocity; PhysX's position iterations can push a body out of a penetration and give its
+  velocity back, a step whose impulse shows only in the position); e_N is its parabola's speed
+  at the surface over the approach speed (``stepping.flight.rebound_speed``: what a drop test
+  reads from the rebound height), wherever the speculative contact left the ball (above the
+  surface, mostly);
 - **captured**: a step with an impulse leaves the ball at rest on the solver's surface (its speed
   under ``REST_FRACTION`` of the approach speed and its height within that fraction of a step's
   travel of the surface: the approach below the velocity threshold), or the
@@ -50,7 +53,7 @@ def drop_impulse(code, p, h, phase, v_in, accel, max_steps=MAX_STEPS):
     run = 0
     for _ in range(max_steps):
         z_next, w_next = step_impulse(code, z, w, p, h, accel)
-        pushed = w_next != w - h * accel
+        pushed = w_next != w - h * accel or abs(z_next - z - h * w_next) > REST_FRACTION * v_in * h
         if not pushed and contact > 0 and w > 0.0:
             return rebound_speed(z, w, accel, h) / v_in, contact, SEPARATED
         z, w = z_next, w_next
@@ -132,7 +135,21 @@ class Bounces:
         return int(self.rebound_speeds.size)
 
 
-def read_bounces(z: np.ndarray, w: np.ndarray, accel: float, h: float, free_rtol: float = 1e-9) -> Bounces:
+def free_steps(z: np.ndarray, w: np.ndarray, accel: float, h: float, w_tol: float, z_tol: float):
+    """Whether each step between per-step states is free flight (``len(z) - 1`` booleans).
+
+    Free: the velocity changed by ``-a h`` (within ``w_tol``, m/s) and the position by ``h`` times
+    the new velocity (within ``z_tol``, m), as the engines' semi-implicit Euler steps a free body.
+    A step that pushed only the position (PhysX's TGS position iterations take a penetration out
+    and the clamped impulse gives the velocity back) is not free: the flight starts after it.
+    """
+    z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
+    return (np.abs(np.diff(w) + accel * h) <= w_tol) & (np.abs(np.diff(z) - h * w[1:]) <= z_tol)
+
+
+def read_bounces(
+    z: np.ndarray, w: np.ndarray, accel: float, h: float, free_rtol: float = 1e-9, z_atol: float = 0.0
+) -> Bounces:
     """The bounces in per-step states (``z`` height above the plane, m; ``w`` up, m/s; from t = 0).
 
     A bounce is a step with an impulse (a velocity change other than ``-a h``) after which the body
@@ -140,12 +157,14 @@ def read_bounces(z: np.ndarray, w: np.ndarray, accel: float, h: float, free_rtol
     precision can read a float's step above the plane, moving up at 1e-12 m/s) and either is above
     the plane or flies the next step freely (a landing leaves it on
     the solver's surface, below the plane, or still moving down; a lift by the ERP is followed by
-    more impulses).  Its speed is its parabola's at the plane, and it lands again ``2 u / a`` after
+    more impulses).  A free step is ``free_steps``' (its position within ``resolution h`` or
+    ``z_atol``, m: the reading's position resolution, a single-precision engine's float step).
+    Its speed is its parabola's at the plane, and it lands again ``2 u / a`` after
     that parabola left the plane.
     """
     z, w = np.asarray(z, dtype=float), np.asarray(w, dtype=float)
     resolution = free_rtol * max(accel * h, float(np.abs(w).max()))
-    free = np.abs(np.diff(w) + accel * h) <= resolution
+    free = free_steps(z, w, accel, h, resolution, max(resolution * h, z_atol))
     speeds, landings = [], []
     for j in range(1, w.size - 1):
         if not free[j - 1] and w[j] > resolution and (z[j] > 0.0 or free[j]):
