@@ -52,7 +52,10 @@ ADAPTERS = tuple(check_adapter(e.adapter) for e in ENGINES)
 ENGINE_NAMES = tuple(e.name for e in ENGINES)
 if len(set(ENGINE_NAMES)) != len(ENGINE_NAMES):
     raise ImportError(f"two engine records share a name: {ENGINE_NAMES}")
-_UNCLAIMED = sorted({s.name for s in stepping_registry.STEPPERS} - {e.step_map.name for e in ENGINES if e.step_map is not None})
+_UNCLAIMED = sorted(
+    {s.name for s in stepping_registry.STEPPERS}
+    - {e.step_map.name for e in ENGINES if e.step_map is not None}
+)
 if _UNCLAIMED:
     raise ImportError(f"step maps {_UNCLAIMED} of stepping.registry belong to no engine record")
 

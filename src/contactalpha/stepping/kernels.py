@@ -23,9 +23,9 @@ import itertools
 import math
 import threading
 import types
-from pathlib import Path
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -170,12 +170,15 @@ def register_map(
     functions = [f for f in (step, surface, branches, branch) if f is not None]
     if not all(callable(f) for f in functions):
         raise ValueError(f"step map {name!r}: step, surface, branches and branch must be jitted functions")
-    if (branches is None) != (branch is None) or (branches is not None and not (n_forms > 0 and n_branches > 0)):
-        raise ValueError(f"step map {name!r}: a piecewise-affine map needs branches, branch, n_forms and n_branches")
+    affine = branches is not None
+    if (branch is not None) != affine or (affine and not (n_forms > 0 and n_branches > 0)):
+        raise ValueError(
+            f"step map {name!r}: a piecewise-affine map needs branches, branch, n_forms, n_branches"
+        )
     if n_forms > MAX_FORMS or n_branches > MAX_BRANCHES:
         raise ValueError(
-            f"step map {name!r}: n_forms = {n_forms}, n_branches = {n_branches}; the affine kernels hold at most "
-            f"{MAX_FORMS} forms and {MAX_BRANCHES} branches"
+            f"step map {name!r}: n_forms = {n_forms}, n_branches = {n_branches}; the affine kernels hold "
+            f"at most {MAX_FORMS} forms and {MAX_BRANCHES} branches"
         )
     digest = _sources_digest(functions)
     with _REGISTER_LOCK:
@@ -198,7 +201,8 @@ def _sources_digest(functions) -> str | None:
         fn = getattr(f, "py_func", f)
         try:
             path = Path(inspect.getsourcefile(fn) or "").resolve()
-            text = source_hash(path) if PACKAGE_DIR in path.parents else hashlib.sha256(path.read_bytes()).hexdigest()
+            inside = PACKAGE_DIR in path.parents
+            text = source_hash(path) if inside else hashlib.sha256(path.read_bytes()).hexdigest()
         except (OSError, TypeError, ValueError):
             return None
         h.update(text.encode())

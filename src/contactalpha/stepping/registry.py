@@ -8,7 +8,6 @@ it for the step map of every engine record).
 """
 
 import threading
-
 from collections.abc import Callable
 from dataclasses import dataclass
 
