@@ -88,7 +88,7 @@ class Stepper:
         return {s: float(v) for s, v in zip(self.slots, p, strict=True)}
 
 
-STEPPERS = (
+STEPPERS: tuple[Stepper, ...] = (
     Stepper(
         name="mujoco",
         code=kernels.MUJOCO,
@@ -151,7 +151,7 @@ STEPPERS = (
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
 )
-STEPPER_NAMES = tuple(s.name for s in STEPPERS)
+STEPPER_NAMES: tuple[str, ...] = tuple(s.name for s in STEPPERS)
 _REGISTER_LOCK = threading.Lock()
 
 
