@@ -172,9 +172,7 @@ def register_map(
         raise ValueError(f"step map {name!r}: step, surface, branches and branch must be jitted functions")
     affine = branches is not None
     if (branch is not None) != affine or (affine and not (n_forms > 0 and n_branches > 0)):
-        raise ValueError(
-            f"step map {name!r}: a piecewise-affine map needs branches, branch, n_forms, n_branches"
-        )
+        raise ValueError(f"step map {name!r}: an affine map needs branches, branch, n_forms and n_branches")
     if n_forms > MAX_FORMS or n_branches > MAX_BRANCHES:
         raise ValueError(
             f"step map {name!r}: n_forms = {n_forms}, n_branches = {n_branches}; the affine kernels hold "
