@@ -3,10 +3,11 @@
 In a copy of the package the page's two modules become ``adapters/toy.py`` and
 ``mechanism/toy_model.py`` and the registry gets its line; nothing else changes.  The engine then
 works in a fresh process on every path: one scene, a batch, a model file (``contactalpha
-tune``), the JAX front door, ``--refine``; at its step (and ``--verify``) it is refused until
-``stepping`` runs a map it does not ship, never run as another engine's.  What it prints is
-checked against a drop stepped here, independently of the adapters.  Each part of the record,
-removed, gives an error naming it.
+tune``), the JAX front door, ``--refine``, and at its step (one scene, a batch, ``--verify``): the
+page's module registers its step map (``stepping.kernels.register_map``), so ``stepping``'s
+kernels run the toy's own step.  What it prints is checked against drops stepped here in plain
+Python, independently of the adapters and of ``stepping``.  Each part of the record, removed
+(the map's registration too), gives an error naming it.
 """
 
 import json
@@ -67,10 +68,10 @@ def add_toy_engine(package):
     registry.write_text(text)
 
 
-def stepped_e_n(c, k=SCENE["stiffness"], phases=None, h=TIMESTEP):
+def stepped_e_n(c, k=SCENE["stiffness"], phases=None, h=TIMESTEP, v_minus=SCENE["speed"]):
     """Mean e_N over touchdown ``phases`` of the toy's step ``h``, found here: the rebound speed at the
     floor from the flight parabola through the first state back above it (semi-implicit Euler)."""
-    m, v_minus, a = SCENE["mass"], SCENE["speed"], SCENE["accel"]
+    m, a = SCENE["mass"], SCENE["accel"]
     out = []
     for p in np.arange(PHASES) / PHASES if phases is None else phases:
         tc = p * h  # the parabola meets z = 0 at -v_minus a time tc after the first state
@@ -160,12 +161,18 @@ try:
     out["jax"] = {k: float(x) for k, x in got["engines"]["toy"].items()}
 except ImportError:
     out["jax"] = None
-try:
-    at = ca.contact_parameters(e_N=0.5, mass=0.5, stiffness=1e5, approach_speed=0.5, accel=9.81, engine="toy",
-                               timestep=1e-3)
-    out["step"] = {"c": float(at.block["c"]), "mean": float(at.stepped.mean)}
-except ValueError as err:
-    out["step"] = str(err)
+at = ca.contact_parameters(e_N=0.5, mass=0.5, stiffness=1e5, approach_speed=0.5, accel=9.81, engine="toy",
+                           timestep=1e-3)
+out["step"] = {"c": float(at.block["c"]), "mean": float(at.stepped.mean),
+               "continuous": float(at.stepped.continuous_mean), "status": str(at.stepped.status)}
+e = np.array([0.5, 0.7, 0.4])
+at_b = ca.contact_parameters(e_N=e, mass=0.5, stiffness=1e5, approach_speed=v, accel=9.81, engine="toy",
+                             timestep=1e-3)
+at_rows = [ca.contact_parameters(e_N=float(a), mass=0.5, stiffness=1e5, approach_speed=float(b), accel=9.81,
+                                 engine="toy", timestep=1e-3) for a, b in zip(e, v)]
+out["step_batch"] = {"c": at_b.engines["toy"]["c"].tolist(), "mean": at_b.stepped.mean.tolist(),
+                     "status": at_b.stepped.status.tolist(), "rows": [float(r.block["c"]) for r in at_rows],
+                     "row_means": [float(r.stepped.mean) for r in at_rows], "e": e.tolist(), "v": v.tolist()}
 print(json.dumps(out))
 """
 
@@ -191,12 +198,19 @@ def test_the_toy_engine_works_on_every_path(toy_package, tmp_path):
     # JAX: the record's batched block, the same numbers.
     if got["jax"] is not None:
         assert got["jax"]["k"] == k and got["jax"]["c"] == pytest.approx(one["c"], rel=1e-9)
-    # At its step: refused naming the engine (stepping does not run the toy's map), or right.
-    if isinstance(got["step"], str):
-        assert "'toy'" in got["step"] and "step map" in got["step"]
-    else:
-        phases = np.arange(256) / 256
-        assert stepped_e_n(got["step"]["c"], phases=phases) == pytest.approx(SCENE["e-n"], abs=2e-3)
+    # At its step: the toy's damping whose mean over the touchdown phase is the target, by drops
+    # stepped here (the midpoint rule on 1024 phases: within 1e-8 of the phase integral here), and
+    # what the continuous law's damping delivers at that step.
+    step, midpoints = got["step"], (np.arange(1024) + 0.5) / 1024
+    assert step["status"] == "ok" and step["mean"] == pytest.approx(SCENE["e-n"], abs=1e-6)  # MEAN_TOL
+    assert stepped_e_n(step["c"], phases=midpoints) == pytest.approx(SCENE["e-n"], abs=1e-6)
+    assert stepped_e_n(one["c"], phases=midpoints) == pytest.approx(step["continuous"], abs=1e-7)
+    assert abs(step["continuous"] - SCENE["e-n"]) > 1e-2  # the step moves the law's e_N: a real correction
+    # A batch at its step: each row that scene's own call bit for bit, its mean by drops stepped here.
+    sb = got["step_batch"]
+    assert sb["status"] == ["ok"] * 3 and sb["c"] == sb["rows"] and sb["mean"] == sb["row_means"]
+    for c, e, v in zip(sb["c"], sb["e"], sb["v"], strict=True):
+        assert stepped_e_n(c, phases=midpoints, v_minus=v) == pytest.approx(e, abs=1e-6)
 
     # A model file: `contactalpha tune` reads the toy's file and writes its block.
     model = tmp_path / "ball.toy"
@@ -207,13 +221,16 @@ def test_the_toy_engine_works_on_every_path(toy_package, tmp_path):
     assert tuned.returncode == 0, tuned.stderr
     written = json.loads((tmp_path / "ball_tuned.toy").read_text())
     assert written["k"] == k and written["c"] == one["c"]  # m_eff = the ball's mass, the load is g
-    # --verify at the step: refused in one line (exit 2), or measured in the toy.
+    # --verify at the step: the toy's own drops (its adapter's run, step by step) at 64 phases,
+    # the same drops as stepped here.
     argv = ["params", "--engine", "toy", "--timestep", "1e-3", "--verify", "64"]
     verify = run_in(src, ["-m", "contactalpha", *argv, *(f"--{k}={v}" for k, v in SCENE.items())])
-    if verify.returncode:
-        assert verify.returncode == 2 and "toy" in verify.stderr and len(verify.stderr.splitlines()) == 1
-    else:
-        assert "verify" in verify.stdout
+    assert verify.returncode == 0, verify.stderr
+    c_step = float(dict(re.findall(r"^toy\.(\w+)\s+(\S+)", verify.stdout, flags=re.M))["c"])
+    assert c_step == step["c"]
+    measured = re.search(r"verified in toy 1\.0 at 64 phases: mean (\S+)", verify.stdout)
+    assert measured, verify.stdout
+    assert float(measured.group(1)) == pytest.approx(stepped_e_n(c_step, phases=np.arange(64) / 64), abs=5e-7)
 
 
 def test_the_continuous_law_of_the_toy_delivers_the_target_at_a_fine_step():
@@ -227,10 +244,28 @@ def test_the_continuous_law_of_the_toy_delivers_the_target_at_a_fine_step():
     assert stepped_e_n(c, k=1e3, phases=[0.0, 0.5], h=2e-5) == pytest.approx(0.5, abs=2e-3)
 
 
-def _toy_module():
-    """The page's toy module, run here (its record's Refs stay unresolved)."""
+REGISTRATION = 'TOY_MAP = register_map("toy", step_toy)\n'
+
+
+@pytest.fixture(autouse=True)
+def _maps_restored(monkeypatch):
+    """The page's module registers its map when run here: this process's map table is restored after."""
+    from contactalpha.stepping import kernels
+
+    monkeypatch.setattr(kernels, "MAPS", dict(kernels.MAPS))
+    monkeypatch.setattr(kernels, "AFFINE", dict(kernels.AFFINE))
+
+
+def _toy_module(text=None):
+    """The page's toy module (or ``text``), run here (its record's Refs stay unresolved)."""
+    from contactalpha.stepping import kernels
+
+    # An earlier run's map (in the fixture's copy of the table) leaves the name free.
+    for code in [c for c, m in kernels.MAPS.items() if m.name == "toy"]:
+        del kernels.MAPS[code]
     namespace = {"__name__": "toy_from_the_page"}
-    text = page_modules()["adapters/toy.py"].replace("cache=True", "cache=False")  # nothing compiles here
+    text = page_modules()["adapters/toy.py"] if text is None else text
+    text = text.replace("cache=True", "cache=False")  # nothing compiles here
     exec(compile(text, str(PAGE), "exec"), namespace)  # noqa: S102
     return namespace
 
@@ -241,6 +276,38 @@ def test_removing_a_part_of_the_toys_record_names_it(part):
     assert check_engine(record) is record
     with pytest.raises(TypeError, match=part):
         Engine(**{p: getattr(record, p) for p in PARTS if p != part})
+
+
+def test_the_page_registers_the_toys_map_with_a_fresh_code():
+    from contactalpha.stepping import kernels
+
+    before = dict(kernels.MAPS)
+    toy = _toy_module()
+    code = toy["STEPPER"].code
+    assert code not in before and kernels.MAPS[code].name == "toy"
+    assert kernels.MAPS[code].step is toy["step_toy"]
+    assert check_engine(toy["ENGINE"]) is toy["ENGINE"]
+
+
+@pytest.mark.parametrize(
+    ("map_line", "why"),
+    [
+        (
+            "TOY_MAP = EngineMap('toy', 100, step_toy)\n",
+            r"100 of 'toy' is not a registered step map.*register_map",
+        ),
+        ("TOY_MAP = EngineMap('toy', 0, step_toy)\n", r"0 is 'mujoco''s step map, not 'toy''s"),
+    ],
+    ids=["unregistered", "another-engines-code"],
+)
+def test_removing_the_toys_map_registration_names_it(map_line, why):
+    """Without ``register_map`` the record's step map runs no map, or another engine's: refused."""
+    page = page_modules()["adapters/toy.py"]
+    assert page.count(REGISTRATION) == 1
+    text = page.replace(REGISTRATION, "from contactalpha.stepping.kernels import EngineMap\n" + map_line)
+    record = _toy_module(text)["ENGINE"]
+    with pytest.raises(TypeError, match="step_map: kernel code " + why):
+        check_engine(record)
 
 
 @pytest.mark.parametrize("part", ["parameters", "build_drop", "run", "static_penetration", "timestep"])
@@ -263,7 +330,5 @@ def test_removing_the_toys_units_model_reader_or_math_guard_names_it():
     page = page_modules()["adapters/toy.py"].replace("cache=True", "cache=False")
     old = page.replace("np.sqrt(scene.stiffness * scene.mass)", "math.sqrt(scene.stiffness * scene.mass)")
     assert old != page
-    namespace = {"__name__": "old_toy"}
-    exec(compile(old, str(PAGE), "exec"), namespace)  # noqa: S102
     with pytest.raises(TypeError, match=r"parameters.*numpy arrays"):
-        check_adapter(namespace["ADAPTER"])
+        check_adapter(_toy_module(old)["ADAPTER"])

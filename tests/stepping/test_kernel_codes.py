@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from numba import njit
 from numba.core.caching import FunctionCache
 from numba.core.registry import CPUDispatcher
 
@@ -106,3 +107,74 @@ def test_the_engines_drops_are_their_own_copies():
     names = {stepper(n).drop.py_func.__qualname__ for n in ("mujoco", "pybullet", "drake")}
     assert names == {"engine_drop__mujoco", "engine_drop__pybullet", "engine_drop__drake"}
     assert all(isinstance(stepper(n).drop._cache, FunctionCache) for n in ("mujoco", "pybullet", "drake"))
+
+
+@njit(cache=True)
+def step_spring(z, w, p, h, accel):
+    """A map registered here: a linear spring ``p[0] = k / m`` below z = 0, semi-implicit Euler."""
+    w1 = w + h * ((-p[0] * z if z < 0.0 else 0.0) - accel)
+    return z + h * w1, w1
+
+
+@pytest.fixture
+def maps_restored(monkeypatch):
+    """This process's map table, restored after the test (the codes handed out stay used)."""
+    monkeypatch.setattr(kernels, "MAPS", dict(kernels.MAPS))
+    monkeypatch.setattr(kernels, "AFFINE", dict(kernels.AFFINE))
+
+
+def test_a_registered_map_runs_on_a_fresh_code_in_its_own_copies(maps_restored):
+    before = dict(kernels.MAPS)
+    m = kernels.register_map("spring", step_spring)
+    other = kernels.register_map("spring_two", step_spring)
+    assert m.code not in before and m.code > max(before) and other.code > m.code
+    assert kernels.engine_map(m.code) is m and not m.affine and m.cached
+    assert m.tag.startswith(f"spring_{m.code}_")
+    p, h, a = np.array([4e4]), 1e-3, 9.81
+    for z, w in [(-1e-3, -0.3), (2e-3, 0.1)]:
+        assert kernels.step_map(m.code, z, w, p, h, a) == step_spring(z, w, p, h, a)
+    # The drop kernel's copy: the registered map only, and the rebound of a drop stepped here.
+    copy = kernels.for_engine(m.code, drop.drop_kernel)
+    reached = _reached(copy)
+    assert step_spring in reached and not reached & set().union(*MAP_FUNCTIONS.values())
+    row = drop.run_drop(m.code, p, h, 0.0, 0.5, a, 10_000)
+    z, w = 0.0, -0.5 + 0.5 * a * h  # touchdown at phase 0: z = 0, the stored velocity the step's mean
+    touched = False
+    while not (touched and z > 0.0):
+        w += h * ((-p[0] * z if z < 0.0 else 0.0) - a)
+        z += h * w
+        touched |= z < 0.0
+    s = w - 0.5 * a * h
+    assert row[D_EN] == pytest.approx(math.sqrt(s * s + 2.0 * a * z) / 0.5, rel=1e-12)
+    # Given another code the copy fails with NaN; the built-in maps keep their own steps.
+    assert math.isnan(copy(kernels.MUJOCO, p, h, 0.0, 0.5, a, 10_000)[D_EN])
+    q = stepper("mujoco").pack(stiffness=4e4, damping=80.0, impedance=0.9)
+    z, w = -1e-3, -0.3
+    assert kernels.step_map(kernels.MUJOCO, z, w, q, h, a) == mujoco_map.step_mujoco(z, w, q, h, a)
+
+
+def test_an_unregistered_code_stays_refused_after_registrations(maps_restored):
+    m = kernels.register_map("spring", step_spring)
+    unknown = max(kernels.MAPS) + 1
+    refused = rf"kernel code = {unknown} is not an engine's map.*{m.code} \(spring\)"
+    with pytest.raises(ValueError, match=refused):
+        kernels.step_map(unknown, 0.0, 0.0, np.ones(1), 1e-3, 9.81)
+    with pytest.raises(ValueError, match=rf"kernel code = {m.code} \(spring\) has no piecewise-affine map"):
+        kernels.branch_of(m.code, np.zeros(kernels.MAX_FORMS))
+
+
+@pytest.mark.parametrize(
+    ("name", "extra", "why"),
+    [
+        ("mujoco", {}, "'mujoco' is registered already, with kernel code 0"),
+        ("two words", {}, "is not an identifier"),
+        ("spring", {"branches": step_spring}, "an affine map needs branches, branch"),
+        ("spring", {"branches": step_spring, "branch": step_spring, "n_forms": 99, "n_branches": 2},
+         "n_forms = 99.*at most"),
+    ],
+)  # fmt: skip
+def test_register_map_refuses_a_name_taken_or_a_map_the_kernels_cannot_hold(maps_restored, name, extra, why):
+    before = dict(kernels.MAPS)
+    with pytest.raises(ValueError, match=why):
+        kernels.register_map(name, step_spring, **extra)
+    assert kernels.MAPS == before

@@ -92,3 +92,30 @@ def test_step_mujoco_against_hand_arithmetic():
     assert np.allclose(step_mujoco(z, w, p, h, a), (z + h * w1, w1), rtol=1e-15, atol=0)
     # Above the surface: free flight.
     assert step_mujoco(1e-3, -0.3, p, h, a) == (1e-3 + h * (-0.3 - h * a), -0.3 - h * a)
+
+
+def test_a_stepper_joins_the_registry_only_on_its_own_registered_map(monkeypatch):
+    """``register``: a run-time map's stepper is found by name; a code that runs no map or another
+    engine's, or a name taken, is refused naming it."""
+    from dataclasses import replace
+
+    from contactalpha.stepping import registry
+
+    for name in ("MAPS", "AFFINE"):
+        monkeypatch.setattr(kernels, name, dict(getattr(kernels, name)))
+    for name in ("STEPPERS", "STEPPER_NAMES"):
+        monkeypatch.setattr(registry, name, getattr(registry, name))
+    drake = stepper("drake")
+    with pytest.raises(ValueError, match=r"kernel code 2 is 'drake''s step map, not 'spring''s"):
+        registry.register(replace(drake, name="spring"))
+    unknown = max(kernels.MAPS) + 1
+    with pytest.raises(ValueError, match=rf"kernel code {unknown} of 'spring' is not a registered step map"):
+        registry.register(replace(drake, name="spring", code=unknown))
+    m = kernels.register_map("spring", drake_map.step_drake)
+    s = replace(drake, name="spring", code=m.code)
+    assert registry.register(s) is s and registry.register(s) is s  # once: the same stepper again is kept
+    assert stepper("spring") is s and registry.STEPPER_NAMES[-1] == "spring" and not s.affine
+    with pytest.raises(ValueError, match="'spring' is registered already"):
+        registry.register(replace(s))
+    with pytest.raises(ValueError, match="'drake' is registered already"):
+        registry.register(replace(drake))

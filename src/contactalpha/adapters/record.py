@@ -6,7 +6,8 @@ An ``Engine`` holds, for one engine, each layer's part (docs/design.md draws the
   registry key), its ``law``, its parameter block (``parameters``, with its ``units``) and its
   in-engine drop (``build_drop``, ``run``, ``measure``, ``delivered``, ``calibrate``);
 - ``loader``: the one import guard and install hint (``adapters.loader.Loader``);
-- ``step_map``: its ``stepping.registry.Stepper`` (the engine's discrete step), or None;
+- ``step_map``: its ``stepping.registry.Stepper`` (the engine's discrete step, whose kernel code
+  runs its own map: ``stepping.kernels.register_map`` for a map outside ``stepping``), or None;
 - ``model_file``: its ``ModelFile`` (a model-file reader and a tuner in ``mechanism``), or None;
 - ``batched``: its batched JAX blocks, ``{batched engine: Ref to block(zeta, EngineScene)}``
   (``xla.engines``), or None.
@@ -23,7 +24,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from contactalpha.stepping.registry import Stepper
+from contactalpha.stepping.registry import Stepper, map_problem
 
 from .contract import missing_parts
 from .loader import Loader
@@ -143,6 +144,8 @@ def record_problems(record: Engine) -> list[str]:
     s = record.step_map
     if s is not None and (not isinstance(s, Stepper) or s.name != a.name):
         problems.append(f"step_map: {s!r} is not a stepping.registry.Stepper named {a.name!r}")
+    elif s is not None and map_problem(s):
+        problems.append(f"step_map: {map_problem(s)}")
     mf = record.model_file
     if mf is not None and not isinstance(mf, ModelFile):
         problems.append(f"model_file: {mf!r} is not an adapters.record.ModelFile")

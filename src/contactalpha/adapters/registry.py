@@ -2,7 +2,8 @@
 
 The front door, the command line, the engines study, ``tune``'s readers and tuners, the JAX
 blocks and the tests iterate it; every table keyed by an engine's name is derived from it here
-(``ADAPTERS``, ``model_readers``, ``tuners``, ``batched_blocks``).  Adding an engine is one
+(``ADAPTERS``, ``model_readers``, ``tuners``, ``batched_blocks``), and the step map of each record
+joins ``stepping.registry.STEPPERS``.  Adding an engine is one
 module holding its ``ENGINE`` record and one line here (docs/adding-an-engine.md).
 """
 
@@ -24,7 +25,7 @@ from contactalpha.adapters import (
 from contactalpha.adapters.contract import check_adapter
 from contactalpha.adapters.record import Engine, ModelFile, Tuner, check_engine, resolved
 from contactalpha.laws import get_law
-from contactalpha.stepping.registry import STEPPERS
+from contactalpha.stepping import registry as stepping_registry
 
 # Every engine, in the order tables and the command line list them.
 ENGINES = tuple(
@@ -43,11 +44,18 @@ ENGINES = tuple(
         physx_sapien.ENGINE,
     )
 )
+# The step map of a record outside ``stepping`` (its kernel code from ``kernels.register_map``).
+for _e in ENGINES:
+    if _e.step_map is not None:
+        stepping_registry.register(_e.step_map)
 ADAPTERS = tuple(check_adapter(e.adapter) for e in ENGINES)
 ENGINE_NAMES = tuple(e.name for e in ENGINES)
 if len(set(ENGINE_NAMES)) != len(ENGINE_NAMES):
     raise ImportError(f"two engine records share a name: {ENGINE_NAMES}")
-_UNCLAIMED = sorted({s.name for s in STEPPERS} - {e.step_map.name for e in ENGINES if e.step_map is not None})
+_UNCLAIMED = sorted(
+    {s.name for s in stepping_registry.STEPPERS}
+    - {e.step_map.name for e in ENGINES if e.step_map is not None}
+)
 if _UNCLAIMED:
     raise ImportError(f"step maps {_UNCLAIMED} of stepping.registry belong to no engine record")
 

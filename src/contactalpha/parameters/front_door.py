@@ -30,7 +30,7 @@ from contactalpha.laws import DEFAULT_LAW
 from contactalpha.laws.domain import target_name
 from contactalpha.laws.fast import ENGINE_TABLE
 from contactalpha.scene.load import checked_load, positive
-from contactalpha.stepping.registry import STEPPER_NAMES
+from contactalpha.stepping import registry as stepping_registry
 from contactalpha.validation import check_scalar
 
 from . import impulse
@@ -175,7 +175,7 @@ def _radii(radius, law, engine, batch):
     The engine's step map reads the geometry (PyBullet's breaking threshold) even where its law's
     parameters do not: checked here, on every path, and kept from the law if unread.
     """
-    if radius is None or engine not in STEPPER_NAMES or not needs_radius(engine):
+    if radius is None or engine not in stepping_registry.STEPPER_NAMES or not needs_radius(engine):
         return radius, radius
     map_radius = checked_radius(radius, batch)
     return (radius if law_reads_radius(law_of(law, engine)) else None), map_radius

@@ -11,23 +11,29 @@ another engine's map.
 
 Inside a copy the code is checked: a code other than the copy's own gives NaN (and so a failed
 drop, a failed mean), never another engine's step.  From Python, an unknown code is a ValueError
-naming the registered ones (``engine_map``).  Adding an engine's map is its module with
-``step_<engine>`` (and ``branches_<engine>``, ``branch_<engine>`` where it is piecewise affine)
-and one ``EngineMap`` line in ``MAPS``; the registry (``registry.py``) carries the code with the
-engine's capabilities.
+naming the registered ones (``engine_map``).  The built-in maps are one ``EngineMap`` line each in
+``MAPS``; an engine outside this folder registers its map at run time (``register_map``, from its
+step-map module: docs/adding-an-engine.md), which gives it a fresh code, never one another map has
+or had.  The registry (``registry.py``) carries the code with the engine's capabilities.
 """
 
+import hashlib
+import inspect
+import itertools
 import math
 import threading
 import types
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numba import jit, njit
 from numba.core.caching import NullCache
 from numba.core.registry import CPUDispatcher
+
+from contactalpha.provenance import PACKAGE_DIR, source_hash
 
 from . import drake_map, mujoco_map, pybullet_map
 
@@ -73,6 +79,11 @@ class EngineMap:
         map (``affine_phase``), else None.
     branch : ``branch_<engine>(vals) -> branch`` from the forms' values, else None.
     n_forms, n_branches : the piecewise-affine map's forms and branches (0 otherwise).
+    tag : the suffix of the kernels' copies for this map (their names and numba cache entries);
+        "" is the name (the built-in maps).  ``register_map`` adds the code and the map's sources'
+        hash, so that an edited map compiles afresh.
+    cached : whether the copies are cached on disk (``register_map``: not for a map without a
+        source file).
     """
 
     name: str
@@ -83,6 +94,8 @@ class EngineMap:
     branch: Callable | None = None
     n_forms: int = 0
     n_branches: int = 0
+    tag: str = ""
+    cached: bool = True
 
     @property
     def affine(self) -> bool:
@@ -127,6 +140,73 @@ MAP_BRANCH = _unknown_branch
 MAP_N_BRANCHES = 0
 
 
+# The next code ``register_map`` hands out: past every built-in one, and never handed out twice.
+_FRESH_CODES = itertools.count(max(MAPS) + 1)
+_REGISTER_LOCK = threading.Lock()
+
+
+def register_map(
+    name: str,
+    step: Callable,
+    *,
+    surface: Callable = no_surface,
+    branches: Callable | None = None,
+    branch: Callable | None = None,
+    n_forms: int = 0,
+    n_branches: int = 0,
+) -> EngineMap:
+    """Register an engine's step map at run time: its ``EngineMap``, with a fresh kernel code.
+
+    ``step``, ``surface``, ``branches`` and ``branch`` are jitted functions as in ``EngineMap``.
+    The code is one no map has or had in this process, so a kernel given it runs this map only;
+    ``for_engine`` then makes the kernels' copies for it, cached on disk under a tag holding the
+    code and the hash of the map's source files (their import closure for the package's own).
+    ValueError for a name that is not an identifier or is registered already, for branches
+    without their branch function and counts, and for more forms or branches than the affine
+    kernels hold (``MAX_FORMS``, ``MAX_BRANCHES``).
+    """
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ValueError(f"step map name = {name!r} is not an identifier (it names the kernels' copies)")
+    functions = [f for f in (step, surface, branches, branch) if f is not None]
+    if not all(callable(f) for f in functions):
+        raise ValueError(f"step map {name!r}: step, surface, branches and branch must be jitted functions")
+    affine = branches is not None
+    if (branch is not None) != affine or (affine and not (n_forms > 0 and n_branches > 0)):
+        raise ValueError(f"step map {name!r}: an affine map needs branches, branch, n_forms and n_branches")
+    if n_forms > MAX_FORMS or n_branches > MAX_BRANCHES:
+        raise ValueError(
+            f"step map {name!r}: n_forms = {n_forms}, n_branches = {n_branches}; the affine kernels hold "
+            f"at most {MAX_FORMS} forms and {MAX_BRANCHES} branches"
+        )
+    digest = _sources_digest(functions)
+    with _REGISTER_LOCK:
+        for m in MAPS.values():
+            if m.name == name:
+                raise ValueError(f"step map {name!r} is registered already, with kernel code {m.code}")
+        code = next(_FRESH_CODES)
+        m = EngineMap(name, code, step, surface, branches, branch, n_forms, n_branches,
+                      tag=f"{name}_{code}_{(digest or '')[:12]}", cached=digest is not None)  # fmt: skip
+        MAPS[code] = m
+        if m.affine:
+            AFFINE[code] = (n_forms, n_branches)
+    return m
+
+
+def _sources_digest(functions) -> str | None:
+    """Hash of the files defining ``functions`` (the package's: their import closure); None without a file."""
+    h = hashlib.sha256()
+    for f in functions:
+        fn = getattr(f, "py_func", f)
+        try:
+            path = Path(inspect.getsourcefile(fn) or "").resolve()
+            inside = PACKAGE_DIR in path.parents
+            text = source_hash(path) if inside else hashlib.sha256(path.read_bytes()).hexdigest()
+        except (OSError, TypeError, ValueError):
+            return None
+        h.update(text.encode())
+    return h.hexdigest()
+
+
 def engine_map(code: int) -> EngineMap:
     """The map of kernel code ``code``; ValueError naming the registered codes otherwise."""
     m = MAPS.get(code) if isinstance(code, (int, np.integer)) else None
@@ -149,23 +229,24 @@ _COPIES: dict = {}
 _COPIES_LOCK = threading.RLock()
 
 
-def specialise(template: Any, tag: str, overrides: dict[str, Any]) -> Any:
+def specialise(template: Any, tag: str, overrides: dict[str, Any], cache: bool = True) -> Any:
     """``template`` (a numba dispatcher) with the globals ``overrides`` and every template it calls so.
 
     A function that reads none of ``overrides``' names and calls no function that does is returned
     as it is (one compiled copy serves every engine).  Otherwise the copy is a new ``cache=True``
     dispatcher of the same source, named ``<name>__<tag>``: numba caches it apart, keyed on its
     defining file's sources as every kernel of this package (``engine.jitcache``).  Under
-    ``NUMBA_DISABLE_JIT=1`` the plain functions are copied the same way.
+    ``NUMBA_DISABLE_JIT=1`` the plain functions are copied the same way.  ``cache`` False keeps
+    every copy off the disk.
     """
     key = (template, tag)
     with _COPIES_LOCK:
         if key not in _COPIES:
-            _COPIES[key] = _copy(template, tag, overrides)
+            _COPIES[key] = _copy(template, tag, overrides, cache)
         return _COPIES[key]
 
 
-def _copy(template, tag, overrides):
+def _copy(template, tag, overrides, cache):
     jitted = isinstance(template, CPUDispatcher)
     fn = template.py_func if jitted else template
     if not isinstance(fn, types.FunctionType) or fn.__module__.split(".")[:2] != ["contactalpha", "stepping"]:
@@ -177,7 +258,7 @@ def _copy(template, tag, overrides):
             scope[name] = overrides[name]
             changed = True
         elif name in scope and (isinstance(scope[name], CPUDispatcher) or _is_template(scope[name])):
-            callee = specialise(scope[name], tag, overrides)
+            callee = specialise(scope[name], tag, overrides, cache)
             if callee is not scope[name]:
                 scope[name] = callee
                 changed = True
@@ -191,7 +272,7 @@ def _copy(template, tag, overrides):
     if not jitted:
         return copy
     # ``targetoptions`` leaves out ``cache``: a template cached on disk gives a copy cached on disk.
-    return jit(cache=not isinstance(template._cache, NullCache), **template.targetoptions)(copy)
+    return jit(cache=cache and not isinstance(template._cache, NullCache), **template.targetoptions)(copy)
 
 
 def _is_template(value):
@@ -202,7 +283,7 @@ def _is_template(value):
 def for_engine(code: int, template: Any) -> Any:
     """The template compiled for the engine of kernel code ``code`` (ValueError for an unknown code)."""
     m = engine_map(code)
-    return specialise(template, m.name, m.overrides())
+    return specialise(template, m.tag or m.name, m.overrides(), m.cached)
 
 
 @njit(cache=True)

@@ -1,10 +1,13 @@
 """The one list of steppers: each engine's discrete map with its capabilities.
 
 The phase mean, the inverse, the step a tolerance needs, the front door and the command line
-iterate ``STEPPERS``; adding an engine's map is its module, its line in ``kernels.MAPS``
-and one entry here.
+iterate ``STEPPERS``.  The built-in maps are their module, their line in ``kernels.MAPS`` and one
+entry here; an engine outside this folder registers its map with ``kernels.register_map`` (a
+fresh kernel code) and its ``Stepper`` is added here by ``register`` (``adapters.registry`` does
+it for the step map of every engine record).
 """
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -85,7 +88,7 @@ class Stepper:
         return {s: float(v) for s, v in zip(self.slots, p, strict=True)}
 
 
-STEPPERS = (
+STEPPERS: tuple[Stepper, ...] = (
     Stepper(
         name="mujoco",
         code=kernels.MUJOCO,
@@ -148,7 +151,44 @@ STEPPERS = (
         "multibody/contact_solvers/sap: sap_hunt_crossley_constraint.cc (CalcDiscreteHuntCrossleyImpulse)",
     ),
 )
-STEPPER_NAMES = tuple(s.name for s in STEPPERS)
+STEPPER_NAMES: tuple[str, ...] = tuple(s.name for s in STEPPERS)
+_REGISTER_LOCK = threading.Lock()
+
+
+def map_problem(s: Stepper) -> str | None:
+    """Why ``s``'s kernel code does not run its own map (``kernels.MAPS``), or None when it does."""
+    m = kernels.MAPS.get(s.code) if isinstance(s.code, int) else None
+    if m is None:
+        return (
+            f"kernel code {s.code!r} of {s.name!r} is not a registered step map: register the engine's step "
+            "with stepping.kernels.register_map and give its code"
+        )
+    if m.name != s.name:
+        return f"kernel code {s.code!r} is {m.name!r}'s step map, not {s.name!r}'s"
+    return None
+
+
+def register(s: Stepper) -> Stepper:
+    """Add ``s`` to ``STEPPERS`` (the same stepper again: nothing); ``s`` back.
+
+    ValueError when its code does not run its own map (``map_problem``) or another stepper has
+    its name.
+    """
+    global STEPPERS, STEPPER_NAMES
+    if not isinstance(s, Stepper):
+        raise ValueError(f"{s!r} is not a stepping.registry.Stepper")
+    problem = map_problem(s)
+    if problem:
+        raise ValueError(f"stepper {s.name!r}: {problem}")
+    with _REGISTER_LOCK:
+        for old in STEPPERS:
+            if old.name == s.name:
+                if old is s:
+                    return s
+                raise ValueError(f"stepper {s.name!r} is registered already (kernel code {old.code})")
+        STEPPERS = (*STEPPERS, s)
+        STEPPER_NAMES = tuple(x.name for x in STEPPERS)
+    return s
 
 
 def stepper(name: str) -> Stepper:
