@@ -131,3 +131,23 @@ def shifted(s: FloatingState, acc: Rates, dt: float, dv: float) -> FloatingState
         move(s.p, s.v, acc.v), _rotated(s.quat, dt * s.w + 0.5 * dt * dt * acc.w), s.v + dv * acc.v,
         s.w + dv * acc.w, move(s.q, s.qd, acc.qd), s.qd + dv * acc.qd,
     )  # fmt: skip
+
+
+def box_corner_heights(pb, body, link, client) -> list[float]:
+    """The world heights (z, m; the floor's top is 0) of the corners of ``link``'s box shapes."""
+    if link < 0:
+        frame = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+    else:
+        frame = pb.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=client)[:2]
+    out = []
+    for shape in pb.getCollisionShapeData(body, link, physicsClientId=client):
+        if shape[2] != pb.GEOM_BOX:
+            continue
+        half = 0.5 * np.asarray(shape[3])
+        pos, orn = pb.multiplyTransforms(frame[0], frame[1], shape[5], shape[6])
+        R = np.array(pb.getMatrixFromQuaternion(orn)).reshape(3, 3)
+        for sx in (-1, 1):
+            for sy in (-1, 1):
+                for sz in (-1, 1):
+                    out.append(float((np.asarray(pos) + R @ (half * [sx, sy, sz]))[2]))
+    return out

@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike
 
 from . import pybullet_floating as floating
 from .engine_loop import DropLoop
+from .mujoco_model import HEIGHT_LOOK
 from .pybullet_model import (
     collision_links,
     free_qacc,
@@ -49,6 +50,7 @@ from .pybullet_model import (
     set_joint_state,
     touchdown_rate,
 )
+from .touch import landing_note
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
 DURATION = 1.0
@@ -57,6 +59,8 @@ DURATION = 1.0
 BASES = ("fixed", "floating")
 # Steps before touchdown at which a floating robot's accelerations are read (``_probe_acc``).
 PROBE_STEPS = 10.0
+# Height (m) a floating robot is lifted to between drops, away from every contact (``_flush``).
+FAR = 100.0
 
 
 class PybulletLoop(DropLoop):
@@ -138,6 +142,18 @@ class PybulletLoop(DropLoop):
         return tuple((floor, -1) if name == floating.GROUND else (self.body, next(links))
                      for name in self.pair)  # fmt: skip
 
+    def _flush(self):
+        """Empty PyBullet's contact manifolds, then restore the saved state.
+
+        ``restoreState`` keeps a box's corner points and their impulses: the next drop's solver
+        would start warm from the last drop's (a flat box's e_N moved by 0.013).
+        """
+        pb, c = self.pb, self.client
+        away = [0.0, 0.0, FAR]
+        pb.resetBasePositionAndOrientation(self.body, away, [0.0, 0.0, 0.0, 1.0], physicsClientId=c)
+        pb.performCollisionDetection(physicsClientId=c)
+        pb.restoreState(self.saved, physicsClientId=c)
+
     def _gap(self):
         (b1, l1), (b2, l2) = self.parts
         pts = self.pb.getClosestPoints(b1, b2, 1.0, l1, l2, physicsClientId=self.client)
@@ -175,6 +191,35 @@ class PybulletLoop(DropLoop):
         acc = floating.Rates((after.v - before.v) / h, (after.w - before.w) / h, (after.qd - before.qd) / h)
         self.accs[key] = acc
         return acc
+
+    def heights(self) -> list[float]:
+        """Heights (m) over the floor of the pair's points within ``HEIGHT_LOOK`` of the lowest, at the start.
+
+        A floating robot's pair with the floor ``GROUND``: the corners of the other link's box
+        collision shapes (a flat box: its four bottom corners); another pair, a link without a
+        box, or a fixed base: the pair's closest point only.
+        """
+        pb, c = self.pb, self.client
+        if not self.floating:
+            set_joint_state(pb, self.body, self.joints, self.q0, self.v0, c)
+            return [self._gap()]
+        pb.restoreState(self.saved, physicsClientId=c)
+        floating.put(pb, self.body, self.joints, self.state0, c)
+        out = []
+        if floating.GROUND in self.pair:
+            body, link = self.parts[1 - self.pair.index(floating.GROUND)]
+            out = floating.box_corner_heights(pb, body, link, c)
+        out = out or [self._gap()]
+        low = min(out)
+        return sorted(h for h in out if h - low <= HEIGHT_LOOK)
+
+    def landing(self, stiffness: float, effective_mass: float) -> str:
+        """``touch.landing_note`` on the pair's points (``heights``): one contact mode, or ValueError.
+
+        The maximum compression is ``speed`` sqrt(``effective_mass`` / ``stiffness``), the pair's.
+        """
+        delta = float(self.speed) * math.sqrt(float(effective_mass) / float(stiffness))
+        return landing_note(self.heights(), delta)
 
     def close(self) -> None:
         """Disconnect PyBullet's client."""
@@ -229,6 +274,8 @@ class PybulletLoop(DropLoop):
         acc = self._probe_acc(params) if self.floating else None
         self._set(params)
         pb.restoreState(self.saved, physicsClientId=c)
+        if self.floating:
+            self._flush()
         tc = float(phase) * h
         if acc is not None:
             start = floating.shifted(self.state0, acc, -tc, -(tc + 0.5 * h))
