@@ -15,7 +15,8 @@ import numpy as np
 # and child, which PyBullet's self-collision skips.
 STACK = """<robot name="stack">
   <link name="low">
-    <inertial><mass value="1.0"/><inertia ixx="0.004" iyy="0.004" izz="0.004" ixy="0" ixz="0" iyz="0"/></inertial>
+    <inertial><mass value="1.0"/>
+      <inertia ixx="0.004" iyy="0.004" izz="0.004" ixy="0" ixz="0" iyz="0"/></inertial>
     <collision name="low"><geometry><sphere radius="0.1"/></geometry></collision>
   </link>
   <link name="carrier">

@@ -6,12 +6,11 @@ random height, e_N read off the sampled gap), not on the loop's phases.
 
 import numpy as np
 import pytest
+from pybullet_scenes import BOX, STACK, G, raw_drops, resting_height
 
 from contactalpha.mechanism.engine_loop import solve_damping
 from contactalpha.mechanism.pybullet_floating import GROUND
 from contactalpha.mechanism.pybullet_loop import PybulletLoop
-
-from pybullet_scenes import BOX, G, STACK, raw_drops, resting_height
 
 SPEED = 1.0
 STEP = 1e-3
@@ -66,8 +65,8 @@ def test_pybullet_loop_delivers_the_flat_box(pybullet, tmp_path):
     k, c = ans.solref
 
     def place(pb, cl, body, tau):
-        pb.resetBasePositionAndOrientation(body, [0, 0, HALF + SPEED * tau - 0.5 * G * tau * tau], [0, 0, 0, 1],
-                                           physicsClientId=cl)  # fmt: skip
+        z = HALF + SPEED * tau - 0.5 * G * tau * tau
+        pb.resetBasePositionAndOrientation(body, [0, 0, z], [0, 0, 0, 1], physicsClientId=cl)
         pb.resetBaseVelocity(body, [0, 0, -(SPEED - G * tau)], [0, 0, 0], physicsClientId=cl)
 
     pair = (("floor", -1), ("robot", -1))
