@@ -1,13 +1,14 @@
 """Scenes of issue 43 as URDF files for PyBullet's floating base, and raw PyBullet drops of them.
 
 The raw drops are written here on PyBullet alone: the robot let fall freely from a few steps
-above touchdown (its touchdown at a random point of a step), e_N the pair's gap's exit rate
-over its entry rate, each the slope of a parabola through three samples around its crossing.
+above touchdown (its touchdown at a random point of a step), e_N read off the pair's gap in free
+flight (``raw_reading``).
 """
 
 import math
 
 import numpy as np
+from raw_reading import G, done, flight_e
 
 # A 1 kg sphere (the floating base) and a 0.5 kg sphere above it on a vertical slide: the head-on
 # stack of two free spheres (by symmetry neither turns nor moves sideways).  The upper sphere
@@ -42,7 +43,6 @@ BOX = """<robot name="box">
   </link>
 </robot>
 """
-G = 9.81
 
 
 def world(pb, urdf, h):
@@ -73,21 +73,6 @@ def resting_height(pb, urdf, h):
     return z
 
 
-def crossing_rate(t, gaps, k, h):
-    """The gap's rate where it crosses zero between samples k - 1 and k (parabola through 3)."""
-    c = np.polyfit(t[k - 2 : k + 1] - t[k], gaps[k - 2 : k + 1], 2)
-    r = [x.real for x in np.roots(c) if abs(x.imag) < 1e-12 and -h - 1e-12 <= x.real <= 1e-12]
-    return 2 * c[0] * r[0] + c[1]
-
-
-def e_of(gaps, h):
-    """``-exit rate / entry rate`` of a sampled gap."""
-    gaps = np.asarray(gaps)
-    t = np.arange(gaps.size) * h
-    k_in = int(np.flatnonzero(gaps < 0)[0])
-    return -crossing_rate(t, gaps, gaps.size - 1, h) / crossing_rate(t, gaps, k_in, h)
-
-
 def raw_drops(pb, urdf, h, n, place, values, pair, seed=11, steps=4000):
     """e_N of ``n`` raw drops: ``place(pb, client, body, tau)`` sets the state ``tau`` before touchdown.
 
@@ -107,10 +92,10 @@ def raw_drops(pb, urdf, h, n, place, values, pair, seed=11, steps=4000):
         for _ in range(steps):
             pts = pb.getClosestPoints(ids[a], ids[b], 1.0, la, lb, physicsClientId=c)
             gaps.append(min(p[8] for p in pts))
-            if len(gaps) > 3 and gaps[-1] > 0 and min(gaps) < 0:
+            if done(gaps):
                 break
             pb.stepSimulation(physicsClientId=c)
         pb.disconnect(c)
-        out.append(e_of(gaps, h))
+        out.append(flight_e(gaps, h))
     out = np.array(out)
     return float(out.mean()), float(out.std(ddof=1) / math.sqrt(n))
