@@ -77,16 +77,17 @@ def raw_drops(pb, urdf, h, n, place, values, pair, seed=11, steps=4000):
     """e_N of ``n`` raw drops: ``place(pb, client, body, tau)`` sets the state ``tau`` before touchdown.
 
     ``values``: {(body or "floor", link): (contactStiffness, contactDamping)}; ``pair``: ((who, link),
-    (who, link)) with who "robot" or "floor".  tau is 3 to 4 steps (a random touchdown phase).
+    (who, link)) with who "robot" or "floor".  tau is 3 to 4 steps: the touchdown phases an even
+    grid shifted by one uniform draw (none of them the loop's midpoints).
     """
-    rng = np.random.default_rng(seed)
+    shift = np.random.default_rng(seed).random()
     out = []
-    for _ in range(n):
+    for i in range(n):
         c, body, floor = world(pb, urdf, h)
         ids = {"robot": body, "floor": floor}
         for (who, link), (k, d) in values.items():
             pb.changeDynamics(ids[who], link, contactStiffness=k, contactDamping=d, physicsClientId=c)
-        place(pb, c, body, (3.0 + rng.random()) * h)
+        place(pb, c, body, (3.0 + (i + shift) / n) * h)
         (a, la), (b, lb) = pair
         gaps = []
         for _ in range(steps):

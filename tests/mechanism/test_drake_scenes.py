@@ -57,7 +57,8 @@ def _pose(tilt):
 
 
 def _raw(path, n, seed=13, points=CORNERS):
-    """Raw Drake: the cube let fall flat from 3 to 4 steps above touchdown; e_N from the lowest
+    """Raw Drake: the cube let fall flat from 3 to 4 steps above touchdown (the phases an even grid
+    shifted by one uniform draw, none of them the loop's midpoints); e_N from the lowest
     point's height (the box's pose, closed form), read in free flight (``raw_reading``)."""
     import pydrake.all as dk
 
@@ -70,12 +71,12 @@ def _raw(path, n, seed=13, points=CORNERS):
     diagram = builder.Build()
     box = plant.GetBodyByName("box")
     local = np.array([[sx * HALF, sy * HALF, -HALF] for sx, sy in points])  # the points' bottoms
-    rng = np.random.default_rng(seed)
+    shift = np.random.default_rng(seed).random()
     out = []
-    for _ in range(n):
+    for i in range(n):
         sim = dk.Simulator(diagram)
         ctx = plant.GetMyMutableContextFromRoot(sim.get_mutable_context())
-        tau = (3.0 + rng.random()) * STEP
+        tau = (3.0 + (i + shift) / n) * STEP
         z = HALF + SPEED * tau - 0.5 * G * tau * tau
         plant.SetFreeBodyPose(ctx, box, dk.RigidTransform([0, 0, z]))
         velocity = dk.SpatialVelocity(np.zeros(3), [0, 0, start_rate(SPEED, tau, STEP)])
@@ -107,11 +108,11 @@ def test_drake_loop_delivers_the_flat_box(pydrake, tmp_path):
     tuned = tmp_path / "tuned.sdf"
     tuned.write_text(_sdf(k, d))
     mean, stderr = _raw(tuned, 256)
-    assert abs(mean - target) <= 4 * stderr + 2e-3, (mean, stderr)
+    assert abs(mean - target) <= 2e-3, (mean, stderr)
     ball = tmp_path / "ball.sdf"
     ball.write_text(_sdf(4 * k, d, shape="ball"))
     one, one_err = _raw(ball, 32, points=((0, 0),))
-    assert abs(one - target) <= 4 * one_err + 2e-3, (one, one_err)
+    assert abs(one - target) <= 2e-3, (one, one_err)
 
 
 def test_drake_loop_refuses_a_box_on_a_box(pydrake, tmp_path):
