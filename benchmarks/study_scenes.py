@@ -7,7 +7,8 @@ read in free flight) over 256 touchdown phases on an even grid shifted by one un
 the one-drop spread over sqrt(256) (an upper bound of a shifted grid's error).  A target no
 damping reaches is reported with the loop's nearest mean.
 
-Run: ``PYTHONPATH=src python benchmarks/study_scenes.py`` (PyBullet and Drake installed).
+Run: ``PYTHONPATH=src python benchmarks/study_scenes.py [pybullet] [drake] [drake_stack]``
+(PyBullet and Drake installed; default all).
 """
 
 import math
@@ -38,8 +39,8 @@ SPEED = 1.0
 def _row(scene, engine, h, target, ans, raw, seconds):
     d = ans.delivered
     mean, err = raw if raw else (math.nan, math.nan)
-    print(f"| {scene} | {engine} | {h:.3g} | {target:g} | {ans.status} | {ans.solref[1]:.6g} | {d.mean:.5f} | "
-          f"{mean:.5f} ± {err:.5f} | {mean - target:+.5f} | {seconds:.1f} |", flush=True)  # fmt: skip
+    head = f"| {scene} | {engine} | {h:.3g} | {target:g} | {ans.status} | {ans.solref[1]:.6g} | {d.mean:.5f}"
+    print(f"{head} | {mean:.5f} ± {err:.5f} | {mean - target:+.5f} | {seconds:.1f} |", flush=True)
 
 
 def pybullet_stack(tmp, h):
@@ -73,14 +74,14 @@ def pybullet_box(tmp, h):
     urdf.write_text(ps.BOX)
 
     def place(p, c, body, tau):
-        p.resetBasePositionAndOrientation(body, [0, 0, 0.05 + SPEED * tau - 0.5 * G * tau * tau], [0, 0, 0, 1],
-                                          physicsClientId=c)  # fmt: skip
+        z = 0.05 + SPEED * tau - 0.5 * G * tau * tau
+        p.resetBasePositionAndOrientation(body, [0, 0, z], [0, 0, 0, 1], physicsClientId=c)
         p.resetBaseVelocity(body, [0, 0, start_rate(SPEED, tau, h)], [0, 0, 0], physicsClientId=c)
 
     for target in TARGETS:
         clock = time.process_time()
-        loop = PybulletLoop(urdf, (GROUND, "box"), [1, 0, 0, 0, 0, 0, 0.05], [0, 0, 0, 0, 0, -SPEED], timestep=h,
-                            base="floating")  # fmt: skip
+        qpos, qvel = [1, 0, 0, 0, 0, 0, 0.05], [0, 0, 0, 0, 0, -SPEED]
+        loop = PybulletLoop(urdf, (GROUND, "box"), qpos, qvel, timestep=h, base="floating")
         ans = solve_damping(loop, target, (1e4, 1.0))
         loop.close()
         seconds = time.process_time() - clock
@@ -108,7 +109,79 @@ def drake_box(tmp, h):
         _row("flat box (4 corner spheres)", "Drake", h, target, ans, raw, seconds)
 
 
-def main():
+def _raw_drake_stack(path, h, n, seed=9):
+    """Raw Drake: the 0.5 kg sphere let fall onto the resting 1 kg one (phases on a shifted grid);
+    the gap is the centres' distance less the radii (closed form), read in free flight."""
+    import pydrake.all as dk
+    from raw_reading import done, flight_e
+
+    builder = dk.DiagramBuilder()
+    plant, _ = dk.AddMultibodyPlantSceneGraph(builder, h)
+    plant.set_contact_model(dk.ContactModel.kPoint)
+    plant.set_discrete_contact_approximation(dk.DiscreteContactApproximation.kLagged)
+    dk.Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    diagram = builder.Build()
+    low, top = plant.GetBodyByName("low"), plant.GetBodyByName("top")
+    shift = np.random.default_rng(seed).random()
+    out = []
+    for i in range(n):
+        sim = dk.Simulator(diagram)
+        ctx = plant.GetMyMutableContextFromRoot(sim.get_mutable_context())
+        tau = (3.0 + (i + shift) / n) * h
+        pose = plant.GetFreeBodyPose(ctx, top)
+        up = [0, 0, SPEED * tau - 0.5 * G * tau * tau]
+        plant.SetFreeBodyPose(ctx, top, dk.RigidTransform(pose.rotation(), pose.translation() + up))
+        plant.SetFreeBodySpatialVelocity(
+            ctx, top, dk.SpatialVelocity(np.zeros(3), [0, 0, start_rate(SPEED, tau, h)])
+        )
+        sim.Initialize()
+        gaps = []
+        for j in range(1, 3000):
+            p1 = plant.EvalBodyPoseInWorld(ctx, low).translation()
+            p2 = plant.EvalBodyPoseInWorld(ctx, top).translation()
+            gaps.append(float(np.linalg.norm(p2 - p1)) - 0.15)
+            if done(gaps):
+                break
+            sim.AdvanceTo(j * h)
+        out.append(flight_e(gaps, h))
+    return float(np.mean(out)), float(np.std(out, ddof=1) / math.sqrt(n))
+
+
+def drake_stack(tmp, h):
+    import pydrake.all as dk
+    import test_engine_loops as el
+
+    src = tmp / "stack.sdf"
+    src.write_text(el.STACK.format(low=0.1 - el.SINK, top=0.25 - el.SINK))
+    builder = dk.DiagramBuilder()
+    plant, _ = dk.AddMultibodyPlantSceneGraph(builder, h)
+    dk.Parser(plant).AddModels(str(src))
+    plant.Finalize()
+    ctx = plant.CreateDefaultContext()
+    qvel = np.zeros(plant.num_velocities())
+    qvel[plant.GetBodyByName("top").floating_velocities_start_in_v() + 5] = -SPEED
+    for target in (0.2, *TARGETS):
+        clock = time.process_time()
+        loop = DrakeLoop(src, ("low", "top"), plant.GetPositions(ctx), qvel, timestep=h)
+        # 2e4 on each sphere: the lower one's 1e4 N/m with the floor's 2e4, which SINK rests on
+        ans = solve_damping(loop, target, (2e4, 1.0))
+        seconds = time.process_time() - clock
+        raw = None
+        if ans.status == "ok":
+            tuned = tmp / "stack_tuned.sdf"
+            text = src.read_text()
+            for name in ("low", "top"):
+                text = text.replace(
+                    f'<collision name="{name}">',
+                    f'<collision name="{name}">' + ds.MATERIAL.format(k=ans.solref[0], d=ans.solref[1]),
+                )
+            tuned.write_text(text)
+            raw = _raw_drake_stack(tuned, h, PHASES)
+        _row("stack", "Drake", h, target, ans, raw, seconds)
+
+
+def main(scenes=None):
     print(
         "| scene | engine | step (s) | target | loop | damping | loop mean | raw mean ± spread/16 "
         f"({PHASES} phases) | raw − target | CPU s (loop) |"
@@ -116,12 +189,16 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|")
     with TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        for h in (1e-3, 1 / 240):
-            pybullet_stack(tmp, h)
-            pybullet_box(tmp, h)
-        drake_box(tmp, 1e-3)
+        if scenes is None or "pybullet" in scenes:
+            for h in (1e-3, 1 / 240):
+                pybullet_stack(tmp, h)
+                pybullet_box(tmp, h)
+        if scenes is None or "drake" in scenes:
+            drake_box(tmp, 1e-3)
+        if scenes is None or "drake_stack" in scenes:
+            drake_stack(tmp, 1e-3)
     np.seterr(all="ignore")
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:] or None)

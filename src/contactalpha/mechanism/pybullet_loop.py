@@ -138,8 +138,8 @@ class PybulletLoop(DropLoop):
             return tuple((self.body, link) for link in links)
         floor = floating.add_ground(pb, c)
         own = [name for name in self.pair if name != floating.GROUND]
-        links = iter(link_indices(self.body, collision_links(urdf, own), c) if own else ())
-        return tuple((floor, -1) if name == floating.GROUND else (self.body, next(links))
+        mine = iter(link_indices(self.body, collision_links(urdf, own), c) if own else ())
+        return tuple((floor, -1) if name == floating.GROUND else (self.body, next(mine))
                      for name in self.pair)  # fmt: skip
 
     def _flush(self):
