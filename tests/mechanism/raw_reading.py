@@ -18,9 +18,12 @@ def start_rate(speed, tau, h):
 
 
 def _rate(t, g, idx, lo, hi):
+    """The slope at zero of the parabola through samples ``idx``, its root taken between lo and hi
+    (a supported body's gap is no exact parabola: then the real root nearest that interval)."""
     c = np.polyfit(t[idx], g[idx], 2)
-    r = [x.real for x in np.roots(c) if abs(x.imag) < 1e-12 and lo - 1e-12 <= x.real <= hi + 1e-12]
-    return 2 * c[0] * r[0] + c[1]
+    roots = [x.real for x in np.roots(c) if abs(x.imag) < 1e-12]
+    r = min(roots, key=lambda x: max(lo - x, x - hi, 0.0))
+    return 2 * c[0] * r + c[1]
 
 
 def flight_e(gaps, h):
