@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 from .discrete import DRAKE_APPROXIMATIONS
 from .drake_model import ParsedPlant, apply_forces, back_in_time, drake_module, set_coordinates
 from .engine_loop import DropLoop
+from .touch import landing_note
 
 # The longest drop, s: a drop that touched and has not come back by then is captured (e_N = 0).
 DURATION = 1.0
@@ -66,7 +67,8 @@ class DrakeLoop(DropLoop):
         self.forces = dict(forces or {})
         p = self.p = ParsedPlant(model, point_contact=True, time_step=self.timestep,
                                  approximation=approximation, base=base)  # fmt: skip
-        self.g = tuple(p.geometry(name) for name in self.pair)
+        self.groups = tuple(_group(p, name) for name in self.pair)
+        self.g = min(self._pairs(), key=lambda ab: p.closest(*ab)[2])  # the lowest point's pair
         self.q0 = np.asarray(qpos, dtype=float)
         self.v0 = np.asarray(qvel, dtype=float)
         set_coordinates(p.plant, p.context, "qpos", self.q0, p.plant.num_positions())
@@ -79,6 +81,40 @@ class DrakeLoop(DropLoop):
         self.drops = 0
         self._params: tuple | None = None
 
+    def _pairs(self):
+        return [(a, b) for a in self.groups[0] for b in self.groups[1]]
+
+    def _gap(self):
+        """The pair's gap: the least of its geometries' signed distances (one pair: its own)."""
+        return min(self.p.closest(a, b)[2] for a, b in self._pairs())
+
+    def heights(self) -> list[float]:
+        """The signed distances (m, ascending) of each of the pair's geometry pairs at the start."""
+        p = self.p
+        p.root.SetTimeStateAndParametersFrom(self.clean)
+        return sorted(p.closest(a, b)[2] for a, b in self._pairs())
+
+    def landing(self, stiffness: float, effective_mass: float) -> str:
+        """``touch.landing_note`` on the pair's points; ValueError where they rock or Drake gives one.
+
+        Drake's point contact gives a pair of geometries one point (the deepest): a box on a box
+        (or a half space) lands on one corner, and a flat box rocks.  A box's corners are its own
+        geometries (small spheres at the corners, the pair naming the box's body): then each
+        corner is one point.  The maximum compression is ``speed`` sqrt(m_eff / ``stiffness``).
+        """
+        inspector = self.p.scene_graph.model_inspector()
+        for a, b in self._pairs():
+            shapes = [type(inspector.GetShape(g)).__name__ for g in (a, b)]
+            if "Box" in shapes and "Sphere" not in shapes:
+                raise ValueError(
+                    f"Drake's point contact gives the pair {self.pair[0]!r} / {self.pair[1]!r} "
+                    f"({' / '.join(shapes)}) one contact point, its deepest: a box lands on one corner and a "
+                    "flat box rocks; give the box small spheres at its corners (the pair naming its body), "
+                    "or use hydroelastic contact"
+                )
+        delta = float(self.speed) * math.sqrt(float(effective_mass) / float(stiffness))
+        return landing_note(self.heights(), delta)
+
     def _set_pair(self, params):
         if self._params == tuple(params):
             return
@@ -86,7 +122,7 @@ class DrakeLoop(DropLoop):
         k, d = (float(x) for x in params)
         inspector = self.p.scene_graph.model_inspector()
         source = self.p.plant.get_source_id()
-        for gid in self.g:
+        for gid in (g for group in self.groups for g in group):
             props = dk.ProximityProperties(inspector.GetProximityProperties(gid))
             for name, value in (("point_contact_stiffness", k), ("hunt_crossley_dissipation", d)):
                 if props.HasProperty("material", name):
@@ -111,16 +147,30 @@ class DrakeLoop(DropLoop):
         p.plant.SetVelocities(p.context, self.v0)
         back_in_time(p, float(phase) * h, h, self.forces, with_contacts=True)
         self.sim.Initialize()
-        gaps, inv = [p.closest(*self.g)[2]], []
+        gaps, inv = [self._gap()], []
         for i in range(1, int(math.ceil(DURATION / h)) + 1):
             self.sim.AdvanceTo(i * h)
             if mass:
-                _, _, gap, J = p.gap_row(*self.g)
-                if gap < 0.0:
+                _, _, first, J = p.gap_row(*self.g)
+                if first < 0.0:
                     inv.append(float(J @ np.linalg.solve(p.plant.CalcMassMatrix(p.context), J)))
-            else:
-                gap = p.closest(*self.g)[2]
+            gap = self._gap()
             gaps.append(gap)
             if gap > 0.0 and gaps[-2] >= 0.0 and min(gaps) < 0.0:
                 break
         return self.read_drop(gaps, inv, h)
+
+
+def _group(p, name):
+    """The proximity geometries of a pair's side: the geometry ``name``, else all of the body ``name``."""
+    try:
+        return (p.geometry(name),)
+    except ValueError:
+        if not p.plant.HasBodyNamed(str(name)):
+            raise
+    body = p.plant.GetBodyByName(str(name))
+    inspector = p.scene_graph.model_inspector()
+    ids = [g for g in p.plant.GetCollisionGeometriesForBody(body) if inspector.GetProximityProperties(g)]
+    if not ids:
+        raise ValueError(f"body {name!r} has no collision geometry")
+    return tuple(ids)

@@ -314,17 +314,22 @@ def back_in_time(p, tc, h, forces, with_contacts=False):
 
     The velocity stored is that of half a step earlier, as the discrete plant's semi-implicit
     update stores it (``stepping.flight``).  ``with_contacts``: the motion's acceleration is the
-    discrete plant's own at the state (its generalized-acceleration port: every other contact
-    acting, the named forces fixed on its input port), read at the configuration PROBE_STEPS steps
-    earlier, where the pair is apart: a body resting on a support (the stack's lower sphere)
-    stays at rest, and the pair's own implicit contact impulse is not in it.
+    discrete plant's own at the state (its velocity's change over one step taken on a copy of the
+    context: every other contact acting, the named forces fixed on its input port; not its
+    acceleration output port, which reports the last step taken: 0 in a fresh context), read at
+    the configuration PROBE_STEPS steps earlier, where the pair is apart: a body resting on a
+    support (the stack's lower sphere) stays at rest, and the pair's own implicit contact impulse
+    is not in it.
     """
     plant, ctx = p.plant, p.context
     v = np.array(plant.GetVelocities(ctx))
     if with_contacts:  # read PROBE_STEPS steps earlier: the pair (closing at v) is apart, pushes nothing
         q = np.array(plant.GetPositions(ctx))
         plant.SetPositions(ctx, q + plant.MapVelocityToQDot(ctx, -PROBE_STEPS * h * v))
-        vdot = np.array(plant.get_generalized_acceleration_output_port().Eval(ctx))
+        probe = p.root.Clone()  # one step taken on a copy: the velocity's change over it
+        sim = drake_module().Simulator(p.diagram, probe)
+        sim.AdvanceTo(probe.get_time() + h)
+        vdot = (np.array(plant.GetVelocities(plant.GetMyContextFromRoot(probe))) - v) / h
         plant.SetPositions(ctx, q)
     else:
         tau = (

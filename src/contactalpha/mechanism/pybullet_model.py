@@ -38,7 +38,7 @@ MOVABLE = (0, 1)
 pybullet_module = LOADER.load
 
 
-def collision_links(urdf: str | Path, pair: tuple[str, str]) -> tuple[str | None, ...]:
+def collision_links(urdf: str | Path, pair: Sequence[str]) -> tuple[str | None, ...]:
     """The URDF link names that carry the ``<collision name=...>`` geometries of ``pair``."""
     root = ET.parse(urdf).getroot()
     links = []

@@ -119,10 +119,20 @@ def landing_check(contact: MechanismContact, stiffness: float) -> str:
     other points land during the first one's contact (rocking) and e_N is not one contact's: the
     pair is refused with the reason.  "" for a single point.
     """
-    heights = sorted(contact.engine_row.get("pair_heights", ()))
+    heights = contact.engine_row.get("pair_heights", ())
     if len(heights) < 2:
         return ""
-    delta = max_compression(contact, stiffness)
+    return landing_note(heights, max_compression(contact, stiffness))
+
+
+def landing_note(heights, delta: float) -> str:
+    """``landing_check``'s note on points at ``heights`` (m) with the maximum compression ``delta`` (m).
+
+    ValueError where they rock; "" for a single point.
+    """
+    heights = sorted(float(h) for h in heights)
+    if len(heights) < 2:
+        return ""
     spread = [h - heights[0] for h in heights[1:]]
     together = [s for s in spread if s <= LANDING_SPREAD * delta]
     rocking = [s for s in spread if LANDING_SPREAD * delta < s <= LANDING_REACH * delta]
