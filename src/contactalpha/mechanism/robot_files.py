@@ -38,10 +38,11 @@ PREFERRED = ("drake",)
 
 def _engine_order():
     """``((engine, module, suffixes it opens, mesh suffixes its reader refuses), ...)`` from the records."""
-    files = {e.name: e for e in ENGINES if e.model_file is not None and e.model_file.tuner is not None}
+    files = {e.name: (e.loader.module, e.model_file) for e in ENGINES
+             if e.model_file is not None and e.model_file.tuner is not None}  # fmt: skip
     names = [n for n in PREFERRED if n in files] + [n for n in files if n not in PREFERRED]
-    rows = ((n, files[n].loader.module, files[n].model_file) for n in names)
-    return tuple((n, module, mf.opens, mf.refused_meshes) for n, module, mf in rows)
+    rows = ((n, *files[n]) for n in names)
+    return tuple((n, module, mf.opens, mf.refused_meshes) for n, module, mf in rows if mf is not None)
 
 
 # Which engine opens which model files, in the order ``engine_for`` tries them; the Python module
