@@ -104,13 +104,19 @@ def _humanoid(tmp):
     m = mujoco.MjModel.from_xml_path(str(path))
     q = np.array(m.qpos0)
     q[2] = 1.5
-    q[18], q[19] = -0.8, -1.2  # the left leg lifted: the hip flexed, the knee bent
-    q[15] = 0.2  # the right ankle rolled: the foot's outer capsule lands first
+    # Only the right foot's outer capsule lands, flat (its two ends at once: one contact mode),
+    # and nothing else touches during the contact: the left leg lifted (the hip flexed 1.5 rad,
+    # the knee bent 2.0 rad: its foot lands 0.19 s later, not 0.09 s), the right ankle rolled
+    # 0.6 rad (the inner capsule clear; at 0.2 it landed with the outer one) and pitched 0.03
+    # rad (the capsule level: its ends 7e-7 m apart in height).
+    q[18], q[19] = -1.5, -2.0
+    q[15], q[14] = 0.6, 0.03
     pair = ("floor", "right_right_foot")
     q = _touch(path, pair, q, 2, -1.0)
     qvel = np.zeros(m.nv)
     qvel[2] = -1.0
-    return "dm_control humanoid", "free-floating humanoid's foot", path, pair, q, {"qvel": qvel}
+    return ("dm_control humanoid", "free-floating humanoid's foot, landing flat on its outer capsule alone",
+            path, pair, q, {"qvel": qvel})  # fmt: skip
 
 
 def _cheetah(tmp):

@@ -182,14 +182,23 @@ def test_every_record_keeps_its_contract_and_its_refs_resolve(e):
 
 def test_the_tables_keyed_by_engine_are_the_records():
     """tune's readers and tuners, stepping's maps and xla's blocks: each one the records say."""
-    tune = importlib.import_module("contactalpha.mechanism.tune")
+    reading = importlib.import_module("contactalpha.mechanism.reading")
+    tuning = importlib.import_module("contactalpha.mechanism.tuners")
+    files = importlib.import_module("contactalpha.mechanism.robot_files")
+    loops = importlib.import_module("contactalpha.mechanism.loops")
 
-    assert [r.name for r in tune.READERS] == [
+    assert [r.name for r in reading.READERS] == [
         e.name for e in ENGINES if e.model_file is not None and e.model_file.reader is not None
     ]
-    assert [r.suffixes for r in tune.READERS] == [model_readers()[r.name][1] for r in tune.READERS]
+    assert [r.suffixes for r in reading.READERS] == [model_readers()[r.name][1] for r in reading.READERS]
+    assert {row[0]: row[1:] for row in files.ENGINE_ORDER} == {
+        e.name: (e.loader.module, e.model_file.opens, e.model_file.refused_meshes)
+        for e in ENGINES
+        if e.model_file is not None and e.model_file.tuner is not None
+    }
+    assert set(loops.LOOPS) == set(tuners())  # every engine tune writes for has its loop's record
     assert (
-        tune.TUNER_NAMES
+        tuning.TUNER_NAMES
         == tuple(tuners())
         == tuple(e.name for e in ENGINES if e.model_file is not None and e.model_file.tuner is not None)
     )

@@ -7,7 +7,7 @@ and the pressing load read near zero.
 
 import pytest
 
-from contactalpha.mechanism.tune import read_contact
+from contactalpha.mechanism import read_contact
 
 URDF = """<robot name="arm">
   <link name="base"><inertial><mass value="5"/>

@@ -207,7 +207,7 @@ def test_stack_names_the_support_and_the_loop_delivers(mujoco, tmp_path):
     # A 0.5 kg sphere lands at 0.8 m/s on a 1 kg sphere resting on the floor (the stack).
     import warnings
 
-    from contactalpha.mechanism.tune import OtherContactsWarning
+    from contactalpha.mechanism import OtherContactsWarning
 
     src = tmp_path / "stack.xml"
     src.write_text(STACK)

@@ -139,8 +139,8 @@ def test_drake_discrete_plant_delivers_the_phase_mean(pydrake, tmp_path, target,
     """Drake's discrete plant (lagged, 1 ms), 16 phases; e_N 0.9 needs about 100 steps per contact."""
     import warnings
 
+    from contactalpha.mechanism import MassChangeWarning, tune
     from contactalpha.mechanism.drake_model import drake_drop
-    from contactalpha.mechanism.tune import MassChangeWarning, tune
 
     h = 1e-3
     out = tmp_path / "arm_tuned.urdf"
@@ -265,7 +265,7 @@ def test_pybullet_check_measures_the_leg_folding(pybullet, mujoco, tmp_path):
     contact; m_eff moves by as much as in MuJoCo's drop of the same leg (1.5 %), above the warning."""
     import warnings
 
-    from contactalpha.mechanism.tune import MassChangeWarning, tune
+    from contactalpha.mechanism import MassChangeWarning, tune
 
     models = ARM.parent
     omega, h = 1571.0, 1e-5

@@ -4,7 +4,7 @@ import hand
 import pytest
 from cases import CASES
 
-from contactalpha.mechanism.tune import read_contact
+from contactalpha.mechanism import read_contact
 
 HAND = {
     "pendulum": lambda: hand.pendulum(20.0),

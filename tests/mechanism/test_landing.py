@@ -10,8 +10,8 @@ import math
 
 import pytest
 
+from contactalpha.mechanism import read_contact, tune
 from contactalpha.mechanism.touch import LANDING_SPREAD, landing_check, max_compression
-from contactalpha.mechanism.tune import read_contact, tune
 
 HALF = 0.05
 BOX = """<mujoco><option timestep="0.0005"/>

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from hand import MODELS
 
+from contactalpha.mechanism import UnmodelledSettingWarning, read_contact, tune
 from contactalpha.mechanism.mujoco_row import current_stiffness
-from contactalpha.mechanism.tune import UnmodelledSettingWarning, read_contact, tune
 
 PENDULUM = str(MODELS / "pendulum.xml")
 PAIR = ("wall", "tip")

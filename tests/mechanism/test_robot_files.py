@@ -10,9 +10,9 @@ import math
 
 import pytest
 
+from contactalpha.mechanism import read_contact
 from contactalpha.mechanism.robot_files import collision_name, engine_for, prepared_urdf
 from contactalpha.mechanism.touch import first_touch, joint_limit_problems
-from contactalpha.mechanism.tune import read_contact
 
 L, R, MASS = 0.5, 0.02, 1.0
 I_HINGE = MASS * L * L / 3.0  # a uniform rod about its end

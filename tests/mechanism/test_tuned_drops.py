@@ -13,9 +13,9 @@ import warnings
 import pytest
 from cases import CASES, TARGETS
 
+from contactalpha.mechanism import read_contact, tune
 from contactalpha.mechanism.drake_model import drake_drop
 from contactalpha.mechanism.mujoco_model import mujoco_drop
-from contactalpha.mechanism.tune import read_contact, tune
 
 TOL = 1e-3
 

@@ -215,7 +215,8 @@ ENGINE = Engine(
     model_file=ModelFile(
         suffixes=(".sdf", ".urdf"),
         reader=Ref("contactalpha.mechanism.drake_model:read_drake"),
-        tuner=Ref("contactalpha.mechanism.tune:DRAKE_TUNER"),
+        tuner=Ref("contactalpha.mechanism.tuners:DRAKE_TUNER"),
+        refused_meshes=(".stl", ".dae"),
     ),
     batched=None,
 )

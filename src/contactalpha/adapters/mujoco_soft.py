@@ -240,7 +240,7 @@ ENGINE = Engine(
     model_file=ModelFile(
         suffixes=(".xml", ".mjcf", ".urdf"),
         reader=Ref("contactalpha.mechanism.mujoco_model:read_mujoco"),
-        tuner=Ref("contactalpha.mechanism.tune:MUJOCO_TUNER"),
+        tuner=Ref("contactalpha.mechanism.tuners:MUJOCO_TUNER"),
     ),
     # The batched engines that run MuJoCo's soft contact (Genesis and Newton's MuJoCo solver too).
     batched={

@@ -205,6 +205,8 @@ ENGINE = Engine(
     adapter=ADAPTER,
     loader=LOADER,
     step_map=stepper("pybullet"),
-    model_file=ModelFile(suffixes=(), reader=None, tuner=Ref("contactalpha.mechanism.tune:PYBULLET_TUNER")),
+    model_file=ModelFile(
+        suffixes=(), reader=None, tuner=Ref("contactalpha.mechanism.tuners:PYBULLET_TUNER"), loads=(".urdf",)
+    ),
     batched=None,
 )

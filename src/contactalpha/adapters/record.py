@@ -70,11 +70,21 @@ class ModelFile:
         None where the engine reads no model file itself (its tuner takes another engine's reading).
     tuner : a ``Tuner`` (``tune``'s solve and write calls), or None where ``tune`` writes nothing
         for the engine.
+    loads : the file suffixes the engine loads itself to drop a tuned model, where it has no
+        reader (PyBullet: a URDF); default none beyond ``suffixes``.
+    refused_meshes : the mesh suffixes its reader refuses (Drake: ``.stl``, ``.dae``).
     """
 
     suffixes: tuple[str, ...]
     reader: Ref | Callable[..., Any] | None
     tuner: "Ref | Tuner | None"
+    loads: tuple[str, ...] = ()
+    refused_meshes: tuple[str, ...] = ()
+
+    @property
+    def opens(self) -> tuple[str, ...]:
+        """Every file suffix the engine opens: its reader's, then those it loads itself."""
+        return self.suffixes + tuple(s for s in self.loads if s not in self.suffixes)
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,8 @@ class MechanismContact:
     engine_row : what the engine builds for this contact beyond the physics (MuJoCo: ``diagA``,
         the contact row's approximation of ``J M^-1 J^T``, and ``R``, ``solref``, ``solimp`` of
         the model as it is, its ``timestep`` and ``integrator``).
+    file_format : the model file's format, "mjcf", "urdf" or "sdf" (``robot_files.file_format``),
+        set where the file is read (``reading``); the writers and the engine loops go by it.
     """
 
     engine: str
@@ -70,6 +72,7 @@ class MechanismContact:
     qvel: np.ndarray
     forces: dict = field(default_factory=dict)
     engine_row: dict = field(default_factory=dict)
+    file_format: str = ""
 
     @property
     def at_touch(self) -> bool:

@@ -239,6 +239,10 @@ class MujocoLoop(PhaseSampler):
         self.drops += len(out)
         return out
 
+    def values_at(self, solref, phases) -> np.ndarray:
+        """e_N of each of ``phases`` (``drops_at``, one by one; a captured drop is 0)."""
+        return np.array([d.e_n if math.isfinite(d.e_n) else 0.0 for d in self.drops_at(solref, phases)])
+
     def e_n_at(self, solref, phases):
         """``(e_N of each phase, the drop at phase 1/2)`` with ``solref``: one ``rollout`` of all phases.
 
@@ -521,24 +525,3 @@ def loop_notes(answer, shares, target, timestep, bases, engine="MuJoCo", damping
     elif answer.status != "ok":
         lines.append(f"the engine loop did not converge ({answer.status}): the reduced model's answer kept")
     return lines
-
-
-def in_engine(source, contact, solref, target, timestep):
-    """``(LoopAnswer, shares, notes)`` of the tuned MJCF ``source`` (path or text) in MuJoCo.
-
-    Refuses a configuration not at first touch: the drops start at the touchdown state.
-    """
-    if not contact.at_touch:
-        raise ValueError(
-            f"the engine loop starts its drops at first touch; the pair is {contact.gap:.3g} m apart at "
-            "this configuration: give the configuration of touch (qpos)"
-        )
-    c = contact
-    loop = MujocoLoop(source, c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
-    answer = solve_damping(loop, target, solref)
-    shares = ()
-    if math.isfinite(answer.reduced.mean):
-        shares = explain(loop, answer.reduced_solref, answer.reduced)
-    m = loop.model
-    bases = [base_of(m, geom_id(m, g)) for g in contact.pair]
-    return answer, shares, loop_notes(answer, shares, target, loop.timestep, bases)

@@ -1,36 +1,67 @@
-"""The engine loops of PyBullet and Drake as ``tune`` runs them: one record per engine.
+"""The engine loops as ``tune`` runs them: one record per engine, MuJoCo's, PyBullet's and Drake's.
 
-Each ``EngineLoop`` says how the engine's loop is built from a contact (``build``), which of the
-tuned parameters it starts from (``start``: the reduced model's, in the loop's form) and how its
-answer goes back into the parameters ``tune`` writes (``written``).  MuJoCo's loop
-(``engine_loop.in_engine``) runs on the MJCF ``tune`` writes in memory.
+Each ``EngineLoop`` says how the engine's loop is built from a contact and the tuned parameters
+(``build``: MuJoCo's drops the MJCF ``tune`` writes, in memory; PyBullet's and Drake's set the
+pair's values on the model file), which of the parameters it starts from (``start``: the reduced
+model's, in the loop's form: MuJoCo's solref, the others' stiffness and damping), how its answer
+goes back into the parameters ``tune`` writes (``written``), what it names of the gap
+(``shares``, ``bases``) and how the written file is dropped again (``measuring``, ``verify``).
 """
 
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-from .engine_loop import LoopAnswer, loop_notes, solve_damping
+from contactalpha.adapters.registry import model_files
+
+from .engine_loop import LoopAnswer, base_of, explain, loop_notes, solve_damping
+from .robot_files import FORMATS
 
 
 @dataclass(frozen=True)
 class EngineLoop:
     """An engine's loop as ``tune`` runs it.
 
-    ``build(contact, timestep, base) -> PhaseSampler``; ``start(params) -> (k, c)``;
-    ``written(params, answer params) -> params``; ``suffixes`` of the model files it drops.
+    ``build(contact, params, timestep, base) -> PhaseSampler``; ``start(params) -> tuple``;
+    ``written(params, answer params) -> params``; ``shares(loop, contact, timestep, base,
+    answer) -> (engine_loop.Share, ...)``; ``bases(loop, contact, base) -> [line]``;
+    ``measuring(result) -> PhaseSampler`` (on the written file); ``formats`` of the model files
+    it drops (``robot_files.file_format``).
     """
 
     name: str
     build: Callable[..., Any]
     start: Callable[[dict], tuple]
     written: Callable[[dict, tuple], dict]
-    suffixes: tuple
+    shares: Callable[..., tuple]
+    bases: Callable[..., list]
+    measuring: Callable[[Any], Any]
+    formats: tuple
 
 
-def _pybullet_loop(contact, timestep, base):
+def _mujoco_loop(contact, params, timestep, base=None):
+    from .engine_loop import MujocoLoop
+    from .writers import in_memory_mjcf
+
+    c = contact
+    return MujocoLoop(in_memory_mjcf(c, params), c.pair, c.qpos, c.qvel, timestep=timestep, forces=c.forces)
+
+
+def _mujoco_measuring(result):
+    from .engine_loop import MujocoLoop
+
+    c = result.contact
+    return MujocoLoop(str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces)
+
+
+def _mujoco_bases(loop, contact, base):
+    from .mujoco_model import geom_id
+
+    return [base_of(loop.model, geom_id(loop.model, g)) for g in contact.pair]
+
+
+def _pybullet_loop(contact, params, timestep, base):
     from .mujoco_model import reader_joint_names
     from .pybullet_loop import PybulletLoop
 
@@ -39,25 +70,48 @@ def _pybullet_loop(contact, timestep, base):
                         speed=contact.approach_speed, base=base or "fixed")  # fmt: skip
 
 
-def _drake_loop(contact, timestep, base):
+def _drake_loop(contact, params, timestep, base):
     from .drake_loop import DrakeLoop
 
     return DrakeLoop(contact.model, contact.pair, contact.qpos, contact.qvel, timestep=timestep,
                      forces=contact.forces, base=base or "fixed")  # fmt: skip
 
 
+def _drake_measuring(result):
+    from .drake_loop import DrakeLoop
+
+    c = result.contact
+    return DrakeLoop(str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces)
+
+
+def _formats(engine):
+    """The formats of the model files ``engine`` opens (its record's ``model_file``)."""
+    return tuple(dict.fromkeys(FORMATS[s] for s in model_files()[engine].opens))
+
+
+def _base_lines(loop, contact, base):
+    return [_base_line(contact, base)]
+
+
 LOOPS = {
+    "mujoco": EngineLoop(
+        "mujoco", _mujoco_loop, lambda p: tuple(p["solref"]), lambda p, x: {**p, "solref": x},
+        lambda loop, c, h, base, answer: explain(loop, answer.reduced_solref, answer.reduced),
+        _mujoco_bases, _mujoco_measuring, _formats("mujoco"),
+    ),
     "pybullet": EngineLoop(
         "pybullet", _pybullet_loop,
         lambda p: (float(p["contactStiffness"]), float(p["contactDamping"])),
         lambda p, x: {**p, "contactDamping": float(x[1]), "pair_damping": 2.0 * float(x[1])},
-        (".urdf",),
+        lambda loop, c, h, base, answer: _pybullet_shares(c, h, base, answer),
+        _base_lines, lambda r: _pybullet_loop(r.contact, r.parameters, r.timestep, None),
+        _formats("pybullet"),
     ),
     "drake": EngineLoop(
         "drake", _drake_loop,
         lambda p: (float(p["point_contact_stiffness"]), float(p["hunt_crossley_dissipation"])),
         lambda p, x: {**p, "hunt_crossley_dissipation": float(x[1]), "pair_dissipation": float(x[1])},
-        (".urdf", ".sdf"),
+        lambda loop, c, h, base, answer: (), _base_lines, _drake_measuring, _formats("drake"),
     ),
 }  # fmt: skip
 
@@ -75,11 +129,12 @@ def run_loop(engine: str, contact, params: dict, target: float, timestep: float,
             f"the engine loop starts its drops at first touch; the pair is {contact.gap:.3g} m apart at "
             "this configuration: give the configuration of touch (qpos)"
         )
-    if Path(contact.model).suffix.lower() not in rec.suffixes:
+    if contact.file_format not in rec.formats:
         raise ValueError(
-            f"{engine}'s engine loop drops {'/'.join(rec.suffixes)} models, not {contact.model!r}"
+            f"{engine}'s engine loop drops {'/'.join(f.upper() for f in rec.formats)} models, "
+            f"not {contact.model!r}"
         )
-    loop = rec.build(contact, timestep, base)
+    loop = rec.build(contact, params, timestep, base)
     try:
         answer = solve_damping(loop, target, rec.start(params))
     finally:
@@ -87,8 +142,8 @@ def run_loop(engine: str, contact, params: dict, target: float, timestep: float,
         if close is not None:
             close()
     out = rec.written(params, answer.solref) if answer.status == "ok" else params
-    shares = _shares(engine, contact, timestep, base, answer) if math.isfinite(answer.reduced.mean) else ()
-    lines = loop_notes(answer, shares, target, loop.timestep, [_base_line(contact, base)], loop.engine,
+    shares = rec.shares(loop, contact, timestep, base, answer) if math.isfinite(answer.reduced.mean) else ()
+    lines = loop_notes(answer, shares, target, loop.timestep, rec.bases(loop, contact, base), loop.engine,
                        loop.damping_name)  # fmt: skip
     return answer, out, lines
 
@@ -97,15 +152,13 @@ def run_loop(engine: str, contact, params: dict, target: float, timestep: float,
 PYBULLET_PARTS = (("friction", "switch_off_friction"), ("joint and link damping", "switch_off_damping"))
 
 
-def _shares(engine, contact, timestep, base, answer):
-    """``engine_loop.Share`` of each part the engine's loop can switch off, at the reduced answer."""
+def _pybullet_shares(contact, timestep, base, answer):
+    """``engine_loop.Share`` of each part PyBullet's loop can switch off, at the reduced answer."""
     from .engine_loop import Share
 
-    if engine != "pybullet":
-        return ()
     out = []
     for name, method in PYBULLET_PARTS:
-        loop = LOOPS[engine].build(contact, timestep, base)
+        loop = _pybullet_loop(contact, None, timestep, base)
         try:
             present = getattr(loop, method)()
             if present:
@@ -142,26 +195,8 @@ class Verified:
 REPLICATES = 4
 
 
-def measuring_loop(result) -> Any:
-    """The engine's loop on ``result``'s tuned model (its written file where the engine has one)."""
-    from .engine_loop import MujocoLoop
-
-    c = result.contact
-    if result.engine == "mujoco":
-        return MujocoLoop(
-            str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces
-        )
-    if result.engine == "pybullet":
-        return _pybullet_loop(c, result.timestep, None)
-    from .drake_loop import DrakeLoop
-
-    return DrakeLoop(str(result.output), c.pair, c.qpos, c.qvel, timestep=result.timestep, forces=c.forces)
-
-
 def engine_params(result) -> tuple:
     """The tuned parameters of ``result`` in its loop's form."""
-    if result.engine == "mujoco":
-        return tuple(result.parameters["solref"])
     return LOOPS[result.engine].start(result.parameters)
 
 
@@ -173,17 +208,14 @@ def verify(result, phases: int, seed: int = 0) -> Verified:
         raise ValueError(f"verify = {phases!r} phases must be at least {2 * REPLICATES}")
     if result.output is None:
         raise ValueError("verify drops the written file: nothing was written")
-    loop = measuring_loop(result)
+    loop = LOOPS[result.engine].measuring(result)
     params = engine_params(result)
     n = int(phases) // REPLICATES
     means, lo, hi = [], math.inf, -math.inf
     try:
         for shift in np.random.default_rng(seed).random(REPLICATES):
             grid = (np.arange(n) + shift) / n
-            if result.engine == "mujoco":
-                e = np.array([d.e_n if math.isfinite(d.e_n) else 0.0 for d in loop.drops_at(params, grid)])
-            else:
-                e = loop.values_at(params, grid)
+            e = loop.values_at(params, grid)
             means.append(float(np.mean(e)))
             lo, hi = min(lo, float(np.min(e))), max(hi, float(np.max(e)))
     finally:

@@ -22,19 +22,32 @@ import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from contactalpha.adapters.registry import ENGINES
+
 from . import uris
 
 # The floor ``ground=True`` adds: a box (m), its top at z = 0.
 GROUND_SIZE = (20.0, 20.0, 0.2)
 GROUND = "ground"
-# Which engine reads which model files, in the order ``engine_for`` tries them (a URDF: Drake
-# first, as ``tune`` chose before, then MuJoCo, then PyBullet); the Python module each needs, and
-# the mesh suffixes its reader refuses.
-ENGINE_ORDER = (
-    ("drake", "pydrake", (".sdf", ".urdf"), (".stl", ".dae")),
-    ("mujoco", "mujoco", (".xml", ".mjcf", ".urdf"), ()),
-    ("pybullet", "pybullet", (".urdf",), ()),
-)
+# A model file's format by its suffix.
+FORMATS = {".xml": "mjcf", ".mjcf": "mjcf", ".urdf": "urdf", ".sdf": "sdf"}
+# The engines ``engine_for`` tries first, in this order, before the rest in the registry's order (a
+# URDF: Drake first, as ``tune`` chose before, then MuJoCo, then PyBullet).
+PREFERRED = ("drake",)
+
+
+def _engine_order():
+    """``((engine, module, suffixes it opens, mesh suffixes its reader refuses), ...)`` from the records."""
+    files = {e.name: (e.loader.module, e.model_file) for e in ENGINES
+             if e.model_file is not None and e.model_file.tuner is not None}  # fmt: skip
+    names = [n for n in PREFERRED if n in files] + [n for n in files if n not in PREFERRED]
+    rows = ((n, *files[n]) for n in names)
+    return tuple((n, module, mf.opens, mf.refused_meshes) for n, module, mf in rows if mf is not None)
+
+
+# Which engine opens which model files, in the order ``engine_for`` tries them; the Python module
+# each needs, and the mesh suffixes its reader refuses (each engine's record: ``model_file``).
+ENGINE_ORDER = _engine_order()
 
 
 def collision_name(link: str, index: int) -> str:
@@ -49,15 +62,37 @@ def _meshes(path):
 
 def unreadable_meshes(path: str | Path, engine: str) -> list[str]:
     """The mesh file names of the robot file that ``engine``'s reader refuses."""
+    return _refused(path, file_format(path), engine)
+
+
+def _refused(path, fmt, engine):
     refused = next(row[3] for row in ENGINE_ORDER if row[0] == engine)
-    if Path(path).suffix.lower() == ".xml" or not refused:
+    if fmt == "mjcf" or not refused:
         return []
     return [m for m in _meshes(path) if Path(m).suffix.lower() in refused]
+
+
+def file_format(path: str | Path) -> str:
+    """The model file's format by its suffix (``FORMATS``): "mjcf", "urdf", "sdf", or "" for another."""
+    return FORMATS.get(Path(path).suffix.lower(), "")
+
+
+def engine_by_suffix(path: str | Path) -> str:
+    """The engine ``engine_for`` tries first for the file's suffix, without opening the file.
+
+    For a file that is not there (it is refused where it is read): the first of ``ENGINE_ORDER``
+    that opens the suffix, else the first engine that reads model files.
+    """
+    suffix = Path(path).suffix.lower()
+    opening = [row[0] for row in ENGINE_ORDER if suffix in row[2]]
+    readers = [e.name for e in ENGINES if e.model_file is not None and e.model_file.reader is not None]
+    return (opening or readers)[0]
 
 
 def engine_for(path: str | Path) -> tuple[str, str]:
     """``(engine, why)``: the first installed engine of ``ENGINE_ORDER`` that reads the file."""
     suffix = Path(path).suffix.lower()
+    fmt = file_format(path)
     skipped = []
     for name, module, suffixes, _ in ENGINE_ORDER:
         if suffix not in suffixes:
@@ -65,7 +100,7 @@ def engine_for(path: str | Path) -> tuple[str, str]:
         if importlib.util.find_spec(module) is None:
             skipped.append(f"{name} is not installed")
             continue
-        refused = unreadable_meshes(path, name)
+        refused = _refused(path, fmt, name)
         if refused:
             skipped.append(f"{name} reads no {Path(refused[0]).suffix} meshes ({refused[0]})")
             continue
@@ -73,9 +108,9 @@ def engine_for(path: str | Path) -> tuple[str, str]:
     raise ValueError(f"model = {str(path)!r}: no installed engine reads it ({'; '.join(skipped) or suffix})")
 
 
-def needs_preparing(path: str | Path, pair, ground: bool) -> bool:
-    """True where the URDF's pair names an unnamed collision (``LINK/collisionN``) or a floor is added."""
-    if Path(path).suffix.lower() != ".urdf":
+def needs_preparing(fmt: str, pair, ground: bool) -> bool:
+    """True for a URDF (``fmt``) whose pair names an unnamed collision ``LINK/collisionN``, or ``ground``."""
+    if fmt != "urdf":
         return False
     return bool(ground) or any("/collision" in str(name) for name in pair)
 
