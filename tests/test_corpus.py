@@ -6,9 +6,9 @@ entry is one number, array or string the public API gives on fixed inputs, float
 regenerated in its own commit, saying why.  Only stored keys are compared: a law, engine or model
 added later adds keys, which are not checked here; but every stored key must still be produced.
 
-Bits are compared between hosts of one SIMD level (``make_corpus.host_level``): NumPy's
-vectorised ``exp``/``log``/``power`` differ in the last bit between levels, and root-finds spread
-it (11 of 2,412 default entries, up to 1.7e4 ulp, between X86_V4 and X86_V3).  A level other
+Bits are compared between hosts of one SIMD level (``make_corpus.host_level``): NumPy and numba
+pick their code by the CPU, and with the code unchanged 11 of 2,412 default entries differ (up to
+1.7e4 ulp after root-finds) between the corpus's host (taken to be X86_V4) and an X86_V3 one.  A level other
 than the corpus's own compares against its recorded overrides (``tests/data/corpus_hosts.json``,
 made with ``python tests/data/make_corpus.py --host`` from the corpus's commit); an unrecorded
 level compares within a relative 1e-9 and warns.

@@ -337,9 +337,9 @@ def load():
 def host_level():
     """This host's SIMD level as NumPy dispatches its vectorised functions (``X86_V4``, ...).
 
-    NumPy picks its ``exp``, ``log`` and ``power`` loops by the CPU's level at run time, and
-    they differ in the last bit between levels; a root-find downstream can spread one bit to
-    thousands.  So bits are compared between hosts of one level.
+    NumPy and numba pick their code by the CPU at run time, and a last bit that differs between
+    levels is spread to thousands of ulp by a root-find downstream.  So bits are compared
+    between hosts of one level.
     """
     import platform
 
