@@ -60,12 +60,9 @@ def _close(stored, now):
     """Two entries equal up to a relative ``UNRECORDED_RTOL`` (a host level with no record)."""
     if stored[1] != now[1]:
         return False
-    a, b = (np.array([_value(t) for t in e[2]], dtype=object) for e in (stored, now))
-    for x, y in zip(a, b, strict=True):
-        if isinstance(x, float) and isinstance(y, float):
-            if not (np.isclose(x, y, rtol=UNRECORDED_RTOL, atol=0.0) or (np.isnan(x) and np.isnan(y))):
-                return False
-        elif x != y:
+    for x, y in zip(map(_value, stored[2]), map(_value, now[2]), strict=True):
+        floats = isinstance(x, float) and isinstance(y, float)
+        if not (np.isclose(x, y, rtol=UNRECORDED_RTOL, atol=0.0, equal_nan=True) if floats else x == y):
             return False
     return True
 
